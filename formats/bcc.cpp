@@ -1,0 +1,265 @@
+// BCC reader and writer; the layout is described in formats/bcc.md.
+#include "bcc.h"
+
+#include "core/error.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <system_error>
+#include <utility>
+
+namespace yv {
+namespace {
+
+constexpr std::size_t kHeaderSize = 64;
+constexpr std::size_t kPointSize = 3 * 4;
+// A curve's count plus the two points every curve must have: the least a
+// curve can occupy, used to bound a header's curve count by the file size.
+constexpr std::size_t kMinCurveSize = 4 + 2 * kPointSize;
+constexpr std::uint8_t kByteCount = 0x44;
+constexpr char kAxes[] = "xyz";
+
+// Bytes are assembled by hand so the format stays little-endian on any host.
+std::uint64_t loadLe(const std::uint8_t* p, int n) {
+    std::uint64_t v = 0;
+    for (int i = 0; i < n; ++i) v |= std::uint64_t{p[i]} << (8 * i);
+    return v;
+}
+
+void storeLe(std::vector<std::uint8_t>& out, std::uint64_t v, int n) {
+    for (int i = 0; i < n; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+}
+
+// Header fields are shown as text when printable so a wrong file type is
+// recognisable in the message, and as hex escapes otherwise.
+std::string quoted(const std::uint8_t* p, std::size_t n) {
+    std::string s = "\"";
+    for (std::size_t i = 0; i < n; ++i) {
+        if (p[i] >= 0x20 && p[i] < 0x7f && p[i] != '"' && p[i] != '\\') {
+            s += static_cast<char>(p[i]);
+        } else {
+            char hex[5];
+            std::snprintf(hex, sizeof hex, "\\x%02x", p[i]);
+            s += hex;
+        }
+    }
+    return s + "\"";
+}
+
+std::string errnoText(int err) { return std::generic_category().message(err); }
+
+[[noreturn]] void fail(const std::string& name, std::size_t offset, const std::string& what) {
+    throw Error(name + ": byte " + std::to_string(offset) + ": " + what);
+}
+
+// Owns a descriptor so every early exit closes it; release() hands it back
+// when the caller must see close()'s result.
+class Fd {
+  public:
+    explicit Fd(int fd) : fd_(fd) {}
+    Fd(const Fd&) = delete;
+    Fd& operator=(const Fd&) = delete;
+    ~Fd() {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    int get() const { return fd_; }
+    int release() { return std::exchange(fd_, -1); }
+
+  private:
+    int fd_;
+};
+
+// A temporary name next to the target keeps the rename on one file system;
+// pid and counter keep concurrent writers apart, O_EXCL the rest.
+Fd createTemporary(const std::string& path, std::string& tmp) {
+    static std::atomic<unsigned> counter{0};
+    for (int attempt = 0;; ++attempt) {
+        tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+        const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0) return Fd(fd);
+        if (errno != EEXIST || attempt >= 100)
+            throw Error("cannot write " + path + ": cannot create temporary file " + tmp + ": " +
+                        errnoText(errno));
+    }
+}
+
+} // namespace
+
+Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name) {
+    const std::uint8_t* p = bytes.data();
+    const std::size_t size = bytes.size();
+
+    // The signature goes first so a short non-BCC file is called that, not "truncated".
+    const std::size_t sigLen = std::min<std::size_t>(size, 3);
+    if (std::string(p, p + sigLen) != std::string("BCC", sigLen))
+        fail(name, 0, "expected signature \"BCC\", found " + quoted(p, sigLen));
+    if (size < kHeaderSize)
+        fail(name, size, "truncated header: expected 64-byte header, file ends");
+    if (p[3] != kByteCount) {
+        char found[5];
+        std::snprintf(found, sizeof found, "0x%02x", p[3]);
+        fail(name, 3, std::string("unsupported byteCount ") + found +
+                          ": expected 0x44 (4-byte integers and 4-byte floats)");
+    }
+
+    Garment garment;
+    const std::string type(p + 4, p + 6);
+    if (type == "C0")
+        garment.curveType = CurveType::CatmullRom;
+    else if (type == "PL")
+        garment.curveType = CurveType::Polyline;
+    else
+        fail(name, 4, "unsupported curve type " + quoted(p + 4, 2) +
+                          ": expected \"C0\" (Catmull-Rom) or \"PL\" (polyline)");
+    if (p[6] != 3) fail(name, 6, "unsupported dimensions " + std::to_string(p[6]) + ": expected 3");
+
+    const std::uint64_t curveCount = loadLe(p + 8, 8);
+    const std::uint64_t totalPoints = loadLe(p + 16, 8);
+    // Checked before reserving so a corrupt count cannot trigger a huge allocation.
+    if (curveCount > (size - kHeaderSize) / kMinCurveSize)
+        fail(name, 8, "curve count " + std::to_string(curveCount) + " cannot fit: each curve needs at least " +
+                          std::to_string(kMinCurveSize) + " bytes and " +
+                          std::to_string(size - kHeaderSize) + " bytes follow the header");
+    garment.yarns.reserve(curveCount);
+
+    std::size_t at = kHeaderSize;
+    std::uint64_t pointSum = 0;
+    for (std::uint64_t i = 0; i < curveCount; ++i) {
+        // Built only on failure: files hold up to millions of curves.
+        const auto curve = [i] { return "curve " + std::to_string(i); };
+        if (size - at < 4)
+            fail(name, at, "truncated " + curve() + ": expected 4-byte control-point count, file ends");
+        const auto raw = static_cast<std::int32_t>(loadLe(p + at, 4));
+        // Widened before negating: -INT32_MIN does not fit in 32 bits.
+        const std::uint64_t n = static_cast<std::uint64_t>(std::abs(std::int64_t{raw}));
+        if (n < 2)
+            fail(name, at, curve() + " has " + std::to_string(n) +
+                               " control points: expected at least 2");
+        at += 4;
+        if ((size - at) / kPointSize < n)
+            fail(name, at, "truncated " + curve() + ": expected " + std::to_string(n) + " control points (" +
+                               std::to_string(n * kPointSize) + " bytes), file ends after " +
+                               std::to_string(size - at));
+
+        Yarn& yarn = garment.yarns.emplace_back();
+        yarn.closed = raw < 0;
+        yarn.points.resize(n);
+        for (std::uint64_t j = 0; j < n; ++j) {
+            for (int k = 0; k < 3; ++k, at += 4) {
+                const float v = std::bit_cast<float>(static_cast<std::uint32_t>(loadLe(p + at, 4)));
+                if (!std::isfinite(v))
+                    fail(name, at, curve() + " point " + std::to_string(j) + ": " + kAxes[k] +
+                                       " coordinate is " + std::to_string(v) + ", expected a finite number");
+                yarn.points[j][k] = v;
+            }
+        }
+        pointSum += n;
+    }
+
+    if (at != size)
+        fail(name, at, std::to_string(size - at) + " trailing bytes after the last of " +
+                           std::to_string(curveCount) + " curves: expected end of file (curve count too small?)");
+    if (pointSum != totalPoints)
+        fail(name, 16, "header total control-point count " + std::to_string(totalPoints) +
+                           " does not match the curves' sum " + std::to_string(pointSum));
+    return garment;
+}
+
+Garment readBcc(const std::string& path) {
+    Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+    if (fd.get() < 0) throw Error("cannot open " + path + ": " + errnoText(errno));
+
+    std::vector<std::uint8_t> bytes;
+    struct stat st {};
+    if (::fstat(fd.get(), &st) == 0 && st.st_size > 0) bytes.reserve(static_cast<std::size_t>(st.st_size));
+    // Read until EOF rather than trusting st_size: the file may change or be a pipe.
+    std::uint8_t chunk[1 << 16];
+    for (;;) {
+        const ssize_t got = ::read(fd.get(), chunk, sizeof chunk);
+        if (got == 0) break;
+        if (got < 0) {
+            if (errno == EINTR) continue;
+            throw Error("cannot read " + path + ": " + errnoText(errno));
+        }
+        bytes.insert(bytes.end(), chunk, chunk + got);
+    }
+    return parseBcc(bytes, path);
+}
+
+std::vector<std::uint8_t> encodeBcc(const Garment& garment) {
+    std::vector<std::uint8_t> out;
+    out.reserve(kHeaderSize + garment.yarns.size() * 4 + garment.controlPointCount() * kPointSize);
+    out.insert(out.end(), {'B', 'C', 'C', kByteCount});
+    const char* type = garment.curveType == CurveType::Polyline ? "PL" : "C0";
+    out.insert(out.end(), {static_cast<std::uint8_t>(type[0]), static_cast<std::uint8_t>(type[1]), 3, 2});
+    storeLe(out, garment.yarns.size(), 8);
+    storeLe(out, garment.controlPointCount(), 8);
+    const std::string info = "yarnvox";
+    out.insert(out.end(), info.begin(), info.end());
+    out.resize(kHeaderSize, 0);
+
+    for (std::size_t i = 0; i < garment.yarns.size(); ++i) {
+        const Yarn& yarn = garment.yarns[i];
+        const std::string where = "cannot encode BCC: yarn " + std::to_string(i);
+        const std::size_t n = yarn.points.size();
+        // Refused here so we never write a file our own reader rejects.
+        if (n < 2) throw Error(where + " has " + std::to_string(n) + " control points: expected at least 2");
+        if (n > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+            throw Error(where + " has " + std::to_string(n) + " control points: BCC stores at most 2^31-1");
+        const auto count = static_cast<std::int32_t>(n);
+        storeLe(out, static_cast<std::uint32_t>(yarn.closed ? -count : count), 4);
+        for (std::size_t j = 0; j < n; ++j) {
+            for (int k = 0; k < 3; ++k) {
+                const double v = yarn.points[j][k];
+                if (!(std::abs(v) <= std::numeric_limits<float>::max()))
+                    throw Error(where + " point " + std::to_string(j) + ": " + kAxes[k] + " coordinate " +
+                                std::to_string(v) + " is not a finite 32-bit float");
+                storeLe(out, std::bit_cast<std::uint32_t>(static_cast<float>(v)), 4);
+            }
+        }
+    }
+    return out;
+}
+
+void writeBcc(const std::string& path, const Garment& garment) {
+    std::vector<std::uint8_t> bytes;
+    try {
+        bytes = encodeBcc(garment);
+    } catch (const Error& e) {
+        throw Error(path + ": " + e.what());
+    }
+
+    std::string tmp;
+    Fd fd = createTemporary(path, tmp);
+    // Removing the temporary on every failure keeps half-written files from piling up.
+    const auto abandon = [&](const char* step, int err) {
+        if (fd.get() >= 0) ::close(fd.release());
+        ::unlink(tmp.c_str());
+        return Error("cannot write " + path + ": " + step + " " + tmp + ": " + errnoText(err));
+    };
+
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t put = ::write(fd.get(), bytes.data() + done, bytes.size() - done);
+        if (put < 0 && errno == EINTR) continue;
+        if (put < 0) throw abandon("write", errno);
+        done += static_cast<std::size_t>(put);
+    }
+    // Data must be on disk before the rename publishes the name, or a crash
+    // could leave a complete-looking name over a short file.
+    if (::fsync(fd.get()) != 0) throw abandon("fsync", errno);
+    if (::close(fd.release()) != 0) throw abandon("close", errno);
+    if (::rename(tmp.c_str(), path.c_str()) != 0) throw abandon("rename", errno);
+}
+
+} // namespace yv

@@ -1,0 +1,13 @@
+// Brick pass 1: flag every brick of the region that a fragment touches.
+layout(local_size_x = 256) in;
+
+layout(std430, binding = 2) readonly buffer Fragments { Fragment fragments[]; };
+layout(std430, binding = 3) buffer Flags { uint flags[]; };
+
+uniform uint uCount;
+
+void main() {
+    // Grid-stride loop: the dispatch size stays under the work-group limit.
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    for (uint i = gl_GlobalInvocationID.x; i < uCount; i += stride) flags[fragments[i].key >> 9] = 1u;
+}

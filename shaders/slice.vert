@@ -1,0 +1,82 @@
+// Places slice gl_InstanceID of the draw's segment list from curve data (no
+// per-slice matrices) and projects it along the dominant axis of its normal
+// onto the region's face, one pixel per (supersampled) voxel column.
+
+layout(std430, binding = 0) readonly buffer Segments { GpuSegment segments[]; };
+// Segments this draw covers (indices into `segments`), and the first
+// instance of each, for the search from instance to segment.
+layout(std430, binding = 1) readonly buffer DrawList { uvec2 drawList[]; }; // x: segment, y: first instance
+
+uniform int uDrawCount;        // entries in drawList
+uniform float uRadius;         // yarn radius, voxel units
+uniform float uTwist;          // radians per voxel unit of yarn length
+uniform int uSupersample;
+uniform ivec3 uRegionMin;      // region box in voxels
+uniform vec2 uViewport;        // viewport size in pixels (covers every axis' face)
+
+flat out int vAxis;
+flat out vec3 vRight;
+flat out vec3 vUp;
+flat out vec3 vTangent;
+flat out float vThickness;
+flat out float vTwistStep;
+flat out float vWeightScale;
+noperspective out vec2 vLocal;  // slice-local position / radius, in [-1, 1]^2
+noperspective out vec3 vVoxel;  // position in voxel units relative to the grid origin
+
+vec3 rotateMinimal(vec3 v, vec3 from, vec3 to) {
+    float c = dot(from, to);
+    vec3 k = cross(from, to);
+    if (c < -0.999999) {
+        vec3 a = abs(from);
+        vec3 e = (a.x <= a.y && a.x <= a.z) ? vec3(1, 0, 0) : (a.y <= a.z ? vec3(0, 1, 0) : vec3(0, 0, 1));
+        vec3 axis = normalize(cross(from, e));
+        return 2.0 * dot(axis, v) * axis - v;
+    }
+    return v + cross(k, v) + cross(k, cross(k, v)) / (1.0 + c);
+}
+
+void main() {
+    // Last list entry whose first instance is <= gl_InstanceID.
+    int lo = 0, hi = uDrawCount - 1;
+    uint instance = uint(gl_InstanceID);
+    while (lo < hi) {
+        int mid = (lo + hi + 1) >> 1;
+        if (drawList[mid].y <= instance) lo = mid; else hi = mid - 1;
+    }
+    GpuSegment seg = segments[drawList[lo].x];
+    uint k = instance - drawList[lo].y;
+    float K = float(seg.info.y);
+    vec3 p0 = seg.p[0].xyz, p1 = seg.p[1].xyz, p2 = seg.p[2].xyz, p3 = seg.p[3].xyz;
+
+    float t = (float(k) + 0.5) / K;
+    vec3 center = catmullRom(p0, p1, p2, p3, t);
+    vec3 tangent = normalize(catmullRomDerivative(p0, p1, p2, p3, t));
+    float thickness = length(catmullRom(p0, p1, p2, p3, float(k + 1u) / K) - catmullRom(p0, p1, p2, p3, float(k) / K));
+
+    vec3 t0 = normalize(catmullRomDerivative(p0, p1, p2, p3, 0.0));
+    vec3 up = rotateMinimal(seg.up.xyz, t0, tangent);
+    up = normalize(up - dot(up, tangent) * tangent);
+    float phase = uTwist * (seg.up.w + t * uintBitsToFloat(seg.info.z));
+    vec3 right = cos(phase) * up + sin(phase) * cross(tangent, up);
+    vec3 sliceUp = cross(tangent, right);
+
+    vec3 at = abs(tangent);
+    int a = (at.x >= at.y && at.x >= at.z) ? 0 : (at.y >= at.z ? 1 : 2);
+    int b = (a + 1) % 3, c = (a + 2) % 3;
+
+    vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
+    vec3 p = center + uRadius * (corner.x * right + corner.y * sliceUp);
+    vec2 pixel = vec2(p[b] - float(uRegionMin[b]), p[c] - float(uRegionMin[c])) * float(uSupersample);
+    gl_Position = vec4(pixel / uViewport * 2.0 - 1.0, 0.0, 1.0);
+
+    vAxis = a;
+    vRight = right;
+    vUp = sliceUp;
+    vTangent = tangent;
+    vThickness = thickness;
+    vTwistStep = uTwist * thickness;
+    vWeightScale = thickness / (float(uSupersample * uSupersample) * at[a]);
+    vLocal = corner;
+    vVoxel = p;
+}

@@ -1,0 +1,53 @@
+// `yarnvox gen`: writes a procedural garment as BCC.
+#include "bcc.h"
+#include "cli/commands.h"
+#include "garment/generate.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <memory>
+
+namespace yv {
+
+void addGenCommand(CLI::App& app) {
+    struct Args {
+        std::string pattern = "plain", shape = "flat", output;
+        std::uint64_t crossings = 1000, seed = 1;
+        double spacing = 1.0, radius = 0.3;
+        bool quiet = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand("gen", "Generate a yarn-level garment (BCC file) for tests, demos and benchmarks");
+    cmd->add_option("--pattern", args->pattern, "Weave or knit: plain, twill, satin, knit")->capture_default_str();
+    cmd->add_option("--crossings", args->crossings, "Number of yarn crossings (the paper's dense vest has 410000)")
+        ->capture_default_str()
+        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(100'000'000)));
+    cmd->add_option("--shape", args->shape, "Garment shape: flat, cylinder, sphere")->capture_default_str();
+    cmd->add_option("--seed", args->seed, "Seed of the control-point jitter")->capture_default_str();
+    cmd->add_option("--spacing", args->spacing, "Distance between neighbouring yarns, world units")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--yarn-radius", args->radius, "Yarn radius recorded in the file, world units")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("-o,--output", args->output, "Output .bcc file")->required();
+    cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
+    cmd->callback([args] {
+        GenerateOptions opt;
+        opt.pattern = parseWeavePattern(args->pattern);
+        opt.shape = parseGarmentShape(args->shape);
+        opt.crossings = args->crossings;
+        opt.seed = args->seed;
+        opt.yarnSpacing = args->spacing;
+        opt.yarnRadius = args->radius;
+        const Garment garment = generateGarment(opt);
+        writeBcc(args->output, garment);
+        if (!args->quiet)
+            std::printf("wrote %s: %s %s, %zu yarns, %zu control points, %zu segments\n", args->output.c_str(),
+                        toString(opt.pattern), toString(opt.shape), garment.yarns.size(), garment.controlPointCount(),
+                        garment.segmentCount());
+    });
+}
+
+} // namespace yv

@@ -1,0 +1,13 @@
+// Subcommands of the yarnvox CLI; each registers itself with its help text.
+#pragma once
+
+namespace CLI {
+class App;
+}
+
+namespace yv {
+
+void addGenCommand(CLI::App& app);
+void addVoxelizeCommand(CLI::App& app);
+
+} // namespace yv

@@ -1,0 +1,31 @@
+// yarnvox: yarn-level cloth to sparse volumes of fibre density and orientation.
+#include "cli/commands.h"
+#include "core/error.h"
+
+#include <CLI/CLI.hpp>
+#include <openvdb/Exceptions.h>
+
+#include <cstdio>
+
+int main(int argc, char** argv) {
+    CLI::App app{"yarnvox: turns yarn-level cloth into sparse volumes of fibre density and orientation"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "yarnvox " YV_VERSION);
+    yv::addGenCommand(app);
+    yv::addVoxelizeCommand(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const yv::Error& e) {
+        std::fprintf(stderr, "yarnvox: error: %s\n", e.what());
+        return 1;
+    } catch (const openvdb::Exception& e) {
+        std::fprintf(stderr, "yarnvox: OpenVDB error: %s\n", e.what());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "yarnvox: error: out of host memory\n");
+        return 1;
+    }
+    return 0;
+}

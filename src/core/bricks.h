@@ -1,0 +1,80 @@
+// Sparse 8^3 bricks: the unit every backend accumulates into and every
+// output (brick store, OpenVDB) is built from. An 8^3 brick is exactly an
+// OpenVDB LeafNode, and voxels inside it are ordered as OpenVDB orders them.
+#pragma once
+
+#include "core/sampling.h"
+#include "plan/grid.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace yv {
+
+constexpr int kBrickSize = 8;
+constexpr int kBrickVoxels = 512;
+
+/// Offset of local voxel (x, y, z) in a brick: OpenVDB's LeafNode order.
+constexpr int brickOffset(int x, int y, int z) { return (x << 6) | (y << 3) | z; }
+
+/// Packs brick coordinates (voxel coordinates / 8, each below 2^21) into one
+/// sortable key: z fastest, so sorted keys follow OpenVDB's traversal order.
+inline std::uint64_t brickKey(glm::ivec3 b) {
+    return (std::uint64_t(b.x) << 42) | (std::uint64_t(b.y) << 21) | std::uint64_t(b.z);
+}
+inline glm::ivec3 brickCoord(std::uint64_t key) {
+    return {int(key >> 42), int((key >> 21) & 0x1fffff), int(key & 0x1fffff)};
+}
+
+/// Accumulator state of one brick: wordsPerVoxel(reduce) channels of 512
+/// words, channel-major (channel c of voxel v at c * 512 + v), the layout the
+/// GL brick passes write.
+struct BrickAccumulator {
+    std::uint64_t key = 0;
+    std::vector<std::uint32_t> words;
+};
+
+/// Adds (mean) or maxes (max) `src` into `dst`: associative and commutative,
+/// so any split of the work gives the same bits.
+void combineAccumulators(Reduce reduce, std::uint32_t* dst, const std::uint32_t* src);
+
+/// Final values of one brick.
+struct VoxelBrick {
+    std::uint64_t key = 0;
+    std::array<float, kBrickVoxels> density{};
+    std::array<glm::vec3, kBrickVoxels> orientation{};
+    std::array<std::uint64_t, kBrickVoxels / 64> activeMask{}; ///< voxel v active: bit v % 64 of word v / 64
+
+    bool isActive(int v) const { return (activeMask[v >> 6] >> (v & 63)) & 1; }
+    int activeCount() const;
+};
+
+/// Turns accumulated words into density and orientation. Mean: density is the
+/// sum of volume fractions; orientation the principal axis of the structure
+/// tensor. Max: the largest sample density and that sample's axis. Voxels with
+/// zero density stay inactive. Returns false when no voxel is active.
+bool resolveBrick(Reduce reduce, const BrickAccumulator& acc, VoxelBrick& out);
+
+/// A sparse result: bricks sorted by key, plus the grid they live in.
+struct BrickVolume {
+    VoxelGrid grid;
+    Reduce reduce = Reduce::Mean;
+    std::vector<VoxelBrick> bricks;
+
+    std::uint64_t activeVoxelCount() const;
+    /// Sum of density times voxel volume (fibre volume, in world units cubed).
+    double totalMass() const;
+};
+
+/// Resolves accumulators (any order) into a BrickVolume sorted by key, in parallel.
+BrickVolume resolveVolume(const VoxelGrid& grid, Reduce reduce, std::vector<BrickAccumulator>& accumulators);
+
+/// Principal eigenvector of a symmetric 3x3 matrix (xx yy zz xy xz yz), by
+/// cyclic Jacobi rotations: robust when eigenvalues are close.
+glm::dvec3 principalAxis(const double tensor[6]);
+
+} // namespace yv

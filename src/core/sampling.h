@@ -1,0 +1,74 @@
+// The sampling rule shared by every backend. formats/sampling-rule.md explains
+// it; shaders/common.glsl mirrors these constants and functions.
+#pragma once
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+namespace yv {
+
+enum class Reduce { Mean, Max };
+
+inline const char* toString(Reduce r) { return r == Reduce::Mean ? "mean" : "max"; }
+
+/// Fixed-point scale of accumulated volume fractions: 2^24 units per 1.0.
+/// Integer sums make results identical for any order and thread count.
+constexpr double kFixedScale = 16777216.0;
+
+/// Words of accumulator state per voxel. Mean: density, then the six terms of
+/// the density-weighted structure tensor (xx yy zz xy xz yz). Max: density
+/// (float bits), then the orientation code of the densest sample.
+constexpr int kMeanWords = 7;
+constexpr int kMaxWords = 2;
+inline int wordsPerVoxel(Reduce r) { return r == Reduce::Mean ? kMeanWords : kMaxWords; }
+
+/// Projection axis of a slice: the dominant axis of its normal (lowest index on ties).
+inline int dominantAxis(const glm::dvec3& n) {
+    const glm::dvec3 a = glm::abs(n);
+    return a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+}
+
+/// Rounds a non-negative volume fraction to fixed point.
+inline std::uint32_t toFixed(double v) { return static_cast<std::uint32_t>(std::lround(v * kFixedScale)); }
+inline std::int32_t toFixedSigned(double v) { return static_cast<std::int32_t>(std::lround(v * kFixedScale)); }
+
+/// Orientation as an axis: v and -v name the same fibre, so directions are
+/// folded onto the hemisphere z > 0 (then y > 0, then x >= 0 on the rim).
+inline glm::dvec3 canonicalAxis(glm::dvec3 v) {
+    if (v.z < 0 || (v.z == 0 && (v.y < 0 || (v.y == 0 && v.x < 0)))) v = -v;
+    return v;
+}
+
+/// 16+16-bit octahedral code of a canonical unit axis (upper hemisphere), and back.
+inline std::uint32_t encodeAxis(const glm::dvec3& axis) {
+    const glm::dvec3 v = canonicalAxis(axis);
+    const double s = std::abs(v.x) + std::abs(v.y) + std::abs(v.z);
+    const double u = v.x / s, w = v.y / s; // in the diamond |u| + |w| <= 1
+    auto q = [](double t) { return static_cast<std::uint32_t>(std::lround((std::clamp(t, -1.0, 1.0) * 0.5 + 0.5) * 65535.0)); };
+    return (q(u) << 16) | q(w);
+}
+inline glm::dvec3 decodeAxis(std::uint32_t code) {
+    const double u = ((code >> 16) / 65535.0) * 2.0 - 1.0, w = ((code & 0xffff) / 65535.0) * 2.0 - 1.0;
+    return glm::normalize(glm::dvec3(u, w, std::max(0.0, 1.0 - std::abs(u) - std::abs(w))));
+}
+
+/// Float bits of a non-negative float order like the float itself: atomicMax on
+/// the bits is a max on the values.
+inline std::uint32_t floatBits(float f) {
+    std::uint32_t u;
+    static_assert(sizeof u == sizeof f);
+    __builtin_memcpy(&u, &f, sizeof u);
+    return u;
+}
+inline float bitsFloat(std::uint32_t u) {
+    float f;
+    __builtin_memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+} // namespace yv

@@ -1,0 +1,92 @@
+#include "core/stats.h"
+
+#include "core/error.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace yv {
+
+std::string jsonQuote(const std::string& s) {
+    std::string out = "\"";
+    for (char ch : s) {
+        switch (ch) {
+        case '"': out += "\\\""; break;
+        case '\\': out += "\\\\"; break;
+        case '\n': out += "\\n"; break;
+        case '\t': out += "\\t"; break;
+        default:
+            if (static_cast<unsigned char>(ch) < 0x20) {
+                char buf[8];
+                std::snprintf(buf, sizeof buf, "\\u%04x", ch);
+                out += buf;
+            } else {
+                out += ch;
+            }
+        }
+    }
+    return out + "\"";
+}
+
+JsonObject& JsonObject::set(const std::string& key, double value) {
+    char buf[64];
+    if (std::isfinite(value))
+        std::snprintf(buf, sizeof buf, "%.9g", value);
+    else
+        std::snprintf(buf, sizeof buf, "null");
+    fields_.emplace_back(key, buf);
+    return *this;
+}
+JsonObject& JsonObject::set(const std::string& key, std::int64_t value) {
+    fields_.emplace_back(key, std::to_string(value));
+    return *this;
+}
+JsonObject& JsonObject::set(const std::string& key, const std::string& value) {
+    fields_.emplace_back(key, jsonQuote(value));
+    return *this;
+}
+JsonObject& JsonObject::set(const std::string& key, bool value) {
+    fields_.emplace_back(key, value ? "true" : "false");
+    return *this;
+}
+JsonObject& JsonObject::set(const std::string& key, const JsonObject& value) {
+    fields_.emplace_back(key, "\x01" + value.dump(0)); // marker: nested object, re-indented on dump
+    nested_.push_back(value);
+    return *this;
+}
+
+std::string JsonObject::dump(int indent) const {
+    const std::string pad(indent + 2, ' '), end(indent, ' ');
+    std::string out = "{\n";
+    std::size_t nestedIndex = 0;
+    for (std::size_t i = 0; i < fields_.size(); ++i) {
+        const auto& [key, value] = fields_[i];
+        out += pad + jsonQuote(key) + ": ";
+        out += value.size() && value[0] == '\x01' ? nested_[nestedIndex++].dump(indent + 2) : value;
+        out += i + 1 < fields_.size() ? ",\n" : "\n";
+    }
+    return out + end + "}";
+}
+
+void writeTextFileAtomically(const std::string& path, const std::string& text) {
+    const std::string tmp = path + ".partial";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        out << text;
+        out.flush();
+        if (!out) {
+            std::remove(tmp.c_str());
+            throw Error(path + ": cannot write file");
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::remove(tmp.c_str());
+        throw Error(path + ": cannot rename into place: " + ec.message());
+    }
+}
+
+} // namespace yv

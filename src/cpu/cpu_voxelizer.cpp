@@ -1,0 +1,129 @@
+#include "cpu/cpu_voxelizer.h"
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "cpu/slice_sampler.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <unordered_map>
+
+namespace yv {
+namespace {
+
+/// One thread's bricks: a hash from brick key to a slot in `bricks`.
+struct ThreadBricks {
+    std::unordered_map<std::uint64_t, std::uint32_t> slotOf;
+    std::vector<BrickAccumulator> bricks;
+    std::uint64_t lastKey = ~std::uint64_t(0);
+    std::uint32_t lastSlot = 0;
+    std::uint64_t samples = 0;
+
+    std::uint32_t* words(std::uint64_t key, Reduce reduce) {
+        if (key != lastKey) {
+            auto [it, inserted] = slotOf.try_emplace(key, static_cast<std::uint32_t>(bricks.size()));
+            if (inserted) bricks.push_back({key, std::vector<std::uint32_t>(wordsPerVoxel(reduce) * kBrickVoxels, 0)});
+            lastKey = key;
+            lastSlot = it->second;
+        }
+        return bricks[lastSlot].words.data();
+    }
+};
+
+} // namespace
+
+void accumulateSample(Reduce reduce, std::uint32_t* words, int v, double volumeFraction, float density,
+                      const glm::dvec3& direction) {
+    if (reduce == Reduce::Mean) {
+        const glm::dvec3& o = direction;
+        words[v] += toFixed(volumeFraction);
+        const double terms[6] = {o.x * o.x, o.y * o.y, o.z * o.z, o.x * o.y, o.x * o.z, o.y * o.z};
+        for (int i = 0; i < 6; ++i)
+            words[(1 + i) * kBrickVoxels + v] += static_cast<std::uint32_t>(toFixedSigned(volumeFraction * terms[i]));
+        return;
+    }
+    const std::uint32_t d = floatBits(density), code = encodeAxis(direction);
+    if (d > words[v] || (d == words[v] && code > words[kBrickVoxels + v])) {
+        words[v] = d;
+        words[kBrickVoxels + v] = code;
+    }
+}
+
+BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                        const VoxelizeSettings& settings, CpuVoxelizeCounters* counters) {
+    if (settings.supersample < 1 || settings.supersample > 16)
+        throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.supersample) + ")");
+    const Reduce reduce = settings.reduce;
+    const double radius = plan.options.radius;
+    tbb::enumerable_thread_specific<ThreadBricks> perThread;
+    Progress progress("voxelize", plan.sliceCount, settings.quiet, "slices");
+    std::atomic<bool> outside{false};
+
+    // Consecutive segments are close in space, so each task touches few bricks.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plan.segments.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          ThreadBricks& local = perThread.local();
+                          std::uint64_t slices = 0;
+                          for (std::size_t s = range.begin(); s != range.end(); ++s) {
+                              const SegmentRecord& seg = plan.segments[s];
+                              for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
+                                  const Slice slice = placeSlice(seg, k, plan.options);
+                                  sampleSlice(slice, radius, xs, grid, settings.supersample,
+                                              [&](const SliceSample& smp) {
+                                                  const glm::ivec3 v = smp.voxel;
+                                                  if (glm::any(glm::lessThan(v, glm::ivec3(0))) ||
+                                                      glm::any(glm::greaterThanEqual(v, grid.dims))) {
+                                                      outside = true;
+                                                      return;
+                                                  }
+                                                  std::uint32_t* w = local.words(brickKey(v >> 3), reduce);
+                                                  accumulateSample(reduce, w, brickOffset(v.x & 7, v.y & 7, v.z & 7),
+                                                                   smp.volumeFraction, smp.density, smp.direction);
+                                                  ++local.samples;
+                                              });
+                              }
+                              slices += seg.sliceCount;
+                          }
+                          progress.advance(slices);
+                      });
+    progress.finish();
+    if (outside) throw Error("a slice sample fell outside the voxel grid (the grid does not contain the garment)");
+
+    // Merge per-thread bricks: gather every key, then combine each brick's
+    // copies in thread order. Integer sums and lexicographic max make the
+    // result independent of which thread saw which slice.
+    std::vector<ThreadBricks*> threads;
+    std::uint64_t samples = 0;
+    for (ThreadBricks& t : perThread) {
+        threads.push_back(&t);
+        samples += t.samples;
+    }
+    std::vector<std::uint64_t> keys;
+    for (ThreadBricks* t : threads)
+        for (const BrickAccumulator& b : t->bricks) keys.push_back(b.key);
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+
+    std::vector<BrickAccumulator> merged(keys.size());
+    tbb::parallel_for(std::size_t(0), keys.size(), [&](std::size_t i) {
+        BrickAccumulator& out = merged[i];
+        out.key = keys[i];
+        for (ThreadBricks* t : threads) {
+            auto it = t->slotOf.find(keys[i]);
+            if (it == t->slotOf.end()) continue;
+            std::vector<std::uint32_t>& words = t->bricks[it->second].words;
+            if (out.words.empty())
+                out.words = std::move(words);
+            else
+                combineAccumulators(reduce, out.words.data(), words.data());
+        }
+    });
+    perThread.clear();
+    if (counters) counters->samples = samples;
+    return resolveVolume(grid, reduce, merged);
+}
+
+} // namespace yv

@@ -1,0 +1,33 @@
+// The reference voxelizer: TBB-parallel over slices, sparse 8^3 bricks,
+// fixed-point accumulation so results are identical for any thread count.
+#pragma once
+
+#include "core/bricks.h"
+#include "garment/cross_section.h"
+#include "garment/slices.h"
+#include "plan/grid.h"
+
+#include <cstdint>
+
+namespace yv {
+
+struct VoxelizeSettings {
+    Reduce reduce = Reduce::Mean;
+    int supersample = 1; ///< samples per voxel face along each axis
+    bool quiet = true;   ///< no progress output
+};
+
+struct CpuVoxelizeCounters {
+    std::uint64_t samples = 0; ///< samples that landed on fibre
+};
+
+/// Voxelizes every slice of `plan` into `grid`. Throws yv::Error if a sample
+/// falls outside the grid (a grid that does not contain the plan).
+BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                        const VoxelizeSettings& settings, CpuVoxelizeCounters* counters = nullptr);
+
+/// Adds one sample to a brick accumulator (the per-voxel rule of both reductions).
+void accumulateSample(Reduce reduce, std::uint32_t* words, int voxelOffset, double volumeFraction, float density,
+                      const glm::dvec3& direction);
+
+} // namespace yv

@@ -1,0 +1,72 @@
+// The sampling rule of formats/sampling-rule.md, for one slice, on the CPU.
+#pragma once
+
+#include "core/sampling.h"
+#include "garment/cross_section.h"
+#include "garment/slices.h"
+#include "plan/grid.h"
+
+#include <glm/vec3.hpp>
+
+#include <cmath>
+
+namespace yv {
+
+/// One sample of a slice that lands on fibre.
+struct SliceSample {
+    glm::ivec3 voxel;
+    double volumeFraction; ///< fibre volume the sample stands for / voxel volume
+    float density;         ///< cross-section density at the sample, in [0, 1]
+    glm::dvec3 direction;  ///< fibre direction, unit
+};
+
+/// Calls `emit(const SliceSample&)` for every sample of `slice`: pixel centres
+/// of the grid's face along the slice's dominant axis, `supersample`^2 per
+/// voxel face, that fall inside the slice square and on non-zero density.
+template <class Emit>
+void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, const VoxelGrid& grid, int supersample,
+                 Emit&& emit) {
+    const int a = dominantAxis(slice.tangent), b = (a + 1) % 3, c = (a + 2) % 3;
+    const double h = grid.voxelSize, pixel = h / supersample;
+    // right x up = tangent, so the 2x2 system below has determinant tangent[a].
+    const double det = slice.tangent[a];
+    const double Rb = slice.right[b], Rc = slice.right[c], Ub = slice.up[b], Uc = slice.up[c];
+
+    // Pixel bounds of the slice square projected onto the (b, c) face.
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+    for (int corner = 0; corner < 4; ++corner) {
+        const double sx = (corner & 1) ? radius : -radius, sy = (corner & 2) ? radius : -radius;
+        const glm::dvec3 p = slice.center + sx * slice.right + sy * slice.up;
+        const double pb = (p[b] - grid.origin[b]) / pixel, pc = (p[c] - grid.origin[c]) / pixel;
+        lo[0] = std::min(lo[0], pb), hi[0] = std::max(hi[0], pb);
+        lo[1] = std::min(lo[1], pc), hi[1] = std::max(hi[1], pc);
+    }
+    const long i0 = static_cast<long>(std::ceil(lo[0] - 0.5)), i1 = static_cast<long>(std::floor(hi[0] - 0.5));
+    const long j0 = static_cast<long>(std::ceil(lo[1] - 0.5)), j1 = static_cast<long>(std::floor(hi[1] - 0.5));
+    const double weightScale = slice.thickness / (h * supersample * supersample * std::abs(det));
+    const double invRadius = 1.0 / radius;
+
+    for (long j = j0; j <= j1; ++j) {
+        const double dc = grid.origin[c] + (j + 0.5) * pixel - slice.center[c];
+        for (long i = i0; i <= i1; ++i) {
+            const double db = grid.origin[b] + (i + 0.5) * pixel - slice.center[b];
+            const double x = (db * Uc - dc * Ub) / det;
+            const double y = (Rb * dc - Rc * db) / det;
+            // Half-open square, like the rasteriser's fill rule on shared edges.
+            if (x < -radius || x >= radius || y < -radius || y >= radius) continue;
+            const std::uint8_t texel = xs.lookup(x * invRadius, y * invRadius);
+            if (texel == 0) continue;
+            const double pa = slice.center[a] + x * slice.right[a] + y * slice.up[a];
+            SliceSample s;
+            s.voxel[a] = static_cast<int>(std::floor((pa - grid.origin[a]) / h));
+            s.voxel[b] = static_cast<int>(i / supersample);
+            s.voxel[c] = static_cast<int>(j / supersample);
+            s.density = texel / 255.0f;
+            s.volumeFraction = s.density * weightScale;
+            s.direction = fiberDirection(slice, x, y);
+            emit(s);
+        }
+    }
+}
+
+} // namespace yv

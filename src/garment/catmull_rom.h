@@ -1,0 +1,31 @@
+// Uniform Catmull-Rom segments in the paper's matrix form (section 3.2).
+#pragma once
+
+#include "garment/garment.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstddef>
+
+namespace yv {
+
+/// The four control points P[i-1], P[i], P[i+1], P[i+2] that shape segment i
+/// (from P[i] to P[i+1]). The curve passes through P[i] and P[i+1] with the
+/// tangents (P[i+1]-P[i-1])/2 and (P[i+2]-P[i])/2.
+using SegmentPoints = std::array<glm::dvec3, 4>;
+
+/// Control points of segment `segment` of a yarn. Closed yarns wrap around.
+/// Open yarns estimate their end tangents from the end chord: the missing
+/// point is mirrored (P[-1] = 2 P[0] - P[1]), so the end tangent is P[1]-P[0].
+/// A polyline uses mirrored points on both ends of every segment, which makes
+/// the cubic a straight line with uniform speed.
+SegmentPoints segmentPoints(const Yarn& yarn, std::size_t segment, CurveType type);
+
+/// Position at t in [0, 1]: 1/2 [1 t t^2 t^3] M [P[i-1] P[i] P[i+1] P[i+2]]^T.
+glm::dvec3 evalCatmullRom(const SegmentPoints& p, double t);
+
+/// Derivative with respect to t.
+glm::dvec3 evalCatmullRomDerivative(const SegmentPoints& p, double t);
+
+} // namespace yv

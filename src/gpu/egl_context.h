@@ -1,0 +1,54 @@
+// Headless OpenGL 4.5 core context through EGL: the device platform for real
+// GPUs, the surfaceless platform (Mesa llvmpipe) where there is none.
+#pragma once
+
+#include <memory>
+#include <string>
+
+namespace yv {
+
+struct GlContextOptions {
+    /// Index among the EGL devices that can give a GL 4.5 context; -1 picks the
+    /// first hardware device, else the surfaceless (software) platform.
+    int device = -1;
+    bool debug = false; ///< Request a debug context and print driver messages.
+};
+
+/// Limits and names read off the live context; budgets are derived from these.
+struct GlInfo {
+    std::string vendor, renderer, version;
+    std::string platform;          ///< "device" or "surfaceless"
+    long long maxSsboBlockSize = 0; ///< GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes
+    int maxComputeWorkGroupCountX = 0;
+    int maxTextureSize = 0;
+    int max3dTextureSize = 0;
+    int maxViewportDims[2] = {0, 0};
+    /// Free GPU memory in bytes where the driver reports it (NVX_gpu_memory_info,
+    /// ATI_meminfo), else -1.
+    long long freeMemoryBytes = -1;
+    bool hasConservativeRaster = false; ///< GL_NV_conservative_raster
+};
+
+/// Owns an EGL display and a current GL 4.5 core context (no surface). Creating
+/// one throws yv::Error with one line that says what is missing and what to
+/// install (or to use --backend cpu) when no GL 4.5 context can be had.
+class GlContext {
+  public:
+    explicit GlContext(const GlContextOptions& options = {});
+    ~GlContext();
+    GlContext(const GlContext&) = delete;
+    GlContext& operator=(const GlContext&) = delete;
+
+    const GlInfo& info() const;
+    /// Re-reads free GPU memory (-1 when the driver cannot tell).
+    long long queryFreeMemoryBytes() const;
+
+    /// True when a context can be created here (for tests that skip cleanly).
+    static bool available();
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace yv

@@ -1,0 +1,145 @@
+#include "gpu/gl_program.h"
+
+#include "core/error.h"
+#include "gpu/shader_sources.h"
+
+#include <epoxy/egl.h>
+
+#include <initializer_list>
+#include <utility>
+
+namespace yv {
+namespace {
+
+std::string trimmed(std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ' || s.back() == '\r' || s.back() == '\0'))
+        s.pop_back();
+    return s;
+}
+
+std::string shaderLog(GLuint shader) {
+    GLint len = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<size_t>(len > 0 ? len : 0), '\0');
+    if (len > 0) glGetShaderInfoLog(shader, len, nullptr, log.data());
+    return trimmed(std::move(log));
+}
+
+std::string programLog(GLuint program) {
+    GLint len = 0;
+    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<size_t>(len > 0 ? len : 0), '\0');
+    if (len > 0) glGetProgramInfoLog(program, len, nullptr, log.data());
+    return trimmed(std::move(log));
+}
+
+const char* glErrorName(GLenum e) {
+    switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+    case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+    default: return "unknown GL error";
+    }
+}
+
+/// Deletes a compiled stage once it is attached (or on a throw before that).
+struct StageGuard {
+    GLuint id;
+    ~StageGuard() { glDeleteShader(id); }
+};
+
+/// Attaches, links and checks; `names` is what a link error reports.
+GLuint link(std::initializer_list<GLuint> stages, const std::string& names) {
+    GLuint program = glCreateProgram();
+    for (GLuint s : stages) glAttachShader(program, s);
+    glLinkProgram(program);
+    for (GLuint s : stages) glDetachShader(program, s);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        std::string log = programLog(program);
+        glDeleteProgram(program);
+        throw Error("shader " + names + ": link failed:\n" + log);
+    }
+    return program;
+}
+
+} // namespace
+
+GLuint compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
+    const char* text = shaderSource(name.c_str());
+    if (!text)
+        throw Error("shader " + name + ": not among the embedded shaders (add shaders/" + name +
+                    " to YV_SHADERS in CMakeLists.txt)");
+    const char* common = shaderSource("common.glsl");
+
+    std::string src = "#version 450 core\n";
+    for (const std::string& d : defines) src += "#define " + d + "\n";
+    // Source-string numbers 1 and 2 let driver logs tell the two files apart.
+    src += "#line 1 1\n";
+    if (common) src += common;
+    src += "\n#line 1 2\n";
+    src += text;
+
+    GLuint shader = glCreateShader(stage);
+    if (shader == 0) throw Error("shader " + name + ": glCreateShader failed (no current GL context?)");
+    const char* p = src.c_str();
+    glShaderSource(shader, 1, &p, nullptr);
+    glCompileShader(shader);
+    GLint ok = GL_FALSE;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        std::string log = shaderLog(shader);
+        glDeleteShader(shader);
+        throw Error("shader " + name + ": compile failed (source-string 1 is common.glsl, 2 is " + name +
+                    "):\n" + log);
+    }
+    return shader;
+}
+
+GlProgram GlProgram::compute(const std::string& name, const std::vector<std::string>& defines) {
+    StageGuard cs{compileShaderStage(GL_COMPUTE_SHADER, name, defines)};
+    return GlProgram(link({cs.id}, name));
+}
+
+GlProgram GlProgram::graphics(const std::string& vertexName, const std::string& fragmentName,
+                              const std::vector<std::string>& defines) {
+    StageGuard vs{compileShaderStage(GL_VERTEX_SHADER, vertexName, defines)};
+    StageGuard fs{compileShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines)};
+    return GlProgram(link({vs.id, fs.id}, vertexName + " + " + fragmentName));
+}
+
+GlProgram::~GlProgram() {
+    // A program outliving its context has nothing left to free.
+    if (id_ != 0 && eglGetCurrentContext() != EGL_NO_CONTEXT) glDeleteProgram(id_);
+}
+
+GlProgram::GlProgram(GlProgram&& other) noexcept : id_(std::exchange(other.id_, 0)) {}
+
+GlProgram& GlProgram::operator=(GlProgram&& other) noexcept {
+    if (this != &other) {
+        GlProgram old(std::move(*this));
+        id_ = std::exchange(other.id_, 0);
+    }
+    return *this;
+}
+
+void GlProgram::use() const { glUseProgram(id_); }
+
+GLint GlProgram::uniform(const char* name) const { return glGetUniformLocation(id_, name); }
+
+void checkGlError(const char* where) {
+    GLenum first = glGetError();
+    if (first == GL_NO_ERROR) return;
+    // Drain the queue so the next check reports only its own errors; bounded
+    // because a lost context may report forever.
+    for (int i = 0; i < 32 && glGetError() != GL_NO_ERROR; ++i) {
+    }
+    throw Error(std::string("GL error ") + glErrorName(first) + " at " + where);
+}
+
+} // namespace yv

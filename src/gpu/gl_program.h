@@ -1,0 +1,45 @@
+// GL shader programs built from the shaders embedded from shaders/.
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// A linked GL program. Sources are composed as: "#version 450 core", the
+/// given #define lines, shaders/common.glsl, then the shader file itself, each
+/// part behind a #line marker so driver logs point at the right file.
+class GlProgram {
+  public:
+    GlProgram() = default;
+    /// Compute program from one shader file (e.g. "brick_flag.comp").
+    static GlProgram compute(const std::string& name, const std::vector<std::string>& defines = {});
+    /// Graphics program from a vertex and a fragment shader file.
+    static GlProgram graphics(const std::string& vertexName, const std::string& fragmentName,
+                              const std::vector<std::string>& defines = {});
+    ~GlProgram();
+    GlProgram(GlProgram&& other) noexcept;
+    GlProgram& operator=(GlProgram&& other) noexcept;
+    GlProgram(const GlProgram&) = delete;
+    GlProgram& operator=(const GlProgram&) = delete;
+
+    GLuint id() const { return id_; }
+    void use() const;
+    /// Uniform location, or -1 (not an error: the driver may optimise it away).
+    GLint uniform(const char* name) const;
+
+  private:
+    explicit GlProgram(GLuint id) : id_(id) {}
+    GLuint id_ = 0;
+};
+
+/// Compiles one stage. A failure throws yv::Error with the shader's name and
+/// the driver's log.
+GLuint compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines);
+
+/// Throws yv::Error naming `where` when glGetError reports an error.
+void checkGlError(const char* where);
+
+} // namespace yv

@@ -1,0 +1,439 @@
+#include "gpu/gl_voxelizer.h"
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "gpu/egl_context.h"
+#include "gpu/gl_program.h"
+#include "gpu/gpu_layout.h"
+
+#include <epoxy/gl.h>
+#include <glm/common.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <unordered_map>
+
+namespace yv {
+namespace {
+
+constexpr GLuint kWorkGroup = 256;
+
+/// A GL buffer that grows on demand (contents are not kept when it grows).
+class GlBuffer {
+  public:
+    ~GlBuffer() { release(); }
+    void reserve(std::uint64_t bytes, std::uint64_t* gpuBytes) {
+        if (bytes <= size_ && id_) return;
+        if (gpuBytes) *gpuBytes -= size_;
+        release();
+        size_ = std::max<std::uint64_t>(bytes, 16);
+        glCreateBuffers(1, &id_);
+        glNamedBufferStorage(id_, static_cast<GLsizeiptr>(size_), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        checkGlError("allocating a GPU buffer");
+        if (gpuBytes) *gpuBytes += size_;
+    }
+    void upload(const void* data, std::uint64_t bytes, std::uint64_t* gpuBytes) {
+        reserve(bytes, gpuBytes);
+        glNamedBufferSubData(id_, 0, static_cast<GLsizeiptr>(bytes), data);
+    }
+    void clear(std::uint64_t bytes) {
+        const GLuint zero = 0;
+        glClearNamedBufferSubData(id_, GL_R32UI, 0, static_cast<GLsizeiptr>(bytes), GL_RED_INTEGER, GL_UNSIGNED_INT,
+                                  &zero);
+    }
+    void bindStorage(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
+    GLuint id() const { return id_; }
+    std::uint64_t size() const { return size_; }
+
+  private:
+    void release() {
+        if (id_) glDeleteBuffers(1, &id_);
+        id_ = 0;
+        size_ = 0;
+    }
+    GLuint id_ = 0;
+    std::uint64_t size_ = 0;
+};
+
+/// GPU time of the commands between begin() and end(), read when asked.
+class GpuTimer {
+  public:
+    GpuTimer() { glCreateQueries(GL_TIME_ELAPSED, 1, &id_); }
+    ~GpuTimer() { glDeleteQueries(1, &id_); }
+    void begin() { glBeginQuery(GL_TIME_ELAPSED, id_); }
+    double end() {
+        glEndQuery(GL_TIME_ELAPSED);
+        GLuint64 ns = 0;
+        glGetQueryObjectui64v(id_, GL_QUERY_RESULT, &ns);
+        return ns * 1e-9;
+    }
+
+  private:
+    GLuint id_ = 0;
+};
+
+/// A box of voxels (a whole number of bricks) and the segments that may touch it.
+struct WorkItem {
+    glm::ivec3 min, max;
+    std::vector<std::uint32_t> segments;
+    std::uint64_t share = 0; ///< progress units this item stands for
+};
+
+constexpr std::uint64_t kRegionShare = 1 << 20;
+
+GLuint groupsFor(std::uint64_t items, GLuint maxGroups) {
+    const std::uint64_t groups = (items + kWorkGroup - 1) / kWorkGroup;
+    return static_cast<GLuint>(std::clamp<std::uint64_t>(groups, 1, maxGroups));
+}
+
+class GlVoxelizer {
+  public:
+    GlVoxelizer(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters)
+        : plan_(plan), grid_(grid), settings_(settings), counters_(counters),
+          context_(GlContextOptions{settings.device, settings.verbose}), reduce_(settings.base.reduce),
+          words_(wordsPerVoxel(reduce_)) {
+        const GlInfo& info = context_.info();
+        counters_.renderer = info.renderer;
+        counters_.platform = info.platform;
+        chooseBudgets(info);
+        uploadSegments();
+        uploadCrossSection(xs);
+        raster_ = GlProgram::graphics("slice.vert", "append.frag");
+        flag_ = GlProgram::compute("brick_flag.comp");
+        scan_ = GlProgram::compute("brick_scan.comp");
+        const std::vector<std::string> defines =
+            reduce_ == Reduce::Max ? std::vector<std::string>{"REDUCE_MAX 1"} : std::vector<std::string>{};
+        scatter_ = GlProgram::compute("brick_scatter.comp", defines);
+        if (reduce_ == Reduce::Max) maxOrient_ = GlProgram::compute("brick_max_orient.comp");
+        glCreateVertexArrays(1, &vao_);
+        glCreateFramebuffers(1, &fbo_);
+        fragments_.reserve(capacity_ * sizeof(GpuFragment), &gpuBytes_);
+        counter_.reserve(4, &gpuBytes_);
+        counts_.reserve(16, &gpuBytes_);
+        notePeak();
+    }
+
+    ~GlVoxelizer() {
+        glDeleteTextures(1, &texture_);
+        glDeleteVertexArrays(1, &vao_);
+        glDeleteFramebuffers(1, &fbo_);
+    }
+
+    BrickVolume run() {
+        std::vector<WorkItem> stack = initialRegions();
+        // Progress in regions; a split region's share is divided among its parts.
+        Progress progress("voxelize", stack.size() * kRegionShare, settings_.base.quiet, "region units");
+        while (!stack.empty()) {
+            WorkItem item = std::move(stack.back());
+            stack.pop_back();
+            if (process(item)) {
+                progress.advance(item.share);
+            } else {
+                ++counters_.overflows;
+                split(item, stack, progress);
+            }
+        }
+        progress.finish();
+        counters_.fragmentCapacity = capacity_;
+        return resolveVolume(grid_, reduce_, accumulators_);
+    }
+
+  private:
+    void chooseBudgets(const GlInfo& info) {
+        // Every buffer is bound whole as one shader storage block, so none may
+        // exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE; together they stay within
+        // half of the free GPU memory where the driver reports it.
+        const std::uint64_t block = static_cast<std::uint64_t>(std::max<long long>(info.maxSsboBlockSize, 1 << 20));
+        const long long freeBytes = context_.queryFreeMemoryBytes();
+        const std::uint64_t memory = freeBytes > 0 ? static_cast<std::uint64_t>(freeBytes) / 2 : (std::uint64_t(1) << 30);
+        const std::uint64_t fragmentBytes = std::min(block, memory / 2);
+        capacity_ = settings_.fragmentCapacity ? settings_.fragmentCapacity : fragmentBytes / sizeof(GpuFragment);
+        capacity_ = std::min<std::uint64_t>(capacity_, block / sizeof(GpuFragment));
+        capacity_ = std::min<std::uint64_t>(capacity_, 0xffffffffu);
+        brickBudget_ = std::min(block, memory / 3) / (std::uint64_t(words_) * kBrickVoxels * 4);
+        if (settings_.fragmentCapacity) brickBudget_ = std::min<std::uint64_t>(brickBudget_, std::max<std::uint64_t>(capacity_ / 8, 1));
+
+        GLint fbMax[2] = {0, 0}, viewportMax[2] = {0, 0};
+        glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &fbMax[0]);
+        glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &fbMax[1]);
+        glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewportMax);
+        const int pixels = std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]});
+        // Region keys hold a brick index in 23 bits: at most 2^23 bricks a region.
+        regionCap_ = std::min(1024, (pixels / settings_.base.supersample) / 8 * 8);
+        maxGroups_ = static_cast<GLuint>(std::min(info.maxComputeWorkGroupCountX, 65535));
+
+        // The smallest piece of work is one segment over one brick.
+        std::uint32_t maxSlices = 0;
+        for (const SegmentRecord& s : plan_.segments) maxSlices = std::max(maxSlices, s.sliceCount);
+        const std::uint64_t worst = std::uint64_t(maxSlices) * 64 * settings_.base.supersample * settings_.base.supersample;
+        if (capacity_ < worst)
+            throw Error("fragment capacity " + std::to_string(capacity_) + " is below the " + std::to_string(worst) +
+                        " fragments one segment can put into one brick; raise --fragment-capacity");
+        if (settings_.verbose)
+            std::fprintf(stderr, "gl: %s, %s; ssbo block %lld MiB, free %lld MiB; capacity %llu fragments, %llu bricks, regions <= %d\n",
+                         info.renderer.c_str(), info.version.c_str(), info.maxSsboBlockSize >> 20,
+                         freeBytes > 0 ? freeBytes >> 20 : -1LL, static_cast<unsigned long long>(capacity_),
+                         static_cast<unsigned long long>(brickBudget_), regionCap_);
+    }
+
+    void uploadSegments() {
+        const double invH = 1.0 / grid_.voxelSize;
+        std::vector<GpuSegment> gpu(plan_.segments.size());
+        for (std::size_t i = 0; i < gpu.size(); ++i) {
+            const SegmentRecord& s = plan_.segments[i];
+            GpuSegment& g = gpu[i];
+            for (int j = 0; j < 4; ++j) {
+                const glm::dvec3 p = (s.points[j] - grid_.origin) * invH;
+                g.p[j][0] = float(p.x), g.p[j][1] = float(p.y), g.p[j][2] = float(p.z), g.p[j][3] = 0.0f;
+            }
+            g.up[0] = float(s.knotUp.x), g.up[1] = float(s.knotUp.y), g.up[2] = float(s.knotUp.z);
+            g.up[3] = float(s.arcStart * invH);
+            const float length = float(s.length * invH);
+            std::uint32_t lengthBits;
+            std::memcpy(&lengthBits, &length, 4);
+            g.info[0] = static_cast<std::uint32_t>(s.firstSlice);
+            g.info[1] = s.sliceCount;
+            g.info[2] = lengthBits;
+            g.info[3] = s.yarn;
+        }
+        segments_.upload(gpu.data(), gpu.size() * sizeof(GpuSegment), &gpuBytes_);
+        counters_.sliceDataBytes = segments_.size();
+    }
+
+    void uploadCrossSection(const CrossSection& xs) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &texture_);
+        glTextureStorage2D(texture_, 1, GL_R8UI, xs.size, xs.size);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTextureSubImage2D(texture_, 0, 0, 0, xs.size, xs.size, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data());
+        glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        gpuBytes_ += std::uint64_t(xs.size) * xs.size;
+        checkGlError("uploading the cross-section");
+    }
+
+    /// Segments whose slices can reach into [min, max) voxels.
+    std::vector<std::uint32_t> cull(const std::vector<std::uint32_t>& from, glm::ivec3 min, glm::ivec3 max) const {
+        const double invH = 1.0 / grid_.voxelSize;
+        const double reach = plan_.options.radius * std::sqrt(2.0) * invH + 1.0;
+        std::vector<std::uint32_t> out;
+        for (std::uint32_t s : from) {
+            const SegmentRecord& seg = plan_.segments[s];
+            const glm::dvec3 lo = (seg.centerMin - grid_.origin) * invH - reach;
+            const glm::dvec3 hi = (seg.centerMax - grid_.origin) * invH + reach;
+            if (glm::all(glm::lessThan(lo, glm::dvec3(max))) && glm::all(glm::greaterThan(hi, glm::dvec3(min))))
+                out.push_back(s);
+        }
+        return out;
+    }
+
+    std::vector<WorkItem> initialRegions() const {
+        std::vector<std::uint32_t> all(plan_.segments.size());
+        for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+        std::vector<WorkItem> items;
+        for (int z = 0; z < grid_.dims.z; z += regionCap_)
+            for (int y = 0; y < grid_.dims.y; y += regionCap_)
+                for (int x = 0; x < grid_.dims.x; x += regionCap_) {
+                    WorkItem item;
+                    item.min = {x, y, z};
+                    item.max = glm::min(item.min + regionCap_, grid_.dims);
+                    item.segments = cull(all, item.min, item.max);
+                    item.share = kRegionShare;
+                    if (!item.segments.empty()) items.push_back(std::move(item));
+                }
+        std::reverse(items.begin(), items.end()); // the stack pops the first region first
+        return items;
+    }
+
+    void split(WorkItem& item, std::vector<WorkItem>& stack, Progress& progress) const {
+        const glm::ivec3 size = item.max - item.min;
+        const int axis = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
+        if (size[axis] > 8) {
+            const int mid = item.min[axis] + (size[axis] / 16) * 8;
+            WorkItem lo{item.min, item.max, {}, item.share / 2}, hi{item.min, item.max, {}, item.share - item.share / 2};
+            lo.max[axis] = mid;
+            hi.min[axis] = mid;
+            lo.segments = cull(item.segments, lo.min, lo.max);
+            hi.segments = cull(item.segments, hi.min, hi.max);
+            for (WorkItem* part : {&hi, &lo}) {
+                if (part->segments.empty())
+                    progress.advance(part->share);
+                else
+                    stack.push_back(std::move(*part));
+            }
+            return;
+        }
+        // One brick that still overflows: halve its segments instead; the two
+        // halves' bricks add up on the host.
+        YV_CHECK(item.segments.size() > 1);
+        const std::size_t half = item.segments.size() / 2;
+        WorkItem a{item.min, item.max, {item.segments.begin(), item.segments.begin() + half}, item.share / 2};
+        WorkItem b{item.min, item.max, {item.segments.begin() + half, item.segments.end()}, item.share - item.share / 2};
+        stack.push_back(std::move(b));
+        stack.push_back(std::move(a));
+    }
+
+    /// Rasterises and bricks one work item; false when it did not fit.
+    bool process(const WorkItem& item) {
+        const glm::ivec3 size = item.max - item.min;
+        const glm::ivec3 bricks = size / 8;
+        const std::uint64_t regionBricks = std::uint64_t(bricks.x) * bricks.y * bricks.z;
+        const int S = settings_.base.supersample;
+
+        // Draw list: segment index and the first instance of each.
+        std::vector<std::uint32_t> draw(item.segments.size() * 2);
+        std::uint64_t instances = 0;
+        for (std::size_t i = 0; i < item.segments.size(); ++i) {
+            draw[2 * i] = item.segments[i];
+            draw[2 * i + 1] = static_cast<std::uint32_t>(instances);
+            instances += plan_.segments[item.segments[i]].sliceCount;
+        }
+        if (instances > 0x7fffffff) return false;
+        drawList_.upload(draw.data(), draw.size() * 4, &gpuBytes_);
+        counter_.clear(4);
+
+        const int viewport = std::max({size.x, size.y, size.z}) * S;
+        glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_WIDTH, viewport);
+        glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_HEIGHT, viewport);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+        glViewport(0, 0, viewport, viewport);
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_CULL_FACE);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+
+        raster_.use();
+        glUniform1i(raster_.uniform("uDrawCount"), static_cast<GLint>(item.segments.size()));
+        glUniform1f(raster_.uniform("uRadius"), float(plan_.options.radius / grid_.voxelSize));
+        glUniform1f(raster_.uniform("uTwist"), float(plan_.options.twist * grid_.voxelSize));
+        glUniform1i(raster_.uniform("uSupersample"), S);
+        glUniform3i(raster_.uniform("uRegionMin"), item.min.x, item.min.y, item.min.z);
+        glUniform3i(raster_.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
+        glUniform2f(raster_.uniform("uViewport"), float(viewport), float(viewport));
+        glUniform1ui(raster_.uniform("uCapacity"), static_cast<GLuint>(capacity_));
+        segments_.bindStorage(0);
+        drawList_.bindStorage(1);
+        fragments_.bindStorage(2);
+        glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
+        glBindTextureUnit(0, texture_);
+        glBindVertexArray(vao_);
+
+        GpuTimer timer;
+        timer.begin();
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances));
+        counters_.rasterSeconds += timer.end();
+        checkGlError("raster pass");
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+
+        GLuint fragmentCount = 0;
+        glGetNamedBufferSubData(counter_.id(), 0, 4, &fragmentCount);
+        if (fragmentCount > capacity_) return false;
+        if (fragmentCount == 0) return true;
+
+        // Brick passes: flag, scan, then scatter into the touched bricks only.
+        timer.begin();
+        const std::uint64_t blocks = (regionBricks + 1023) / 1024;
+        flags_.reserve(regionBricks * 4, &gpuBytes_);
+        blockSums_.reserve(blocks * 4, &gpuBytes_);
+        flags_.clear(regionBricks * 4);
+        flags_.bindStorage(3);
+        fragments_.bindStorage(2);
+        flag_.use();
+        glUniform1ui(flag_.uniform("uCount"), fragmentCount);
+        glDispatchCompute(groupsFor(fragmentCount, maxGroups_), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+        slotBricks_.reserve(std::min<std::uint64_t>(regionBricks, fragmentCount) * 4, &gpuBytes_);
+        blockSums_.bindStorage(4);
+        counts_.bindStorage(5);
+        slotBricks_.bindStorage(6);
+        scan_.use();
+        glUniform1ui(scan_.uniform("uBrickCount"), static_cast<GLuint>(regionBricks));
+        glUniform1ui(scan_.uniform("uBlockCount"), static_cast<GLuint>(blocks));
+        for (int phase = 0; phase < 3; ++phase) {
+            glUniform1i(scan_.uniform("uPhase"), phase);
+            glDispatchCompute(phase == 1 ? 1 : static_cast<GLuint>(blocks), 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        }
+        GLuint activeBricks = 0;
+        glGetNamedBufferSubData(counts_.id(), 0, 4, &activeBricks);
+        if (activeBricks > brickBudget_) {
+            counters_.brickSeconds += timer.end();
+            return false;
+        }
+
+        const std::uint64_t brickWords = std::uint64_t(activeBricks) * words_ * kBrickVoxels;
+        brickWords_.reserve(brickWords * 4, &gpuBytes_);
+        brickWords_.clear(brickWords * 4);
+        brickWords_.bindStorage(7);
+        scatter_.use();
+        glUniform1ui(scatter_.uniform("uCount"), fragmentCount);
+        glDispatchCompute(groupsFor(fragmentCount, maxGroups_), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        if (reduce_ == Reduce::Max) {
+            maxOrient_.use();
+            glUniform1ui(maxOrient_.uniform("uCount"), fragmentCount);
+            glDispatchCompute(groupsFor(fragmentCount, maxGroups_), 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        }
+        counters_.brickSeconds += timer.end();
+        checkGlError("brick passes");
+        notePeak();
+
+        // Read back only the touched bricks.
+        const auto readStart = std::chrono::steady_clock::now();
+        std::vector<std::uint32_t> slotBrick(activeBricks);
+        glGetNamedBufferSubData(slotBricks_.id(), 0, GLsizeiptr(activeBricks) * 4, slotBrick.data());
+        std::vector<std::uint32_t> words(brickWords);
+        glGetNamedBufferSubData(brickWords_.id(), 0, GLsizeiptr(brickWords) * 4, words.data());
+        const std::size_t perBrick = std::size_t(words_) * kBrickVoxels;
+        for (GLuint slot = 0; slot < activeBricks; ++slot) {
+            const std::uint32_t b = slotBrick[slot];
+            const glm::ivec3 local(b % bricks.x, (b / bricks.x) % bricks.y, b / (bricks.x * bricks.y));
+            const std::uint64_t key = brickKey(item.min / 8 + local);
+            const std::uint32_t* src = words.data() + slot * perBrick;
+            auto [it, inserted] = slotOfKey_.try_emplace(key, accumulators_.size());
+            if (inserted)
+                accumulators_.push_back({key, std::vector<std::uint32_t>(src, src + perBrick)});
+            else
+                combineAccumulators(reduce_, accumulators_[it->second].words.data(), src);
+        }
+        counters_.readbackSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - readStart).count();
+        counters_.fragments += fragmentCount;
+        ++counters_.passes;
+        return true;
+    }
+
+    void notePeak() { counters_.peakGpuBytes = std::max(counters_.peakGpuBytes, gpuBytes_); }
+
+    const SlicePlan& plan_;
+    const VoxelGrid& grid_;
+    const GlVoxelizeSettings& settings_;
+    GlVoxelizeCounters& counters_;
+    GlContext context_;
+    Reduce reduce_;
+    int words_;
+    std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
+    int regionCap_ = 1024;
+    GLuint maxGroups_ = 65535;
+    GlBuffer segments_, drawList_, fragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
+    GLuint texture_ = 0, vao_ = 0, fbo_ = 0;
+    GlProgram raster_, flag_, scan_, scatter_, maxOrient_;
+    std::vector<BrickAccumulator> accumulators_;
+    std::unordered_map<std::uint64_t, std::size_t> slotOfKey_;
+};
+
+} // namespace
+
+BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                       const GlVoxelizeSettings& settings, GlVoxelizeCounters* counters) {
+    if (settings.base.supersample < 1 || settings.base.supersample > 16)
+        throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.base.supersample) + ")");
+    GlVoxelizeCounters local;
+    GlVoxelizer voxelizer(plan, xs, grid, settings, counters ? *counters : local);
+    return voxelizer.run();
+}
+
+} // namespace yv

@@ -1,0 +1,43 @@
+// The GL backend: slices rasterised on the GPU, voxel fragments appended to
+// an SSBO through an atomic counter, bricks built by compute passes.
+#pragma once
+
+#include "core/bricks.h"
+#include "cpu/cpu_voxelizer.h"
+#include "garment/cross_section.h"
+#include "garment/slices.h"
+#include "plan/grid.h"
+
+#include <cstdint>
+#include <string>
+
+namespace yv {
+
+struct GlVoxelizeSettings {
+    VoxelizeSettings base;
+    int device = -1; ///< EGL device index (-1: first GPU, else llvmpipe)
+    /// Fragment-list capacity in fragments (0: from queried limits and free
+    /// GPU memory). Tests force it small to exercise overflow and retry.
+    std::uint64_t fragmentCapacity = 0;
+    bool verbose = false;
+};
+
+struct GlVoxelizeCounters {
+    std::string renderer, platform;
+    std::uint64_t fragments = 0;        ///< fragments appended, summed over passes that fit
+    std::uint64_t passes = 0;           ///< raster passes that fit
+    std::uint64_t overflows = 0;        ///< passes redone in smaller pieces
+    std::uint64_t fragmentCapacity = 0; ///< capacity used
+    std::uint64_t sliceDataBytes = 0;   ///< GPU bytes of curve/segment data for the slices
+    std::uint64_t peakGpuBytes = 0;     ///< largest sum of yarnvox's GPU buffers
+    double rasterSeconds = 0.0;         ///< GPU time of raster + append (timer queries)
+    double brickSeconds = 0.0;          ///< GPU time of the brick passes
+    double readbackSeconds = 0.0;       ///< wall time of reading back bricks
+};
+
+/// Voxelizes on the GPU with the same sampling rule and reductions as
+/// voxelizeCpu. Needs an OpenGL 4.5 context (throws yv::Error otherwise).
+BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                       const GlVoxelizeSettings& settings, GlVoxelizeCounters* counters = nullptr);
+
+} // namespace yv

@@ -1,0 +1,25 @@
+// Buffer layouts shared by C++ and shaders/common.glsl (std430), GL-free.
+#pragma once
+
+#include <cstdint>
+
+namespace yv {
+
+/// shaders/common.glsl: GpuSegment.
+struct GpuSegment {
+    float p[4][4];      ///< control points, voxel units from the grid origin (w unused)
+    float up[4];        ///< knot frame up; w = arc length before the segment (voxel units)
+    std::uint32_t info[4]; ///< first slice, slice count, float bits of the length (voxel units), yarn
+};
+static_assert(sizeof(GpuSegment) == 96, "GpuSegment must match shaders/common.glsl");
+
+/// shaders/common.glsl: Fragment.
+struct GpuFragment {
+    std::uint32_t key;     ///< region brick index << 9 | voxel offset in the brick
+    std::uint32_t weight;  ///< fixed-point volume fraction
+    std::uint32_t axis;    ///< octahedral axis code
+    std::uint32_t density; ///< float bits of the cross-section density
+};
+static_assert(sizeof(GpuFragment) == 16, "GpuFragment must match shaders/common.glsl");
+
+} // namespace yv

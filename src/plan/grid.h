@@ -1,0 +1,31 @@
+// The voxel grid: where voxel (i, j, k) lies in the world.
+#pragma once
+
+#include "garment/slices.h"
+
+#include <glm/vec3.hpp>
+
+#include <cmath>
+#include <cstdint>
+
+namespace yv {
+
+/// Voxel (i, j, k) covers origin + [i, i+1) * voxelSize (and likewise in j, k);
+/// its centre is origin + (i + 0.5) * voxelSize. Dimensions are multiples of
+/// 8, so the grid is a whole number of 8^3 bricks.
+struct VoxelGrid {
+    glm::dvec3 origin{0.0};
+    double voxelSize = 1.0;
+    glm::ivec3 dims{0};
+
+    std::uint64_t voxelCount() const { return std::uint64_t(dims.x) * dims.y * dims.z; }
+    glm::ivec3 brickDims() const { return dims / 8; }
+};
+
+/// Grid around every slice of a plan, padded so that no slice square (whose
+/// corners reach radius * sqrt(2) from its centre) comes within one voxel of
+/// the border. Exactly one of `resolution` (voxels along the longest axis of
+/// the padded garment box) and `voxelSize` must be positive.
+VoxelGrid makeGrid(const SlicePlan& plan, int resolution, double voxelSize);
+
+} // namespace yv

@@ -1,0 +1,161 @@
+#include "cpu/cpu_voxelizer.h"
+#include "garment/cross_section.h"
+#include "test_helpers.h"
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+#include <tbb/global_control.h>
+
+#include <cstring>
+
+using namespace yv;
+
+namespace {
+
+struct StraightYarnCase {
+    SlicePlan plan;
+    VoxelGrid grid;
+    CrossSection xs = makeDiskCrossSection();
+    glm::dvec3 start, axis;
+    double radius = 0.3;
+    int length = 6;
+};
+
+/// A disk yarn of radius 0.3 and length 6, 6 voxels per radius (h = 0.05).
+StraightYarnCase straightCase(glm::dvec3 axis, double twist, int slicesPerSegment = 25) {
+    StraightYarnCase c;
+    c.start = {0.1, 0.2, 0.3};
+    c.axis = glm::normalize(axis);
+    SliceOptions opt;
+    opt.radius = c.radius;
+    opt.twist = twist;
+    opt.slicesPerSegment = slicesPerSegment;
+    c.plan = planSlices(test::straightYarn(c.start, c.axis, c.length), opt);
+    c.grid = makeGrid(c.plan, 0, c.radius / 6.0);
+    return c;
+}
+
+VoxelizeSettings settings(Reduce r = Reduce::Mean, int supersample = 1) {
+    VoxelizeSettings s;
+    s.reduce = r;
+    s.supersample = supersample;
+    return s;
+}
+
+glm::dvec3 voxelCenter(const VoxelGrid& g, glm::ivec3 v) { return g.origin + (glm::dvec3(v) + 0.5) * g.voxelSize; }
+
+} // namespace
+
+TEST_CASE("A straight disk yarn fills pi r^2 L", "[cpu][analytic]") {
+    for (glm::dvec3 axis : {glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(1, 0.4, 0.25), glm::dvec3(0.3, -1, 0.7)}) {
+        for (int ss : {1, 2}) {
+            const StraightYarnCase c = straightCase(axis, 0.0);
+            const BrickVolume v = voxelizeCpu(c.plan, c.xs, c.grid, settings(Reduce::Mean, ss));
+            const double expected = M_PI * c.radius * c.radius * c.length;
+            INFO("axis " << axis.x << "," << axis.y << "," << axis.z << " supersample " << ss);
+            CHECK(v.totalMass() == Approx(expected).epsilon(0.02));
+        }
+    }
+}
+
+TEST_CASE("Without twist every orientation follows the yarn axis", "[cpu][analytic]") {
+    const StraightYarnCase c = straightCase({1, 0.4, 0.25}, 0.0);
+    const BrickVolume v = voxelizeCpu(c.plan, c.xs, c.grid, settings());
+    REQUIRE(v.activeVoxelCount() > 1000);
+    double worst = 0.0;
+    for (const VoxelBrick& b : v.bricks)
+        for (int i = 0; i < kBrickVoxels; ++i)
+            if (b.isActive(i))
+                worst = std::max(worst, std::acos(std::min(1.0, std::abs(glm::dot(glm::dvec3(b.orientation[i]), c.axis)))));
+    CHECK(worst * 180.0 / M_PI < 1.0);
+}
+
+TEST_CASE("With twist the fibre angle at radius rho is atan(rho tau)", "[cpu][analytic]") {
+    const double tau = 3.0;
+    const StraightYarnCase c = straightCase({0, 1, 0}, tau);
+    const BrickVolume v = voxelizeCpu(c.plan, c.xs, c.grid, settings());
+    int checked = 0;
+    double worst = 0.0;
+    for (const VoxelBrick& b : v.bricks) {
+        const glm::ivec3 origin = brickCoord(b.key) * 8;
+        for (int i = 0; i < kBrickVoxels; ++i) {
+            if (!b.isActive(i)) continue;
+            const glm::ivec3 voxel = origin + glm::ivec3(i >> 6, (i >> 3) & 7, i & 7);
+            const glm::dvec3 p = voxelCenter(c.grid, voxel) - c.start;
+            const double along = glm::dot(p, c.axis);
+            const double rho = glm::length(p - along * c.axis);
+            // Whole voxels inside the yarn, away from the ends.
+            if (rho > c.radius - c.grid.voxelSize || along < 0.5 || along > c.length - 0.5) continue;
+            const double angle = std::acos(std::min(1.0, std::abs(glm::dot(glm::dvec3(b.orientation[i]), c.axis))));
+            worst = std::max(worst, std::abs(angle - std::atan(rho * tau)));
+            ++checked;
+        }
+    }
+    CHECK(checked > 1000);
+    CHECK(worst * 180.0 / M_PI < 2.0);
+}
+
+TEST_CASE("max and mean reductions differ the way they should", "[cpu]") {
+    const StraightYarnCase c = straightCase({1, 0.2, 0.1}, 0.0);
+    const BrickVolume mean = voxelizeCpu(c.plan, c.xs, c.grid, settings(Reduce::Mean));
+    const BrickVolume max = voxelizeCpu(c.plan, c.xs, c.grid, settings(Reduce::Max));
+    // Same voxels are touched by samples either way.
+    CHECK(mean.activeVoxelCount() == max.activeVoxelCount());
+    // Max holds the densest sample, in [0, 1]; inside a solid disk that is 1.
+    // Mean holds volume fractions: about 1 inside, partial at the surface.
+    test::VolumeIndex mi(mean), xi(max);
+    int interior = 0;
+    for (const VoxelBrick& b : max.bricks)
+        for (int i = 0; i < kBrickVoxels; ++i) {
+            if (!b.isActive(i)) continue;
+            CHECK(b.density[i] <= 1.0f);
+            CHECK(b.density[i] > 0.0f);
+        }
+    const glm::ivec3 centre = glm::ivec3(glm::floor((c.start + 3.0 * c.axis - c.grid.origin) / c.grid.voxelSize));
+    CHECK(xi.density(centre) == 1.0f);
+    CHECK(mi.density(centre) == Approx(1.0).epsilon(0.3));
+    (void)interior;
+    // Max of densities is not a volume: its "mass" over-counts the surface voxels.
+    CHECK(max.totalMass() > mean.totalMass() * 1.02);
+}
+
+TEST_CASE("Results are bit-identical for any thread count", "[cpu]") {
+    const StraightYarnCase c = straightCase({1, 0.7, 0.3}, 2.0);
+    auto run = [&](int threads, Reduce r) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        return voxelizeCpu(c.plan, makeFiberCrossSection(), c.grid, settings(r));
+    };
+    for (Reduce r : {Reduce::Mean, Reduce::Max}) {
+        const BrickVolume one = run(1, r), many = run(8, r);
+        REQUIRE(one.bricks.size() == many.bricks.size());
+        bool same = true;
+        for (std::size_t i = 0; i < one.bricks.size(); ++i) {
+            same = same && one.bricks[i].key == many.bricks[i].key &&
+                   std::memcmp(one.bricks[i].density.data(), many.bricks[i].density.data(), sizeof(float) * 512) == 0 &&
+                   std::memcmp(one.bricks[i].orientation.data(), many.bricks[i].orientation.data(), 12 * 512) == 0;
+        }
+        CHECK(same);
+    }
+}
+
+TEST_CASE("Principal axis of a structure tensor", "[cpu]") {
+    const glm::dvec3 d = glm::normalize(glm::dvec3(0.3, -0.5, 0.8));
+    const glm::dvec3 e = glm::normalize(glm::cross(d, glm::dvec3(1, 0, 0)));
+    // Two fibres along +d and -d plus a weaker one along e: the axis is d.
+    double t[6] = {};
+    auto add = [&](glm::dvec3 o, double w) {
+        t[0] += w * o.x * o.x, t[1] += w * o.y * o.y, t[2] += w * o.z * o.z;
+        t[3] += w * o.x * o.y, t[4] += w * o.x * o.z, t[5] += w * o.y * o.z;
+    };
+    add(d, 1.0), add(-d, 1.0), add(e, 0.5);
+    CHECK(std::abs(glm::dot(principalAxis(t), d)) == Approx(1.0).epsilon(1e-9));
+}
+
+TEST_CASE("Axis codes round-trip within a hundredth of a degree", "[cpu]") {
+    for (glm::dvec3 v : {glm::dvec3(0, 0, 1), glm::dvec3(1, 0, 0), glm::dvec3(0.2, -0.9, 0.1), glm::dvec3(-0.3, 0.3, -0.9)}) {
+        v = glm::normalize(v);
+        const glm::dvec3 back = decodeAxis(encodeAxis(v));
+        CHECK(std::acos(std::min(1.0, std::abs(glm::dot(back, v)))) < 1e-2 * M_PI / 180.0 * 5);
+        CHECK(encodeAxis(v) == encodeAxis(-v));
+    }
+}

@@ -1,0 +1,162 @@
+#include "garment/cross_section.h"
+#include "garment/generate.h"
+#include "gpu/egl_context.h"
+#include "gpu/gl_voxelizer.h"
+#include "test_helpers.h"
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+
+#include <cstring>
+
+using namespace yv;
+
+namespace {
+
+#define REQUIRE_GL()                                                                 \
+    if (!GlContext::available()) {                                                   \
+        WARN("no OpenGL 4.5 context on this machine: GL backend test skipped");     \
+        return;                                                                      \
+    }
+
+GlVoxelizeSettings glSettings(Reduce r = Reduce::Mean, std::uint64_t capacity = 0) {
+    GlVoxelizeSettings s;
+    s.base.reduce = r;
+    s.fragmentCapacity = capacity;
+    return s;
+}
+
+bool identical(const BrickVolume& a, const BrickVolume& b) {
+    if (a.bricks.size() != b.bricks.size()) return false;
+    for (std::size_t i = 0; i < a.bricks.size(); ++i)
+        if (a.bricks[i].key != b.bricks[i].key || a.bricks[i].activeMask != b.bricks[i].activeMask ||
+            std::memcmp(a.bricks[i].density.data(), b.bricks[i].density.data(), 4 * kBrickVoxels) != 0 ||
+            std::memcmp(a.bricks[i].orientation.data(), b.bricks[i].orientation.data(), 12 * kBrickVoxels) != 0)
+            return false;
+    return true;
+}
+
+} // namespace
+
+TEST_CASE("GL: a straight disk yarn fills pi r^2 L and follows its axis", "[gl][analytic]") {
+    REQUIRE_GL();
+    for (glm::dvec3 axis : {glm::dvec3(1, 0, 0), glm::dvec3(1, 0.4, 0.25)}) {
+        SliceOptions opt;
+        opt.radius = 0.3;
+        const glm::dvec3 dir = glm::normalize(axis);
+        const SlicePlan plan = planSlices(test::straightYarn({0.1, 0.2, 0.3}, dir, 6), opt);
+        const VoxelGrid grid = makeGrid(plan, 0, 0.05);
+        const BrickVolume v = voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings());
+        CHECK(v.totalMass() == Approx(M_PI * 0.09 * 6).epsilon(0.02));
+        double worst = 0.0;
+        for (const VoxelBrick& b : v.bricks)
+            for (int i = 0; i < kBrickVoxels; ++i)
+                if (b.isActive(i))
+                    worst = std::max(worst, std::acos(std::min(1.0, std::abs(glm::dot(glm::dvec3(b.orientation[i]), dir)))));
+        CHECK(worst * 180 / M_PI < 1.0);
+    }
+}
+
+TEST_CASE("GL: twisted yarn angle at radius rho is atan(rho tau)", "[gl][analytic]") {
+    REQUIRE_GL();
+    SliceOptions opt;
+    opt.radius = 0.3;
+    opt.twist = 3.0;
+    const glm::dvec3 start(0.1, 0.2, 0.3), axis(0, 1, 0);
+    const SlicePlan plan = planSlices(test::straightYarn(start, axis, 6), opt);
+    const VoxelGrid grid = makeGrid(plan, 0, 0.05);
+    const BrickVolume v = voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings());
+    int checked = 0;
+    double worst = 0.0;
+    for (const VoxelBrick& b : v.bricks) {
+        const glm::ivec3 o = brickCoord(b.key) * 8;
+        for (int i = 0; i < kBrickVoxels; ++i) {
+            if (!b.isActive(i)) continue;
+            const glm::dvec3 p = grid.origin + (glm::dvec3(o + glm::ivec3(i >> 6, (i >> 3) & 7, i & 7)) + 0.5) * grid.voxelSize - start;
+            const double along = p.y, rho = std::hypot(p.x, p.z);
+            if (rho > opt.radius - grid.voxelSize || along < 0.5 || along > 5.5) continue;
+            const double angle = std::acos(std::min(1.0, std::abs(double(b.orientation[i].y))));
+            worst = std::max(worst, std::abs(angle - std::atan(rho * opt.twist)));
+            ++checked;
+        }
+    }
+    CHECK(checked > 1000);
+    CHECK(worst * 180 / M_PI < 2.0);
+}
+
+TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreement]") {
+    REQUIRE_GL();
+    struct Case {
+        WeavePattern pattern;
+        GarmentShape shape;
+        double twist;
+        Reduce reduce;
+    };
+    const Case cases[] = {
+        {WeavePattern::Plain, GarmentShape::Flat, 0.0, Reduce::Mean},
+        {WeavePattern::Twill, GarmentShape::Cylinder, 2.0, Reduce::Mean},
+        {WeavePattern::Knit, GarmentShape::Flat, 1.0, Reduce::Mean},
+        {WeavePattern::Satin, GarmentShape::Sphere, 0.5, Reduce::Mean},
+        {WeavePattern::Knit, GarmentShape::Cylinder, 1.0, Reduce::Max},
+    };
+    for (const Case& c : cases) {
+        GenerateOptions g;
+        g.pattern = c.pattern;
+        g.shape = c.shape;
+        g.crossings = 64;
+        g.seed = 3;
+        const Garment garment = generateGarment(g);
+        SliceOptions opt;
+        opt.radius = garment.yarnRadius;
+        opt.twist = c.twist;
+        opt.slicesPerSegment = 12;
+        const SlicePlan plan = planSlices(garment, opt);
+        const VoxelGrid grid = makeGrid(plan, 96, 0.0);
+        const CrossSection xs = makeFiberCrossSection();
+        VoxelizeSettings cpu;
+        cpu.reduce = c.reduce;
+        const BrickVolume ref = voxelizeCpu(plan, xs, grid, cpu);
+        const BrickVolume gl = voxelizeGl(plan, xs, grid, glSettings(c.reduce));
+        const test::VolumeComparison cmp = test::compareVolumes(ref, gl);
+        INFO(toString(c.pattern) << " " << toString(c.shape) << " twist " << c.twist << " " << toString(c.reduce)
+                                 << ": IoU " << cmp.iou << " mass ratio " << cmp.massRatio << " angle "
+                                 << cmp.meanAngleDeg);
+        CHECK(cmp.iou >= 0.99);
+        CHECK(std::abs(cmp.massRatio - 1.0) <= 0.01);
+        CHECK(cmp.meanAngleDeg < 2.0);
+    }
+}
+
+TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses nothing", "[gl][overflow]") {
+    REQUIRE_GL();
+    GenerateOptions g;
+    g.pattern = WeavePattern::Plain;
+    g.crossings = 36;
+    const Garment garment = generateGarment(g);
+    SliceOptions opt;
+    opt.radius = garment.yarnRadius;
+    opt.twist = 1.5;
+    opt.slicesPerSegment = 8;
+    const SlicePlan plan = planSlices(garment, opt);
+    const VoxelGrid grid = makeGrid(plan, 64, 0.0);
+    const CrossSection xs = makeFiberCrossSection();
+    for (Reduce r : {Reduce::Mean, Reduce::Max}) {
+        GlVoxelizeCounters ample, tiny;
+        const BrickVolume a = voxelizeGl(plan, xs, grid, glSettings(r), &ample);
+        const BrickVolume b = voxelizeGl(plan, xs, grid, glSettings(r, 8 * 64 * 2), &tiny);
+        CHECK(ample.overflows == 0);
+        CHECK(tiny.overflows > 10);
+        CHECK(tiny.fragments == ample.fragments);
+        CHECK(identical(a, b));
+    }
+}
+
+TEST_CASE("GL: a capacity below one segment's worth is refused with a clear error", "[gl][overflow]") {
+    REQUIRE_GL();
+    SliceOptions opt;
+    opt.radius = 0.3;
+    const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {1, 0, 0}, 3), opt);
+    const VoxelGrid grid = makeGrid(plan, 32, 0.0);
+    CHECK_THROWS_WITH(voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings(Reduce::Mean, 100)),
+                      Catch::Contains("fragment capacity 100"));
+}

@@ -1,0 +1,103 @@
+#include "garment/slices.h"
+#include "test_helpers.h"
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+
+using namespace yv;
+
+namespace {
+
+Garment helix() {
+    Garment g;
+    Yarn y;
+    for (int i = 0; i < 40; ++i) y.points.push_back({std::cos(i * 0.4), std::sin(i * 0.4), 0.15 * i});
+    g.yarns.push_back(y);
+    return g;
+}
+
+} // namespace
+
+TEST_CASE("Slice frames stay orthonormal and do not flip on a curved yarn", "[slices]") {
+    SliceOptions opt;
+    opt.slicesPerSegment = 10;
+    opt.radius = 0.05;
+    opt.twist = 0.0;
+    const SlicePlan plan = planSlices(helix(), opt);
+    REQUIRE(plan.sliceCount == 39u * 10u);
+    glm::dvec3 prevUp(0.0);
+    double worstTurn = 0.0;
+    for (const SegmentRecord& seg : plan.segments)
+        for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
+            const Slice s = placeSlice(seg, k, opt);
+            CHECK(std::abs(glm::length(s.tangent) - 1) < 1e-9);
+            CHECK(std::abs(glm::length(s.right) - 1) < 1e-9);
+            CHECK(std::abs(glm::length(s.up) - 1) < 1e-9);
+            CHECK(std::abs(glm::dot(s.tangent, s.right)) < 1e-9);
+            CHECK(std::abs(glm::dot(s.tangent, s.up)) < 1e-9);
+            CHECK(glm::length(glm::cross(s.right, s.up) - s.tangent) < 1e-9);
+            if (prevUp != glm::dvec3(0.0)) worstTurn = std::max(worstTurn, std::acos(std::min(1.0, glm::dot(prevUp, s.right))));
+            prevUp = s.right;
+        }
+    // Parallel transport turns the frame only as much as the tangent turns
+    // between neighbouring slices (a few degrees here), never by a flip.
+    CHECK(worstTurn < 0.1);
+}
+
+TEST_CASE("Twist turns the frame by twist times arc length", "[slices]") {
+    SliceOptions opt;
+    opt.slicesPerSegment = 4;
+    opt.radius = 0.1;
+    opt.twist = 0.5;
+    const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {0, 0, 1}, 6), opt);
+    const Slice first = placeSlice(plan.segments[0], 0, opt);
+    const Slice later = placeSlice(plan.segments[3], 2, opt);
+    const double arc = 3.0 + 2.5 / 4.0 - 0.5 / 4.0;
+    const double angle = std::atan2(glm::dot(glm::cross(first.right, later.right), first.tangent), glm::dot(first.right, later.right));
+    CHECK(angle == Approx(std::remainder(opt.twist * arc, 2 * M_PI)).margin(1e-9));
+    CHECK(first.thickness == Approx(0.25).epsilon(1e-12));
+}
+
+TEST_CASE("Slice thicknesses add up to the yarn length", "[slices]") {
+    SliceOptions opt;
+    opt.slicesPerSegment = 7;
+    opt.radius = 0.1;
+    const SlicePlan plan = planSlices(test::straightYarn({1, 2, 3}, {1, 1, 0.5}, 9), opt);
+    double total = 0.0;
+    for (const SegmentRecord& seg : plan.segments)
+        for (std::uint32_t k = 0; k < seg.sliceCount; ++k) total += placeSlice(seg, k, opt).thickness;
+    CHECK(total == Approx(9.0).epsilon(1e-12));
+}
+
+TEST_CASE("Slice spacing picks the slice count per segment", "[slices]") {
+    SliceOptions opt;
+    opt.spacing = 0.1;
+    opt.radius = 0.1;
+    const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {1, 0, 0}, 3), opt);
+    for (const SegmentRecord& seg : plan.segments) CHECK(seg.sliceCount == 10u);
+}
+
+TEST_CASE("Fibre direction follows the paper's eq. 1", "[slices]") {
+    SliceOptions opt;
+    opt.slicesPerSegment = 50;
+    opt.radius = 0.5;
+    opt.twist = 2.0;
+    const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {0, 0, 1}, 4), opt);
+    const Slice s = placeSlice(plan.segments[1], 10, opt);
+    for (double rho : {0.0, 0.1, 0.3, 0.45}) {
+        const glm::dvec3 d = fiberDirection(s, rho, 0.0);
+        CHECK(std::acos(glm::dot(d, s.tangent)) == Approx(std::atan(rho * opt.twist)).margin(2e-3));
+        // The fibre turns about the axis in the twist's sense: towards +up at +right.
+        if (rho > 0) CHECK(glm::dot(d, s.up) > 0);
+    }
+}
+
+TEST_CASE("Bad yarns give clear errors", "[slices]") {
+    Garment g;
+    g.yarns.push_back(Yarn{{{0, 0, 0}}, false});
+    SliceOptions opt;
+    CHECK_THROWS_WITH(planSlices(g, opt), Catch::Contains("yarn 0") && Catch::Contains("at least 2"));
+    Garment same;
+    same.yarns.push_back(Yarn{{{1, 1, 1}, {1, 1, 1}}, false});
+    CHECK_THROWS_WITH(planSlices(same, opt), Catch::Contains("yarn 0") && Catch::Contains("tangent"));
+}

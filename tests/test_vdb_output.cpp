@@ -1,0 +1,75 @@
+#include "core/error.h"
+#include "cpu/cpu_voxelizer.h"
+#include "garment/cross_section.h"
+#include "test_helpers.h"
+#include "vdb/vdb_writer.h"
+
+#include <catch2/catch.hpp>
+#include <openvdb/openvdb.h>
+
+#include <filesystem>
+
+using namespace yv;
+
+TEST_CASE("The .vdb reads back with the right grids, names, transform and values", "[vdb]") {
+    SliceOptions opt;
+    opt.radius = 0.2;
+    opt.twist = 1.0;
+    const SlicePlan plan = planSlices(test::straightYarn({0.5, -0.25, 1}, {1, 0.3, 0.1}, 4), opt);
+    const VoxelGrid grid = makeGrid(plan, 64, 0.0);
+    const BrickVolume volume = voxelizeCpu(plan, makeFiberCrossSection(), grid, VoxelizeSettings{});
+    REQUIRE(volume.activeVoxelCount() > 0);
+
+    const std::string path = (std::filesystem::temp_directory_path() / "yv_test_output.vdb").string();
+    VolumeMetadata meta;
+    meta.input = "straight";
+    meta.backend = "cpu";
+    meta.resolution = 64;
+    meta.sliceCount = plan.sliceCount;
+    writeVdb(path, volume, meta);
+    CHECK_FALSE(std::filesystem::exists(path + ".partial"));
+
+    openvdb::initialize();
+    openvdb::io::File file(path);
+    file.open();
+    auto fileMeta = file.getMetadata();
+    CHECK(fileMeta->metaValue<std::string>("reduce") == "mean");
+    CHECK(fileMeta->metaValue<std::int64_t>("slice_count") == std::int64_t(plan.sliceCount));
+    CHECK(fileMeta->metaValue<std::int32_t>("resolution") == 64);
+    auto density = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("density"));
+    auto orientation = openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid("orientation"));
+    file.close();
+    REQUIRE(density);
+    REQUIRE(orientation);
+    CHECK(density->getGridClass() == openvdb::GRID_FOG_VOLUME);
+    CHECK(density->activeVoxelCount() == volume.activeVoxelCount());
+    CHECK(orientation->activeVoxelCount() == volume.activeVoxelCount());
+    CHECK(density->transform() == orientation->transform());
+    CHECK(density->voxelSize()[0] == Approx(grid.voxelSize));
+
+    // Voxel (i, j, k) of the grid has its centre at origin + (i + 0.5) h.
+    const openvdb::Vec3d centre = density->indexToWorld(openvdb::Coord(3, 4, 5));
+    CHECK(centre[0] == Approx(grid.origin.x + 3.5 * grid.voxelSize));
+    CHECK(centre[2] == Approx(grid.origin.z + 5.5 * grid.voxelSize));
+
+    double sum = 0.0;
+    for (auto it = density->cbeginValueOn(); it; ++it) sum += *it;
+    CHECK(sum * std::pow(grid.voxelSize, 3) == Approx(volume.totalMass()).epsilon(1e-9));
+    auto acc = orientation->getConstAccessor();
+    const VoxelBrick& b = volume.bricks.front();
+    const glm::ivec3 o = brickCoord(b.key) * 8;
+    for (int v = 0; v < kBrickVoxels; ++v)
+        if (b.isActive(v)) {
+            const openvdb::Vec3s got = acc.getValue(openvdb::Coord(o.x + (v >> 6), o.y + ((v >> 3) & 7), o.z + (v & 7)));
+            CHECK(got[0] == b.orientation[v].x);
+            CHECK(got[2] == b.orientation[v].z);
+        }
+    std::filesystem::remove(path);
+}
+
+TEST_CASE("A write that fails leaves nothing behind", "[vdb]") {
+    BrickVolume empty;
+    empty.grid.dims = {8, 8, 8};
+    CHECK_THROWS_AS(writeVdb("/nonexistent-dir/out.vdb", empty, VolumeMetadata{}), Error);
+    CHECK_FALSE(std::filesystem::exists("/nonexistent-dir/out.vdb.partial"));
+}
