@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <system_error>
 #include <utility>
@@ -131,6 +132,12 @@ Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name
                           std::to_string(kMinCurveSize) + " bytes and " +
                           std::to_string(size - kHeaderSize) + " bytes follow the header");
     garment.yarns.reserve(curveCount);
+    // "yarn-radius=R" in the 40-byte free-text field (written by yarnvox) gives the radius.
+    const std::string info(reinterpret_cast<const char*>(p + 24), strnlen(reinterpret_cast<const char*>(p + 24), 40));
+    if (const std::size_t at = info.find("yarn-radius="); at != std::string::npos) {
+        const double r = std::strtod(info.c_str() + at + 12, nullptr);
+        if (r > 0 && std::isfinite(r)) garment.yarnRadius = r;
+    }
 
     std::size_t at = kHeaderSize;
     std::uint64_t pointSum = 0;
@@ -204,7 +211,13 @@ std::vector<std::uint8_t> encodeBcc(const Garment& garment) {
     out.insert(out.end(), {static_cast<std::uint8_t>(type[0]), static_cast<std::uint8_t>(type[1]), 3, 2});
     storeLe(out, garment.yarns.size(), 8);
     storeLe(out, garment.controlPointCount(), 8);
-    const std::string info = "yarnvox";
+    // The radius travels in the free-text field, which other readers ignore.
+    std::string info = "yarnvox";
+    if (garment.yarnRadius > 0) {
+        char radius[32];
+        std::snprintf(radius, sizeof radius, " yarn-radius=%.9g", garment.yarnRadius);
+        info += radius;
+    }
     out.insert(out.end(), info.begin(), info.end());
     out.resize(kHeaderSize, 0);
 

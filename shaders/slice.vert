@@ -1,6 +1,8 @@
 // Places slice gl_InstanceID of the draw's segment list from curve data (no
 // per-slice matrices) and projects it along the dominant axis of its normal
-// onto the region's face, one pixel per (supersampled) voxel column.
+// onto the region's face, one pixel per (supersampled) voxel column. The quad
+// is drawn slightly larger than the slice; append.frag keeps exactly the
+// pixel centres inside the slice, so coverage never depends on the region.
 
 layout(std430, binding = 0) readonly buffer Segments { GpuSegment segments[]; };
 // Segments this draw covers (indices into `segments`), and the first
@@ -15,14 +17,12 @@ uniform ivec3 uRegionMin;      // region box in voxels
 uniform vec2 uViewport;        // viewport size in pixels (covers every axis' face)
 
 flat out int vAxis;
+flat out vec3 vCenter;    // voxel units from the grid origin
 flat out vec3 vRight;
 flat out vec3 vUp;
 flat out vec3 vTangent;
 flat out float vThickness;
-flat out float vTwistStep;
 flat out float vWeightScale;
-noperspective out vec2 vLocal;  // slice-local position / radius, in [-1, 1]^2
-noperspective out vec3 vVoxel;  // position in voxel units relative to the grid origin
 
 vec3 rotateMinimal(vec3 v, vec3 from, vec3 to) {
     float c = dot(from, to);
@@ -65,18 +65,19 @@ void main() {
     int a = (at.x >= at.y && at.x >= at.z) ? 0 : (at.y >= at.z ? 1 : 2);
     int b = (a + 1) % 3, c = (a + 2) % 3;
 
+    // Two pixels of margin in the plane are at least one pixel on the face,
+    // since the face foreshortens the plane by |tangent[a]| >= 1/sqrt(3).
     vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
-    vec3 p = center + uRadius * (corner.x * right + corner.y * sliceUp);
+    float extent = uRadius + 2.0 / float(uSupersample);
+    vec3 p = center + extent * (corner.x * right + corner.y * sliceUp);
     vec2 pixel = vec2(p[b] - float(uRegionMin[b]), p[c] - float(uRegionMin[c])) * float(uSupersample);
     gl_Position = vec4(pixel / uViewport * 2.0 - 1.0, 0.0, 1.0);
 
     vAxis = a;
+    vCenter = center;
     vRight = right;
     vUp = sliceUp;
     vTangent = tangent;
     vThickness = thickness;
-    vTwistStep = uTwist * thickness;
     vWeightScale = thickness / (float(uSupersample * uSupersample) * at[a]);
-    vLocal = corner;
-    vVoxel = p;
 }

@@ -42,7 +42,7 @@ void requireSame(const yv::Garment& got, const yv::Garment& want) {
         CHECK(got.yarns[i].closed == want.yarns[i].closed);
         CHECK(got.yarns[i].points == want.yarns[i].points);
     }
-    CHECK(got.yarnRadius == 0.0);
+    CHECK(got.yarnRadius == want.yarnRadius);
 }
 
 void poke(Bytes& b, std::size_t at, std::uint64_t v, int n) {
@@ -106,7 +106,7 @@ TEST_CASE("bcc: golden bytes of a one-curve file", "[bcc]") {
 TEST_CASE("bcc: round trip is exact for open and closed curves", "[bcc]") {
     const auto type = GENERATE(yv::CurveType::CatmullRom, yv::CurveType::Polyline);
     yv::Garment g = sampleGarment(type);
-    g.yarnRadius = 0.3; // not stored in BCC: must read back as 0
+    g.yarnRadius = 0.3; // stored in fileInfo: reads back exactly
     const Bytes bytes = yv::encodeBcc(g);
     CHECK(bytes.size() == 208);
     requireSame(yv::parseBcc(bytes, "rt.bcc"), g);
@@ -265,4 +265,13 @@ TEST_CASE("bcc: reading a missing path names it", "[bcc]") {
     CHECK_THROWS_AS(yv::readBcc(path), yv::Error);
     CHECK_THROWS_WITH(yv::readBcc(path), Contains("cannot open " + path));
     CHECK_THROWS_WITH(yv::readBcc(dir.path.string()), Contains(dir.path.string()));
+}
+
+TEST_CASE("BCC: the yarn radius travels in the free-text field", "[bcc]") {
+    yv::Garment g;
+    g.yarns.push_back(yv::Yarn{{{0, 0, 0}, {1, 0, 0}}, false});
+    g.yarnRadius = 0.125;
+    const std::vector<std::uint8_t> bytes = yv::encodeBcc(g);
+    CHECK(std::string(reinterpret_cast<const char*>(bytes.data() + 24)) == "yarnvox yarn-radius=0.125");
+    CHECK(yv::parseBcc(bytes, "r.bcc").yarnRadius == 0.125);
 }

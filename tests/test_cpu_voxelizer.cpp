@@ -97,26 +97,31 @@ TEST_CASE("With twist the fibre angle at radius rho is atan(rho tau)", "[cpu][an
 
 TEST_CASE("max and mean reductions differ the way they should", "[cpu]") {
     const StraightYarnCase c = straightCase({1, 0.2, 0.1}, 0.0);
-    const BrickVolume mean = voxelizeCpu(c.plan, c.xs, c.grid, settings(Reduce::Mean));
-    const BrickVolume max = voxelizeCpu(c.plan, c.xs, c.grid, settings(Reduce::Max));
+    // Four by four samples per voxel face, so a voxel can be partly covered.
+    const BrickVolume mean = voxelizeCpu(c.plan, c.xs, c.grid, settings(Reduce::Mean, 4));
+    const BrickVolume max = voxelizeCpu(c.plan, c.xs, c.grid, settings(Reduce::Max, 4));
     // Same voxels are touched by samples either way.
     CHECK(mean.activeVoxelCount() == max.activeVoxelCount());
     // Max holds the densest sample, in [0, 1]; inside a solid disk that is 1.
     // Mean holds volume fractions: about 1 inside, partial at the surface.
     test::VolumeIndex mi(mean), xi(max);
-    int interior = 0;
-    for (const VoxelBrick& b : max.bricks)
+    std::uint64_t active = 0, surfaceLike = 0;
+    for (const VoxelBrick& b : max.bricks) {
+        const glm::ivec3 origin = brickCoord(b.key) * 8;
         for (int i = 0; i < kBrickVoxels; ++i) {
             if (!b.isActive(i)) continue;
+            ++active;
             CHECK(b.density[i] <= 1.0f);
-            CHECK(b.density[i] > 0.0f);
+            const float m = mi.density(origin + glm::ivec3(i >> 6, (i >> 3) & 7, i & 7));
+            // A voxel the yarn only grazes: a small volume fraction, yet the
+            // densest sample in it is solid fibre.
+            if (b.density[i] - m > 0.25f) ++surfaceLike;
         }
+    }
     const glm::ivec3 centre = glm::ivec3(glm::floor((c.start + 3.0 * c.axis - c.grid.origin) / c.grid.voxelSize));
     CHECK(xi.density(centre) == 1.0f);
     CHECK(mi.density(centre) == Approx(1.0).epsilon(0.3));
-    (void)interior;
-    // Max of densities is not a volume: its "mass" over-counts the surface voxels.
-    CHECK(max.totalMass() > mean.totalMass() * 1.02);
+    CHECK(surfaceLike > active / 20);
 }
 
 TEST_CASE("Results are bit-identical for any thread count", "[cpu]") {
