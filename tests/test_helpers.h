@@ -2,6 +2,7 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/volume_compare.h"
 #include "garment/garment.h"
 
 #include <glm/geometric.hpp>
@@ -42,39 +43,7 @@ class VolumeIndex {
     std::unordered_map<std::uint64_t, std::size_t> slot_;
 };
 
-/// Comparison of two volumes on the same grid.
-struct VolumeComparison {
-    double iou = 0.0;            ///< active voxels: |A and B| / |A or B|
-    double massRatio = 0.0;      ///< mass(B) / mass(A)
-    double meanAngleDeg = 0.0;   ///< mean axis angle over voxels active in both, density-weighted
-    std::uint64_t both = 0, onlyA = 0, onlyB = 0;
-};
-
-inline VolumeComparison compareVolumes(const BrickVolume& a, const BrickVolume& b) {
-    VolumeComparison c;
-    VolumeIndex ib(b);
-    double angleSum = 0.0, weightSum = 0.0;
-    for (const VoxelBrick& ba : a.bricks) {
-        const glm::ivec3 origin = brickCoord(ba.key) * 8;
-        const VoxelBrick* bb = ib.brick(origin);
-        for (int v = 0; v < kBrickVoxels; ++v) {
-            const bool inA = ba.isActive(v), inB = bb && bb->isActive(v);
-            if (inA && inB) {
-                ++c.both;
-                const double cosang = std::min(1.0, std::abs(double(glm::dot(ba.orientation[v], bb->orientation[v]))));
-                angleSum += ba.density[v] * std::acos(cosang);
-                weightSum += ba.density[v];
-            } else if (inA) {
-                ++c.onlyA;
-            }
-        }
-    }
-    const std::uint64_t activeB = b.activeVoxelCount();
-    c.onlyB = activeB - c.both;
-    c.iou = double(c.both) / double(c.both + c.onlyA + c.onlyB);
-    c.massRatio = b.totalMass() / a.totalMass();
-    c.meanAngleDeg = weightSum > 0 ? angleSum / weightSum * 180.0 / M_PI : 0.0;
-    return c;
-}
+using yv::compareVolumes;
+using yv::VolumeComparison;
 
 } // namespace yv::test

@@ -30,8 +30,8 @@ struct GlVoxelizeCounters {
     std::uint64_t fragmentCapacity = 0; ///< capacity used
     std::uint64_t sliceDataBytes = 0;   ///< GPU bytes of curve/segment data for the slices
     std::uint64_t peakGpuBytes = 0;     ///< largest sum of yarnvox's GPU buffers
-    double rasterSeconds = 0.0;         ///< GPU time of raster + append (timer queries)
-    double brickSeconds = 0.0;          ///< GPU time of the brick passes
+    double rasterSeconds = 0.0;         ///< time of raster + append passes (GPU drained at both ends)
+    double brickSeconds = 0.0;          ///< time of the brick passes (likewise)
     double readbackSeconds = 0.0;       ///< wall time of reading back bricks
 };
 
