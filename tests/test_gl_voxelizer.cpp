@@ -145,8 +145,9 @@ TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses no
         const BrickVolume a = voxelizeGl(plan, xs, grid, glSettings(r), &ample);
         const BrickVolume b = voxelizeGl(plan, xs, grid, glSettings(r, 8 * 64), &tiny);
         CHECK(ample.overflows == 0);
-        CHECK(tiny.overflows >= 4);
+        CHECK(tiny.overflows >= 1); // the heat map underestimates some regions: they split
         CHECK(tiny.passes > ample.passes + 4);
+        CHECK(tiny.plannedRegions > ample.plannedRegions);
         CHECK(tiny.fragments == ample.fragments);
         CHECK(identical(a, b));
     }

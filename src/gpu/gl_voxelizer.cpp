@@ -80,19 +80,18 @@ class GpuTimer {
 struct WorkItem {
     glm::ivec3 min, max;
     std::vector<std::uint32_t> segments;
-    std::uint64_t share = 0; ///< progress units this item stands for
 };
-
-constexpr std::uint64_t kRegionShare = 1 << 20;
 
 GLuint groupsFor(std::uint64_t items, GLuint maxGroups) {
     const std::uint64_t groups = (items + kWorkGroup - 1) / kWorkGroup;
     return static_cast<GLuint>(std::clamp<std::uint64_t>(groups, 1, maxGroups));
 }
 
-class GlVoxelizer {
+} // namespace
+
+class GlBackend::Impl {
   public:
-    GlVoxelizer(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+    Impl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                 const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters)
         : plan_(plan), grid_(grid), settings_(settings), counters_(counters),
           context_(GlContextOptions{settings.device, settings.verbose}), reduce_(settings.base.reduce),
@@ -118,30 +117,43 @@ class GlVoxelizer {
         notePeak();
     }
 
-    ~GlVoxelizer() {
+    ~Impl() {
         glDeleteTextures(1, &texture_);
         glDeleteVertexArrays(1, &vao_);
         glDeleteFramebuffers(1, &fbo_);
     }
 
-    BrickVolume run() {
-        std::vector<WorkItem> stack = initialRegions();
-        // Progress in regions; a split region's share is divided among its parts.
-        Progress progress("voxelize", stack.size() * kRegionShare, settings_.base.quiet, "region units");
-        while (!stack.empty()) {
-            WorkItem item = std::move(stack.back());
-            stack.pop_back();
-            if (process(item)) {
-                progress.advance(item.share);
-            } else {
-                ++counters_.overflows;
-                split(item, stack, progress);
+    void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) {
+        Progress progress("voxelize", regions.size(), settings_.base.quiet, "regions");
+        for (const ZoomRegion& region : regions) {
+            if (sink.alreadyDone(region)) {
+                ++counters_.resumedRegions;
+                progress.advance(1);
+                continue;
             }
+            // Pieces of one region are finished before the next region starts,
+            // so the sink gets each region whole, once.
+            std::vector<WorkItem> stack{WorkItem{region.min, region.max, region.segments}};
+            while (!stack.empty()) {
+                WorkItem item = std::move(stack.back());
+                stack.pop_back();
+                if (!process(item)) {
+                    ++counters_.overflows;
+                    split(item, stack);
+                }
+            }
+            ++counters_.regions;
+            sink.consume(region, std::move(accumulators_));
+            accumulators_.clear();
+            slotOfKey_.clear();
+            progress.advance(1);
         }
         progress.finish();
         counters_.fragmentCapacity = capacity_;
-        return resolveVolume(grid_, reduce_, accumulators_);
     }
+
+    std::uint64_t fragmentBudget() const { return capacity_; }
+    int maxRegionSize() const { return regionCap_; }
 
   private:
     void chooseBudgets(const GlInfo& info) {
@@ -216,63 +228,26 @@ class GlVoxelizer {
         checkGlError("uploading the cross-section");
     }
 
-    /// Segments whose slices can reach into [min, max) voxels.
-    std::vector<std::uint32_t> cull(const std::vector<std::uint32_t>& from, glm::ivec3 min, glm::ivec3 max) const {
-        const double invH = 1.0 / grid_.voxelSize;
-        const double reach = plan_.options.radius * std::sqrt(2.0) * invH + 1.0;
-        std::vector<std::uint32_t> out;
-        for (std::uint32_t s : from) {
-            const SegmentRecord& seg = plan_.segments[s];
-            const glm::dvec3 lo = (seg.centerMin - grid_.origin) * invH - reach;
-            const glm::dvec3 hi = (seg.centerMax - grid_.origin) * invH + reach;
-            if (glm::all(glm::lessThan(lo, glm::dvec3(max))) && glm::all(glm::greaterThan(hi, glm::dvec3(min))))
-                out.push_back(s);
-        }
-        return out;
-    }
-
-    std::vector<WorkItem> initialRegions() const {
-        std::vector<std::uint32_t> all(plan_.segments.size());
-        for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-        std::vector<WorkItem> items;
-        for (int z = 0; z < grid_.dims.z; z += regionCap_)
-            for (int y = 0; y < grid_.dims.y; y += regionCap_)
-                for (int x = 0; x < grid_.dims.x; x += regionCap_) {
-                    WorkItem item;
-                    item.min = {x, y, z};
-                    item.max = glm::min(item.min + regionCap_, grid_.dims);
-                    item.segments = cull(all, item.min, item.max);
-                    item.share = kRegionShare;
-                    if (!item.segments.empty()) items.push_back(std::move(item));
-                }
-        std::reverse(items.begin(), items.end()); // the stack pops the first region first
-        return items;
-    }
-
-    void split(WorkItem& item, std::vector<WorkItem>& stack, Progress& progress) const {
+    void split(WorkItem& item, std::vector<WorkItem>& stack) const {
         const glm::ivec3 size = item.max - item.min;
         const int axis = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
         if (size[axis] > 8) {
             const int mid = item.min[axis] + (size[axis] / 16) * 8;
-            WorkItem lo{item.min, item.max, {}, item.share / 2}, hi{item.min, item.max, {}, item.share - item.share / 2};
+            WorkItem lo{item.min, item.max, {}}, hi{item.min, item.max, {}};
             lo.max[axis] = mid;
             hi.min[axis] = mid;
-            lo.segments = cull(item.segments, lo.min, lo.max);
-            hi.segments = cull(item.segments, hi.min, hi.max);
-            for (WorkItem* part : {&hi, &lo}) {
-                if (part->segments.empty())
-                    progress.advance(part->share);
-                else
-                    stack.push_back(std::move(*part));
-            }
+            lo.segments = segmentsReaching(plan_, grid_, item.segments, lo.min, lo.max);
+            hi.segments = segmentsReaching(plan_, grid_, item.segments, hi.min, hi.max);
+            if (!hi.segments.empty()) stack.push_back(std::move(hi));
+            if (!lo.segments.empty()) stack.push_back(std::move(lo));
             return;
         }
         // One brick that still overflows: halve its segments instead; the two
         // halves' bricks add up on the host.
         YV_CHECK(item.segments.size() > 1);
         const std::size_t half = item.segments.size() / 2;
-        WorkItem a{item.min, item.max, {item.segments.begin(), item.segments.begin() + half}, item.share / 2};
-        WorkItem b{item.min, item.max, {item.segments.begin() + half, item.segments.end()}, item.share - item.share / 2};
+        WorkItem a{item.min, item.max, {item.segments.begin(), item.segments.begin() + half}};
+        WorkItem b{item.min, item.max, {item.segments.begin() + half, item.segments.end()}};
         stack.push_back(std::move(b));
         stack.push_back(std::move(a));
     }
@@ -426,15 +401,40 @@ class GlVoxelizer {
     std::unordered_map<std::uint64_t, std::size_t> slotOfKey_;
 };
 
+GlBackend::GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                     const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters) {
+    if (settings.base.supersample < 1 || settings.base.supersample > 16)
+        throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.base.supersample) + ")");
+    impl_ = std::make_unique<Impl>(plan, xs, grid, settings, counters);
+}
+GlBackend::~GlBackend() = default;
+std::uint64_t GlBackend::fragmentBudget() const { return impl_->fragmentBudget(); }
+int GlBackend::maxRegionSize() const { return impl_->maxRegionSize(); }
+void GlBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& sink) { impl_->run(regions, sink); }
+
+namespace {
+
+/// Keeps every region's bricks in memory (no work directory).
+class CollectingSink : public RegionSink {
+  public:
+    void consume(const ZoomRegion&, std::vector<BrickAccumulator>&& bricks) override {
+        for (BrickAccumulator& b : bricks) all.push_back(std::move(b));
+    }
+    std::vector<BrickAccumulator> all;
+};
+
 } // namespace
 
 BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                        const GlVoxelizeSettings& settings, GlVoxelizeCounters* counters) {
-    if (settings.base.supersample < 1 || settings.base.supersample > 16)
-        throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.base.supersample) + ")");
     GlVoxelizeCounters local;
-    GlVoxelizer voxelizer(plan, xs, grid, settings, counters ? *counters : local);
-    return voxelizer.run();
+    GlVoxelizeCounters& c = counters ? *counters : local;
+    GlBackend backend(plan, xs, grid, settings, c);
+    const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), settings.base.supersample});
+    c.plannedRegions = zoom.regions.size();
+    CollectingSink sink;
+    backend.run(zoom.regions, sink);
+    return resolveVolume(grid, settings.base.reduce, sink.all);
 }
 
 } // namespace yv

@@ -7,9 +7,12 @@
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
+#include "plan/zoom_plan.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace yv {
 
@@ -27,12 +30,44 @@ struct GlVoxelizeCounters {
     std::uint64_t fragments = 0;        ///< fragments appended, summed over passes that fit
     std::uint64_t passes = 0;           ///< raster passes that fit
     std::uint64_t overflows = 0;        ///< passes redone in smaller pieces
+    std::uint64_t plannedRegions = 0;   ///< zoom regions in the plan
+    std::uint64_t regions = 0;          ///< zoom regions computed
+    std::uint64_t resumedRegions = 0;   ///< zoom regions taken from a resumed work directory
     std::uint64_t fragmentCapacity = 0; ///< capacity used
     std::uint64_t sliceDataBytes = 0;   ///< GPU bytes of curve/segment data for the slices
     std::uint64_t peakGpuBytes = 0;     ///< largest sum of yarnvox's GPU buffers
     double rasterSeconds = 0.0;         ///< time of raster + append passes (GPU drained at both ends)
     double brickSeconds = 0.0;          ///< time of the brick passes (likewise)
     double readbackSeconds = 0.0;       ///< wall time of reading back bricks
+};
+
+/// Receives each finished zoom region's bricks (raw accumulators), in plan order.
+class RegionSink {
+  public:
+    virtual ~RegionSink() = default;
+    /// True when the region needs no work (complete and verified in a resumed run).
+    virtual bool alreadyDone(const ZoomRegion&) { return false; }
+    virtual void consume(const ZoomRegion& region, std::vector<BrickAccumulator>&& bricks) = 0;
+};
+
+/// The GL backend on a live context: budgets from the queried limits, then
+/// zoom regions one after another. A region whose fragments overflow the list
+/// (or whose bricks overflow their buffer) is split and redone; nothing is
+/// dropped and nothing is counted twice.
+class GlBackend {
+  public:
+    GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const GlVoxelizeSettings& settings,
+              GlVoxelizeCounters& counters);
+    ~GlBackend();
+    /// Fragments one pass may append (the zoom planner's budget).
+    std::uint64_t fragmentBudget() const;
+    /// Largest region edge in voxels (viewport and key limits).
+    int maxRegionSize() const;
+    void run(const std::vector<ZoomRegion>& regions, RegionSink& sink);
+
+  private:
+    class Impl;
+    std::unique_ptr<Impl> impl_;
 };
 
 /// Voxelizes on the GPU with the same sampling rule and reductions as

@@ -1,0 +1,171 @@
+#include "plan/zoom_plan.h"
+
+#include "core/error.h"
+#include "core/sampling.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cmath>
+#include <memory>
+
+namespace yv {
+
+void segmentVoxelBounds(const SlicePlan& plan, const VoxelGrid& grid, std::uint32_t segment, glm::dvec3& lo,
+                        glm::dvec3& hi) {
+    const SegmentRecord& seg = plan.segments[segment];
+    const double invH = 1.0 / grid.voxelSize;
+    const double reach = plan.options.radius * std::sqrt(2.0) * invH + 1.0;
+    lo = (seg.centerMin - grid.origin) * invH - reach;
+    hi = (seg.centerMax - grid.origin) * invH + reach;
+}
+
+std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGrid& grid,
+                                            const std::vector<std::uint32_t>& from, glm::ivec3 min, glm::ivec3 max) {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t s : from) {
+        glm::dvec3 lo, hi;
+        segmentVoxelBounds(plan, grid, s, lo, hi);
+        if (glm::all(glm::lessThan(lo, glm::dvec3(max))) && glm::all(glm::greaterThan(hi, glm::dvec3(min))))
+            out.push_back(s);
+    }
+    return out;
+}
+
+namespace {
+
+class HeatMap {
+  public:
+    HeatMap(const VoxelGrid& grid, int cell) : cell_(cell), dims_((grid.dims + cell - 1) / cell) {
+        cells_ = std::make_unique<std::atomic<std::uint64_t>[]>(std::size_t(dims_.x) * dims_.y * dims_.z);
+    }
+    void add(glm::ivec3 voxel, double fragments) {
+        const glm::ivec3 c = glm::clamp(voxel / cell_, glm::ivec3(0), dims_ - 1);
+        cells_[index(c)].fetch_add(static_cast<std::uint64_t>(fragments + 0.5), std::memory_order_relaxed);
+    }
+    /// Estimated fragments in voxels [min, max): whole cells summed, cut
+    /// cells in proportion to the part of them inside.
+    double sum(glm::ivec3 min, glm::ivec3 max) const {
+        const glm::ivec3 c0 = min / cell_, c1 = glm::min((max + cell_ - 1) / cell_, dims_);
+        double total = 0.0;
+        for (int z = c0.z; z < c1.z; ++z)
+            for (int y = c0.y; y < c1.y; ++y)
+                for (int x = c0.x; x < c1.x; ++x) {
+                    const std::uint64_t v = cells_[index({x, y, z})].load(std::memory_order_relaxed);
+                    if (!v) continue;
+                    const glm::ivec3 lo = glm::max(min, glm::ivec3(x, y, z) * cell_);
+                    const glm::ivec3 hi = glm::min(max, glm::ivec3(x + 1, y + 1, z + 1) * cell_);
+                    const glm::dvec3 part = glm::dvec3(hi - lo) / double(cell_);
+                    total += v * part.x * part.y * part.z;
+                }
+        return total;
+    }
+    std::uint64_t touched() const {
+        std::uint64_t n = 0;
+        for (std::size_t i = 0; i < std::size_t(dims_.x) * dims_.y * dims_.z; ++i) n += cells_[i].load() != 0;
+        return n;
+    }
+
+  private:
+    std::size_t index(glm::ivec3 c) const { return (std::size_t(c.z) * dims_.y + c.y) * dims_.x + c.x; }
+    int cell_;
+    glm::ivec3 dims_;
+    std::unique_ptr<std::atomic<std::uint64_t>[]> cells_;
+};
+
+/// Split position along one axis: the middle, rounded to the coarsest
+/// alignment that still leaves both halves non-empty.
+int splitPoint(int lo, int hi) {
+    for (int align : {128, 32, 8}) {
+        const int mid = lo + ((hi - lo) / 2 + align / 2) / align * align;
+        if (mid > lo && mid < hi && mid % align == 0) return mid;
+    }
+    return lo + (hi - lo) / 16 * 8;
+}
+
+} // namespace
+
+ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs,
+                         const ZoomPlanOptions& options) {
+    if (options.fragmentBudget == 0) throw Error("fragment budget must be positive");
+    if (options.maxRegionSize < 8 || options.maxRegionSize % 8) throw Error("region size must be a multiple of 8");
+    ZoomPlan zp;
+    HeatMap heat(grid, zp.heatCell);
+
+    // Expected fragments of a slice: its square, projected on the face of its
+    // dominant axis, in supersampled pixels, times the filled fraction.
+    double filled = 0.0;
+    for (std::uint8_t d : xs.density) filled += d != 0;
+    filled /= double(xs.density.size());
+    const double side = 2.0 * plan.options.radius / grid.voxelSize * options.supersample;
+    const double perSlice = side * side * filled;
+    tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t s) {
+        const SegmentRecord& seg = plan.segments[s];
+        for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
+            const double t = (k + 0.5) / seg.sliceCount;
+            const glm::dvec3 c = evalCatmullRom(seg.points, t);
+            const glm::dvec3 d = glm::abs(glm::normalize(evalCatmullRomDerivative(seg.points, t)));
+            const double dominant = std::max({d.x, d.y, d.z});
+            heat.add(glm::ivec3(glm::floor((c - grid.origin) / grid.voxelSize)), perSlice * dominant);
+        }
+    });
+    zp.heatCellsTouched = heat.touched();
+    zp.estimatedFragments = heat.sum(glm::ivec3(0), grid.dims);
+
+    std::vector<std::uint32_t> all(plan.segments.size());
+    for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+
+    // Depth-first octree split; children in z, y, x order so ids follow space.
+    const double target = 0.5 * double(options.fragmentBudget);
+    struct Box {
+        glm::ivec3 min, max;
+        std::vector<std::uint32_t> segments;
+    };
+    std::vector<Box> stack;
+    stack.push_back({glm::ivec3(0), grid.dims, segmentsReaching(plan, grid, all, glm::ivec3(0), grid.dims)});
+    while (!stack.empty()) {
+        Box box = std::move(stack.back());
+        stack.pop_back();
+        if (box.segments.empty()) continue;
+        const glm::ivec3 size = box.max - box.min;
+        const double estimate = heat.sum(box.min, box.max);
+        const bool tooBig = glm::any(glm::greaterThan(size, glm::ivec3(options.maxRegionSize)));
+        const bool tooHot = estimate > target && glm::any(glm::greaterThan(size, glm::ivec3(8)));
+        if (!tooBig && !tooHot) {
+            ZoomRegion r;
+            r.id = zp.regions.size();
+            r.min = box.min;
+            r.max = box.max;
+            r.segments = std::move(box.segments);
+            r.estimatedFragments = estimate;
+            zp.regions.push_back(std::move(r));
+            continue;
+        }
+        // Halve every axis that is more than one brick long (or too long).
+        glm::ivec3 mid = box.max;
+        for (int a = 0; a < 3; ++a)
+            if (size[a] > 8) mid[a] = splitPoint(box.min[a], box.max[a]);
+        std::vector<Box> children;
+        for (int z = 0; z < 2; ++z)
+            for (int y = 0; y < 2; ++y)
+                for (int x = 0; x < 2; ++x) {
+                    const glm::ivec3 pick(x, y, z);
+                    Box child;
+                    bool exists = true;
+                    for (int a = 0; a < 3; ++a) {
+                        exists = exists && !(mid[a] == box.max[a] && pick[a] == 1); // axis not split
+                        child.min[a] = pick[a] ? mid[a] : box.min[a];
+                        child.max[a] = pick[a] ? box.max[a] : mid[a];
+                    }
+                    if (!exists) continue;
+                    child.segments = segmentsReaching(plan, grid, box.segments, child.min, child.max);
+                    children.push_back(std::move(child));
+                }
+        for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back(std::move(*it));
+    }
+    return zp;
+}
+
+} // namespace yv

@@ -1,0 +1,57 @@
+// Zoom regions: the grid split octree-wise into boxes that each fit one GPU
+// pass, from a coarse heat map of the fragments each part of the garment
+// will produce at the target resolution.
+#pragma once
+
+#include "garment/cross_section.h"
+#include "garment/slices.h"
+#include "plan/grid.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace yv {
+
+/// One box of voxels (whole bricks), processed as one unit and stored as one
+/// file. Every voxel any slice can reach lies in exactly one region.
+struct ZoomRegion {
+    std::uint64_t id = 0;                ///< position in the plan (stable for the same inputs)
+    glm::ivec3 min{0}, max{0};           ///< voxels [min, max)
+    std::vector<std::uint32_t> segments; ///< segments whose slices can reach the box
+    double estimatedFragments = 0.0;
+};
+
+struct ZoomPlanOptions {
+    std::uint64_t fragmentBudget = 0; ///< fragments one pass may produce
+    int maxRegionSize = 1024;         ///< voxels per axis (viewport and key limits)
+    int supersample = 1;
+};
+
+struct ZoomPlan {
+    std::vector<ZoomRegion> regions;
+    int heatCell = 32;                 ///< voxels per heat-map cell along each axis
+    double estimatedFragments = 0.0;   ///< whole garment
+    std::uint64_t heatCellsTouched = 0;
+};
+
+/// Voxels of the grid that slices of `segment` can reach: slice centres grown
+/// by the slice half-diagonal and one voxel. Used to bin segments into regions.
+void segmentVoxelBounds(const SlicePlan& plan, const VoxelGrid& grid, std::uint32_t segment, glm::dvec3& lo,
+                        glm::dvec3& hi);
+
+/// Segments of `from` whose slices can reach voxels [min, max).
+std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGrid& grid,
+                                            const std::vector<std::uint32_t>& from, glm::ivec3 min, glm::ivec3 max);
+
+/// Builds the heat map (expected fragments per 32^3 cell: each slice adds
+/// its projected area in pixels times the cross-section's filled fraction to
+/// the cell of its centre) and splits the grid octree-wise, on 128-voxel
+/// (OpenVDB internal node) boundaries where the box is large, until each
+/// region's estimate is within half the budget and its size within
+/// maxRegionSize. Regions no segment reaches are left out.
+ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs,
+                         const ZoomPlanOptions& options);
+
+} // namespace yv
