@@ -1,6 +1,7 @@
 // `yarnvox voxelize`: garment -> slices -> voxels -> .vdb, with --stats.
 #include "bcc.h"
 #include "cli/commands.h"
+#include "cli/run_fingerprint.h"
 #include "core/error.h"
 #include "core/process_memory.h"
 #include "core/stats.h"
@@ -9,24 +10,67 @@
 #include "garment/slices.h"
 #include "gpu/gl_voxelizer.h"
 #include "plan/grid.h"
+#include "plan/zoom_plan.h"
+#include "store/brick_store.h"
+#include "store/region_writer.h"
+#include "vdb/merge.h"
 #include "vdb/vdb_writer.h"
 
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <unistd.h>
 
 namespace yv {
 namespace {
 
 struct VoxelizeArgs {
-    std::string input, output, backend = "gl", crossSection = "fibers", reduce = "mean", statsPath;
+    std::string input, output, backend = "gl", crossSection = "fibers", reduce = "mean", statsPath, workDir;
     int resolution = 0, slicesPerSegment = 25, supersample = 1, device = -1;
     double voxelSize = 0.0, yarnRadius = 0.0, spacing = 0.0, twist = 0.0;
     std::uint64_t fragmentCapacity = 0;
-    bool quiet = false, verbose = false;
+    bool quiet = false, verbose = false, resume = false, keepWorkDir = false;
 };
+
+/// Feeds finished regions to the disk pipeline; on --resume, skips regions
+/// whose files are complete and verified.
+class StoreSink : public RegionSink {
+  public:
+    StoreSink(BrickStore& store, RegionWriter& writer, bool resume) : store_(store), writer_(writer), resume_(resume) {}
+    bool alreadyDone(const ZoomRegion& r) override {
+        if (!resume_) return false;
+        std::string why;
+        if (store_.hasVerifiedRegion(r.id, r.min, r.max, &why)) return true;
+        if (!why.empty()) ++recomputed;
+        return false;
+    }
+    void consume(const ZoomRegion& r, std::vector<BrickAccumulator>&& bricks) override {
+        // Fibre volume from the raw words before they leave: integer sums for
+        // mean, the densest samples for max.
+        for (const BrickAccumulator& b : bricks)
+            for (int v = 0; v < kBrickVoxels; ++v)
+                densitySum += store_.manifest().reduce == Reduce::Mean ? b.words[v] / kFixedScale : bitsFloat(b.words[v]);
+        writer_.submit(r.id, r.min, r.max, std::move(bricks));
+    }
+    std::uint64_t recomputed = 0; ///< damaged region files found on resume
+    double densitySum = 0.0;      ///< over the regions computed in this run
+
+  private:
+    BrickStore& store_;
+    RegionWriter& writer_;
+    bool resume_;
+};
+
+/// Host memory the disk queue may hold: an eighth of physical memory, at most 4 GiB.
+std::size_t writerQueueBytes() {
+    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+    const std::size_t physical = pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : (std::size_t(8) << 30);
+    return std::min<std::size_t>(physical / 8, std::size_t(4) << 30);
+}
 
 class StageTimer {
   public:
@@ -66,39 +110,6 @@ void runVoxelize(const VoxelizeArgs& a) {
     settings.supersample = a.supersample;
     settings.quiet = a.quiet;
 
-    JsonObject backendStats;
-    BrickVolume volume;
-    std::uint64_t samples = 0;
-    if (a.backend == "cpu") {
-        CpuVoxelizeCounters counters;
-        volume = voxelizeCpu(plan, xs, grid, settings, &counters);
-        samples = counters.samples;
-        backendStats.set("samples", counters.samples);
-    } else {
-        GlVoxelizeSettings gl;
-        gl.base = settings;
-        gl.device = a.device;
-        gl.fragmentCapacity = a.fragmentCapacity;
-        gl.verbose = a.verbose;
-        GlVoxelizeCounters counters;
-        volume = voxelizeGl(plan, xs, grid, gl, &counters);
-        samples = counters.fragments;
-        backendStats.set("renderer", counters.renderer)
-            .set("platform", counters.platform)
-            .set("fragments", counters.fragments)
-            .set("raster_passes", counters.passes)
-            .set("overflow_retries", counters.overflows)
-            .set("fragment_capacity", counters.fragmentCapacity)
-            .set("gpu_slice_data_bytes", counters.sliceDataBytes)
-            .set("gpu_peak_bytes", counters.peakGpuBytes)
-            .set("gpu_raster_seconds", counters.rasterSeconds)
-            .set("gpu_brick_seconds", counters.brickSeconds)
-            .set("readback_seconds", counters.readbackSeconds);
-        if (a.verbose && !a.quiet) std::fprintf(stderr, "renderer: %s (%s)\n", counters.renderer.c_str(), counters.platform.c_str());
-    }
-    const double voxelizeSeconds = timer.lap();
-    stages.set("voxelize", voxelizeSeconds);
-
     VolumeMetadata meta;
     meta.input = a.input;
     meta.backend = a.backend;
@@ -108,10 +119,102 @@ void runVoxelize(const VoxelizeArgs& a) {
     meta.yarnRadius = sliceOptions.radius;
     meta.twist = a.twist;
     meta.supersample = a.supersample;
-    writeVdb(a.output, volume, meta);
-    stages.set("write", timer.lap());
 
-    const std::uint64_t active = volume.activeVoxelCount();
+    JsonObject backendStats;
+    std::uint64_t samples = 0, active = 0, bricks = 0;
+    double fiberVolume = 0.0, voxelizeSeconds = 0.0;
+    if (a.backend == "cpu") {
+        if (!a.workDir.empty() || a.resume) throw Error("--work-dir and --resume need --backend gl");
+        CpuVoxelizeCounters counters;
+        const BrickVolume volume = voxelizeCpu(plan, xs, grid, settings, &counters);
+        samples = counters.samples;
+        backendStats.set("samples", counters.samples);
+        voxelizeSeconds = timer.lap();
+        stages.set("voxelize", voxelizeSeconds);
+        writeVdb(a.output, volume, meta);
+        stages.set("write", timer.lap());
+        active = volume.activeVoxelCount();
+        bricks = volume.bricks.size();
+        fiberVolume = volume.totalMass();
+    } else {
+        GlVoxelizeSettings gl;
+        gl.base = settings;
+        gl.device = a.device;
+        gl.fragmentCapacity = a.fragmentCapacity;
+        gl.verbose = a.verbose;
+        GlVoxelizeCounters counters;
+        GlBackend backend(plan, xs, grid, gl, counters);
+        const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), a.supersample});
+        counters.plannedRegions = zoom.regions.size();
+        stages.set("plan", timer.lap());
+        if (a.verbose && !a.quiet)
+            std::fprintf(stderr, "plan: %zu zoom regions, %.3g fragments expected, budget %llu per pass\n",
+                         zoom.regions.size(), zoom.estimatedFragments, static_cast<unsigned long long>(backend.fragmentBudget()));
+
+        // Regions stream through a bounded queue to the work dir while the GPU
+        // moves on; the merge then builds one OpenVDB tree from the files.
+        const bool ownWorkDir = a.workDir.empty();
+        const std::string workDir = ownWorkDir ? a.output + ".work" : a.workDir;
+        StoreManifest manifest;
+        manifest.fingerprint = runFingerprint(a.input, sliceOptions, xs, grid, settings.reduce, a.supersample, zoom);
+        manifest.grid = grid;
+        manifest.reduce = settings.reduce;
+        manifest.runMetadata = encodeMetadata(meta);
+        RegionWriterStats writerStats;
+        std::uint64_t recomputed = 0, storeBytes = 0;
+        {
+            BrickStore store(workDir, manifest, a.resume);
+            RegionWriter writer(store, settings.reduce, writerQueueBytes());
+            StoreSink sink(store, writer, a.resume);
+            backend.run(zoom.regions, sink);
+            writer.finish();
+            writerStats = writer.stats();
+            recomputed = sink.recomputed;
+            store.markComplete(zoom.regions.size());
+            voxelizeSeconds = timer.lap();
+            stages.set("voxelize", voxelizeSeconds);
+            mergeStoreToVdb(store, a.output, meta);
+            stages.set("merge", timer.lap());
+            storeBytes = store.bytesOnDisk();
+            for (const RegionInfo& r : store.listRegions()) {
+                active += r.activeVoxels;
+                bricks += r.brickCount;
+            }
+            // Regions taken from a resumed run were not summed here.
+            fiberVolume = counters.resumedRegions ? -1.0 : sink.densitySum * std::pow(grid.voxelSize, 3);
+        }
+        if (ownWorkDir && !a.keepWorkDir) std::filesystem::remove_all(workDir);
+
+        samples = counters.fragments;
+        backendStats.set("renderer", counters.renderer)
+            .set("platform", counters.platform)
+            .set("fragments", counters.fragments)
+            .set("raster_passes", counters.passes)
+            .set("overflow_retries", counters.overflows)
+            .set("zoom_regions", counters.plannedRegions)
+            .set("regions_computed", counters.regions)
+            .set("regions_resumed", counters.resumedRegions)
+            .set("regions_damaged_recomputed", recomputed)
+            .set("fragment_budget", counters.fragmentCapacity)
+            .set("gpu_slice_data_bytes", counters.sliceDataBytes)
+            .set("gpu_peak_bytes", counters.peakGpuBytes)
+            .set("gpu_raster_seconds", counters.rasterSeconds)
+            .set("gpu_brick_seconds", counters.brickSeconds)
+            .set("readback_seconds", counters.readbackSeconds)
+            .set("store_bytes_on_disk", storeBytes)
+            .set("store_resolve_seconds", writerStats.resolveSeconds)
+            .set("store_encode_seconds", writerStats.encodeSeconds)
+            .set("store_write_seconds", writerStats.writeSeconds)
+            .set("store_wait_seconds", writerStats.submitWaitSeconds)
+            .set("store_peak_queued_bytes", writerStats.peakQueuedBytes);
+        if (a.verbose && !a.quiet)
+            std::fprintf(stderr, "renderer: %s (%s); %llu regions (%llu resumed), %llu overflow retries\n",
+                         counters.renderer.c_str(), counters.platform.c_str(),
+                         static_cast<unsigned long long>(counters.plannedRegions),
+                         static_cast<unsigned long long>(counters.resumedRegions),
+                         static_cast<unsigned long long>(counters.overflows));
+    }
+
     if (!a.statsPath.empty()) {
         JsonObject stats;
         stats.set("yarnvox_version", YV_VERSION)
@@ -127,8 +230,8 @@ void runVoxelize(const VoxelizeArgs& a) {
             .set("grid_dims", std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" +
                                   std::to_string(grid.dims.z))
             .set("active_voxels", active)
-            .set("bricks", static_cast<std::uint64_t>(volume.bricks.size()))
-            .set("fiber_volume", volume.totalMass())
+            .set("bricks", bricks)
+            .set("fiber_volume", fiberVolume)
             .set("slices_per_second", plan.sliceCount / voxelizeSeconds)
             .set("active_voxels_per_second", active / voxelizeSeconds)
             .set("peak_host_bytes", peakResidentBytes())
@@ -140,7 +243,7 @@ void runVoxelize(const VoxelizeArgs& a) {
         std::printf("%s: %llu slices -> %llu active voxels in %zu bricks (grid %dx%dx%d, voxel %.4g), %.2f s voxelize\n"
                     "wrote %s\n",
                     a.input.c_str(), static_cast<unsigned long long>(plan.sliceCount),
-                    static_cast<unsigned long long>(active), volume.bricks.size(), grid.dims.x, grid.dims.y,
+                    static_cast<unsigned long long>(active), static_cast<std::size_t>(bricks), grid.dims.x, grid.dims.y,
                     grid.dims.z, grid.voxelSize, voxelizeSeconds, a.output.c_str());
 }
 
@@ -176,8 +279,13 @@ void addVoxelizeCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
     cmd->add_option("--device", a->device, "GL backend: EGL device index (default: first GPU, else llvmpipe)");
-    cmd->add_option("--fragment-capacity", a->fragmentCapacity,
-                    "GL backend: fragment-list capacity in fragments (default: from GPU limits)");
+    cmd->add_option("--fragment-budget", a->fragmentCapacity,
+                    "GL backend: fragments one pass may append (default: from GPU limits and free memory); "
+                    "zoom regions are sized to it");
+    cmd->add_option("--work-dir", a->workDir,
+                    "GL backend: directory for the per-region brick files (default: OUT.vdb.work, removed after the merge)");
+    cmd->add_flag("--resume", a->resume, "Re-use the complete, verified regions in --work-dir and compute the rest");
+    cmd->add_flag("--keep-work-dir", a->keepWorkDir, "Keep the default work directory after the merge");
     cmd->add_option("--stats", a->statsPath, "Write run statistics (JSON) to this file");
     cmd->add_flag("-q,--quiet", a->quiet, "No progress and no summary");
     cmd->add_flag("-v,--verbose", a->verbose, "Name the renderer and print GPU limits");

@@ -9,5 +9,6 @@ namespace yv {
 
 void addGenCommand(CLI::App& app);
 void addVoxelizeCommand(CLI::App& app);
+void addMergeCommand(CLI::App& app);
 
 } // namespace yv

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "yarnvox " YV_VERSION);
     yv::addGenCommand(app);
     yv::addVoxelizeCommand(app);
+    yv::addMergeCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -4,52 +4,122 @@
 
 #include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <cstdio>
 #include <fcntl.h>
-#include <unistd.h>
 #include <filesystem>
+#include <mutex>
+#include <unistd.h>
 
 namespace yv {
 namespace {
 
-/// Leaves are built in parallel; inserting them into the tree is serial
-/// (addLeaf is not thread-safe) but costs one pointer move per leaf.
-template <class GridT, class Fill>
-typename GridT::Ptr buildGrid(const BrickVolume& volume, typename GridT::ValueType background, Fill&& fill) {
-    using LeafT = typename GridT::TreeType::LeafNodeType;
-    std::vector<LeafT*> leaves(volume.bricks.size());
-    tbb::parallel_for(std::size_t(0), volume.bricks.size(), [&](std::size_t i) {
-        const VoxelBrick& b = volume.bricks[i];
-        const glm::ivec3 origin = brickCoord(b.key) * 8;
-        auto* leaf = new LeafT(openvdb::Coord(origin.x, origin.y, origin.z), background, false);
-        for (int v = 0; v < kBrickVoxels; ++v)
-            if (b.isActive(v)) leaf->setValueOn(v, fill(b, v));
-        leaves[i] = leaf;
-    });
-    auto grid = GridT::create(background);
-    for (LeafT* leaf : leaves) grid->tree().addLeaf(leaf);
-    return grid;
+using DensityLeaf = openvdb::FloatGrid::TreeType::LeafNodeType;
+using OrientationLeaf = openvdb::Vec3SGrid::TreeType::LeafNodeType;
+
+std::string coordText(glm::ivec3 v) {
+    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+void fsyncPath(const std::string& path, int flags) {
+    if (int fd = ::open(path.c_str(), flags | O_CLOEXEC); fd >= 0) {
+        ::fsync(fd);
+        ::close(fd);
+    }
 }
 
 } // namespace
 
-void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata) {
+struct VdbAssembler::Impl {
+    struct Entry {
+        std::uint64_t key = 0;
+        std::uint32_t source = 0;
+        std::unique_ptr<DensityLeaf> density;
+        std::unique_ptr<OrientationLeaf> orientation;
+    };
+
+    VoxelGrid grid;
+    Reduce reduce = Reduce::Mean;
+    mutable std::mutex mutex;
+    std::vector<Entry> entries;
+    std::vector<std::string> sources;
+    bool written = false;
+};
+
+VdbAssembler::VdbAssembler(const VoxelGrid& grid, Reduce reduce) : impl_(std::make_unique<Impl>()) {
     openvdb::initialize();
-    const double h = volume.grid.voxelSize;
+    impl_->grid = grid;
+    impl_->reduce = reduce;
+}
+
+VdbAssembler::~VdbAssembler() = default;
+
+void VdbAssembler::add(std::span<const VoxelBrick> bricks, const std::string& source) {
+    // Leaves are built in parallel, outside the lock; only the hand-over is serial.
+    std::vector<Impl::Entry> local(bricks.size());
+    tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t i) {
+        const VoxelBrick& b = bricks[i];
+        const glm::ivec3 o = brickCoord(b.key) * 8;
+        const openvdb::Coord origin(o.x, o.y, o.z);
+        auto density = std::make_unique<DensityLeaf>(origin, 0.0f, false);
+        auto orientation = std::make_unique<OrientationLeaf>(origin, openvdb::Vec3s(0.0f), false);
+        for (int v = 0; v < kBrickVoxels; ++v)
+            if (b.isActive(v)) {
+                density->setValueOn(v, b.density[v]);
+                const glm::vec3 a = b.orientation[v];
+                orientation->setValueOn(v, openvdb::Vec3s(a.x, a.y, a.z));
+            }
+        local[i] = {b.key, 0, std::move(density), std::move(orientation)};
+    });
+    std::lock_guard lock(impl_->mutex);
+    const auto tag = static_cast<std::uint32_t>(impl_->sources.size());
+    impl_->sources.push_back(source);
+    impl_->entries.reserve(impl_->entries.size() + local.size());
+    for (Impl::Entry& e : local) {
+        e.source = tag;
+        impl_->entries.push_back(std::move(e));
+    }
+}
+
+std::size_t VdbAssembler::brickCount() const {
+    std::lock_guard lock(impl_->mutex);
+    return impl_->entries.size();
+}
+
+void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata) {
+    std::lock_guard lock(impl_->mutex);
+    YV_CHECK(!impl_->written);
+    impl_->written = true;
+    auto& entries = impl_->entries;
+    tbb::parallel_sort(entries.begin(), entries.end(),
+                       [](const Impl::Entry& a, const Impl::Entry& b) { return a.key < b.key; });
+    for (std::size_t i = 1; i < entries.size(); ++i)
+        if (entries[i].key == entries[i - 1].key) {
+            const std::string& a = impl_->sources[entries[i - 1].source];
+            const std::string& b = impl_->sources[entries[i].source];
+            const std::string from = a.empty() && b.empty() ? "" : " (from " + a + " and " + b + ")";
+            throw Error(path + ": brick at voxel " + coordText(brickCoord(entries[i].key) * 8) + " given twice" +
+                        from + ": cannot build one volume");
+        }
+
+    const VoxelGrid& grid = impl_->grid;
+    const double h = grid.voxelSize;
     auto transform = openvdb::math::Transform::createLinearTransform(h);
-    const glm::dvec3 c = volume.grid.origin + 0.5 * h;
+    const glm::dvec3 c = grid.origin + 0.5 * h;
     transform->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
 
-    auto density = buildGrid<openvdb::FloatGrid>(volume, 0.0f, [](const VoxelBrick& b, int v) { return b.density[v]; });
+    // addLeaf is not thread-safe, but costs one pointer move per leaf.
+    auto density = openvdb::FloatGrid::create(0.0f);
+    auto orientation = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    for (Impl::Entry& e : entries) {
+        density->tree().addLeaf(e.density.release());
+        orientation->tree().addLeaf(e.orientation.release());
+    }
+    std::vector<Impl::Entry>().swap(entries);
     density->setName("density");
     density->setGridClass(openvdb::GRID_FOG_VOLUME);
     density->setTransform(transform);
-
-    auto orientation = buildGrid<openvdb::Vec3SGrid>(volume, openvdb::Vec3s(0.0f), [](const VoxelBrick& b, int v) {
-        const glm::vec3 o = b.orientation[v];
-        return openvdb::Vec3s(o.x, o.y, o.z);
-    });
     orientation->setName("orientation");
     orientation->setVectorType(openvdb::VEC_INVARIANT); // an axis: not transformed like a position
     orientation->setTransform(transform);
@@ -61,13 +131,12 @@ void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMe
     meta.insertMeta("cross_section", openvdb::StringMetadata(metadata.crossSection));
     meta.insertMeta("resolution", openvdb::Int32Metadata(metadata.resolution));
     meta.insertMeta("voxel_size", openvdb::DoubleMetadata(h));
-    meta.insertMeta("reduce", openvdb::StringMetadata(toString(volume.reduce)));
+    meta.insertMeta("reduce", openvdb::StringMetadata(toString(impl_->reduce)));
     meta.insertMeta("slice_count", openvdb::Int64Metadata(static_cast<std::int64_t>(metadata.sliceCount)));
     meta.insertMeta("yarn_radius", openvdb::DoubleMetadata(metadata.yarnRadius));
     meta.insertMeta("twist", openvdb::DoubleMetadata(metadata.twist));
     meta.insertMeta("supersample", openvdb::Int32Metadata(metadata.supersample));
-    meta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(volume.grid.dims.x, volume.grid.dims.y,
-                                                                           volume.grid.dims.z)));
+    meta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
 
     const std::string tmp = path + ".partial";
     try {
@@ -79,16 +148,22 @@ void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMe
         throw Error(path + ": cannot write OpenVDB file: " + e.what());
     }
     // Data on disk before the name: a crash never leaves a complete-looking file.
-    if (int fd = ::open(tmp.c_str(), O_RDONLY); fd >= 0) {
-        ::fsync(fd);
-        ::close(fd);
-    }
+    fsyncPath(tmp, O_RDONLY);
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
     if (ec) {
         std::remove(tmp.c_str());
         throw Error(path + ": cannot rename the finished file into place: " + ec.message());
     }
+    // The rename itself is durable only once the directory is synced.
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    fsyncPath(parent.empty() ? "." : parent.string(), O_RDONLY | O_DIRECTORY);
+}
+
+void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata) {
+    VdbAssembler assembler(volume.grid, volume.reduce);
+    assembler.add(volume.bricks);
+    assembler.write(path, metadata);
 }
 
 } // namespace yv

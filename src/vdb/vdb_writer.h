@@ -4,7 +4,10 @@
 
 #include "core/bricks.h"
 
+#include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <string>
 
 namespace yv {
@@ -24,5 +27,29 @@ struct VolumeMetadata {
 /// failed run never leaves a file that looks finished. Voxel (i, j, k) of the
 /// grid has index (i, j, k) and its centre at grid.origin + (i + 0.5) h.
 void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata);
+
+/// What writeVdb and the brick store's merge share: bricks handed over in
+/// batches become OpenVDB leaves at once (so the bricks can be freed), and
+/// write() puts the leaves into the trees in key order, so the file does not
+/// depend on batch order or thread count.
+class VdbAssembler {
+  public:
+    VdbAssembler(const VoxelGrid& grid, Reduce reduce);
+    ~VdbAssembler();
+    VdbAssembler(const VdbAssembler&) = delete;
+    VdbAssembler& operator=(const VdbAssembler&) = delete;
+
+    /// Turns `bricks` into leaves, in parallel. Thread-safe; `source` names the batch in errors.
+    void add(std::span<const VoxelBrick> bricks, const std::string& source = "");
+    /// Bricks added so far.
+    std::size_t brickCount() const;
+    /// Builds the grids and writes them to `path` as writeVdb does; throws
+    /// yv::Error when a brick was added twice. Call once.
+    void write(const std::string& path, const VolumeMetadata& metadata);
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 } // namespace yv

@@ -1,0 +1,36 @@
+// `yarnvox merge`: a finished work directory to one .vdb (voxelize does this
+// itself at its end; this re-runs it, e.g. after a merge failed for disk space).
+#include "cli/commands.h"
+#include "cli/run_fingerprint.h"
+#include "store/brick_store.h"
+#include "vdb/merge.h"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+namespace yv {
+
+void addMergeCommand(CLI::App& app) {
+    struct Args {
+        std::string workDir, output;
+        bool quiet = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand("merge", "Merge the brick store of a finished voxelize run into one OpenVDB file");
+    cmd->add_option("workdir", args->workDir, "Work directory of a voxelize run (--work-dir)")->required()->check(CLI::ExistingDirectory);
+    cmd->add_option("-o,--output", args->output, "Output .vdb file")->required();
+    cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
+    cmd->callback([args] {
+        const auto start = std::chrono::steady_clock::now();
+        const StoreManifest manifest = readManifest(args->workDir);
+        mergeStoreToVdb(args->workDir, args->output, decodeMetadata(manifest.runMetadata));
+        if (!args->quiet)
+            std::printf("merged %s -> %s in %.2f s\n", args->workDir.c_str(), args->output.c_str(),
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    });
+}
+
+} // namespace yv

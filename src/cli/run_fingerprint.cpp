@@ -1,0 +1,69 @@
+#include "cli/run_fingerprint.h"
+
+#include "core/error.h"
+#include "store/brick_store.h"
+
+#include <fstream>
+#include <sstream>
+
+namespace yv {
+namespace {
+
+/// Order-sensitive mixing of 64-bit hashes.
+class Fingerprint {
+  public:
+    void add(const void* data, std::size_t n) { h_ = xxh64(data, n) ^ (h_ * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull); }
+    template <class T> void add(const T& v) { add(&v, sizeof v); }
+    std::uint64_t value() const { return h_; }
+
+  private:
+    std::uint64_t h_ = 0;
+};
+
+} // namespace
+
+std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
+                             const VoxelGrid& grid, Reduce reduce, int supersample, const ZoomPlan& zoom) {
+    Fingerprint f;
+    std::ifstream in(inputPath, std::ios::binary);
+    if (!in) throw Error(inputPath + ": cannot read the garment to fingerprint the run");
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    f.add(bytes.data(), bytes.size());
+    f.add(slices.slicesPerSegment), f.add(slices.spacing), f.add(slices.twist), f.add(slices.radius);
+    f.add(xs.size);
+    f.add(xs.density.data(), xs.density.size());
+    f.add(grid.origin), f.add(grid.voxelSize), f.add(grid.dims);
+    f.add(static_cast<int>(reduce)), f.add(supersample);
+    for (const ZoomRegion& r : zoom.regions) f.add(r.id), f.add(r.min), f.add(r.max);
+    return f.value();
+}
+
+std::string encodeMetadata(const VolumeMetadata& m) {
+    std::ostringstream out;
+    out.precision(17);
+    out << "input=" << m.input << "\nbackend=" << m.backend << "\ncross_section=" << m.crossSection
+        << "\nresolution=" << m.resolution << "\nslice_count=" << m.sliceCount << "\nyarn_radius=" << m.yarnRadius
+        << "\ntwist=" << m.twist << "\nsupersample=" << m.supersample << "\n";
+    return out.str();
+}
+
+VolumeMetadata decodeMetadata(const std::string& text) {
+    VolumeMetadata m;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        const std::size_t eq = line.find('=');
+        if (eq == std::string::npos) continue;
+        const std::string key = line.substr(0, eq), value = line.substr(eq + 1);
+        if (key == "input") m.input = value;
+        else if (key == "backend") m.backend = value;
+        else if (key == "cross_section") m.crossSection = value;
+        else if (key == "resolution") m.resolution = std::stoi(value);
+        else if (key == "slice_count") m.sliceCount = std::stoull(value);
+        else if (key == "yarn_radius") m.yarnRadius = std::stod(value);
+        else if (key == "twist") m.twist = std::stod(value);
+        else if (key == "supersample") m.supersample = std::stoi(value);
+    }
+    return m;
+}
+
+} // namespace yv

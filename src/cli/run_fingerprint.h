@@ -1,0 +1,25 @@
+// The identity of a voxelize run, so --resume only trusts regions of the same run.
+#pragma once
+
+#include "garment/cross_section.h"
+#include "garment/slices.h"
+#include "plan/grid.h"
+#include "plan/zoom_plan.h"
+#include "vdb/vdb_writer.h"
+
+#include <cstdint>
+#include <string>
+
+namespace yv {
+
+/// Hash of everything that decides the bricks: the garment file's bytes, the
+/// slice options, the cross-section texture, the grid, the reduction and
+/// supersampling, and the zoom regions (ids and bounds).
+std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
+                             const VoxelGrid& grid, Reduce reduce, int supersample, const ZoomPlan& zoom);
+
+/// VolumeMetadata as "key=value" lines (kept in the work dir for `yarnvox merge`), and back.
+std::string encodeMetadata(const VolumeMetadata& m);
+VolumeMetadata decodeMetadata(const std::string& text);
+
+} // namespace yv

@@ -1,0 +1,395 @@
+// The brick store's work directory: which files are ours, atomic writes,
+// locking, and the BrickStore operations on top of manifest.h and region_file.h.
+#include "store/brick_store.h"
+
+#include "core/error.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+namespace yv {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kManifestName = "manifest";
+
+std::string errnoText(int err) { return std::generic_category().message(err); }
+
+std::string str(glm::ivec3 v) {
+    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+class Fd {
+  public:
+    explicit Fd(int fd) : fd_(fd) {}
+    Fd(const Fd&) = delete;
+    Fd& operator=(const Fd&) = delete;
+    ~Fd() {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    int get() const { return fd_; }
+    int release() { return std::exchange(fd_, -1); }
+
+  private:
+    int fd_;
+};
+
+std::string joinPath(const std::string& dir, const std::string& name) { return (fs::path(dir) / name).string(); }
+
+/// Whole file; nullopt when it does not exist.
+std::optional<std::vector<std::uint8_t>> readWholeFile(const std::string& path) {
+    Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+    if (fd.get() < 0) {
+        if (errno == ENOENT) return std::nullopt;
+        throw Error("cannot open " + path + ": " + errnoText(errno));
+    }
+    struct stat st {};
+    if (::fstat(fd.get(), &st) != 0) throw Error("cannot stat " + path + ": " + errnoText(errno));
+    // One byte of slack so reaching EOF at the stat size does not force a regrowth.
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(std::max<off_t>(st.st_size, 0)) + 1);
+    std::size_t used = 0;
+    for (;;) {
+        if (used == bytes.size()) bytes.resize(bytes.size() * 2);
+        const ssize_t got = ::read(fd.get(), bytes.data() + used, bytes.size() - used);
+        if (got == 0) break;
+        if (got < 0) {
+            if (errno == EINTR) continue;
+            throw Error("cannot read " + path + ": " + errnoText(errno));
+        }
+        used += static_cast<std::size_t>(got);
+    }
+    bytes.resize(used);
+    return bytes;
+}
+
+void fsyncDir(int dirFd, const std::string& dir) {
+    if (::fsync(dirFd) != 0 && errno != EINVAL) // EINVAL: file systems that cannot sync directories
+        throw Error("cannot fsync work dir " + dir + ": " + errnoText(errno));
+}
+
+/// Writes `parts` to dir/name via a temporary name in the same directory,
+/// fsync, rename and a directory fsync: after a crash the file is either the
+/// old one, absent, or complete.
+void writeAtomically(const std::string& dir, int dirFd, const std::string& name,
+                     std::span<const std::span<const std::uint8_t>> parts) {
+    static std::atomic<unsigned> counter{0};
+    const std::string path = joinPath(dir, name);
+    std::string tmp;
+    int raw = -1;
+    for (int attempt = 0; raw < 0; ++attempt) {
+        tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+        raw = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (raw < 0 && (errno != EEXIST || attempt >= 100))
+            throw Error("cannot write " + path + ": cannot create temporary file " + tmp + ": " + errnoText(errno));
+    }
+    Fd fd(raw);
+    // Removing the temporary on every failure keeps half-written files from piling up.
+    const auto abandon = [&](const char* step, int err) {
+        if (fd.get() >= 0) ::close(fd.release());
+        ::unlink(tmp.c_str());
+        return Error("cannot write " + path + ": " + step + " " + tmp + ": " + errnoText(err));
+    };
+    for (std::span<const std::uint8_t> part : parts) {
+        std::size_t done = 0;
+        while (done < part.size()) {
+            const ssize_t put = ::write(fd.get(), part.data() + done, part.size() - done);
+            if (put < 0 && errno == EINTR) continue;
+            if (put < 0) throw abandon("write", errno);
+            done += static_cast<std::size_t>(put);
+        }
+    }
+    if (::fsync(fd.get()) != 0) throw abandon("fsync", errno);
+    if (::close(fd.release()) != 0) throw abandon("close", errno);
+    if (::rename(tmp.c_str(), path.c_str()) != 0) throw abandon("rename", errno);
+    fsyncDir(dirFd, dir);
+}
+
+// ---------------------------------------------------------------------------
+// Names in the work directory: only these are ours to create or delete.
+
+std::string regionName(std::uint64_t id) { return "region-" + std::to_string(id) + ".yvb"; }
+
+bool parseRegionName(const std::string& name, std::uint64_t& id) {
+    constexpr std::string_view prefix = "region-", suffix = ".yvb";
+    if (name.size() <= prefix.size() + suffix.size() || !name.starts_with(prefix) || !name.ends_with(suffix))
+        return false;
+    const char* first = name.data() + prefix.size();
+    const char* last = name.data() + name.size() - suffix.size();
+    const auto [ptr, ec] = std::from_chars(first, last, id);
+    // Canonical spelling only: "region-007.yvb" was not written by us.
+    return ec == std::errc() && ptr == last && name == regionName(id);
+}
+
+bool isTemporaryName(const std::string& name) {
+    const std::size_t at = name.find(".tmp-");
+    if (at == std::string::npos) return false;
+    const std::string base = name.substr(0, at);
+    std::uint64_t id;
+    return base == kManifestName || parseRegionName(base, id);
+}
+
+struct DirListing {
+    bool manifest = false;
+    std::vector<std::string> regions, temporaries, unknown;
+};
+
+DirListing listDir(const std::string& dir) {
+    DirListing out;
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        std::uint64_t id;
+        std::error_code typeEc;
+        const bool regular = it->is_regular_file(typeEc);
+        if (regular && name == kManifestName)
+            out.manifest = true;
+        else if (regular && parseRegionName(name, id))
+            out.regions.push_back(name);
+        else if (regular && isTemporaryName(name))
+            out.temporaries.push_back(name);
+        else
+            out.unknown.push_back(name);
+    }
+    if (ec) throw Error("cannot list work dir " + dir + ": " + ec.message());
+    std::sort(out.regions.begin(), out.regions.end());
+    std::sort(out.unknown.begin(), out.unknown.end());
+    return out;
+}
+
+void removeOwnFile(const std::string& dir, const std::string& name) {
+    const std::string path = joinPath(dir, name);
+    if (::unlink(path.c_str()) != 0 && errno != ENOENT)
+        throw Error("cannot delete " + path + ": " + errnoText(errno));
+}
+
+void writeManifest(const std::string& dir, int dirFd, const StoreManifest& m) {
+    const std::string text = formatManifest(m);
+    const std::span<const std::uint8_t> part(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+    writeAtomically(dir, dirFd, kManifestName, std::span(&part, 1));
+}
+
+RegionHeader readHeaderOnly(const std::string& path, std::uint64_t& bytesOnDisk) {
+    Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+    if (fd.get() < 0) throw Error("cannot open " + path + ": " + errnoText(errno));
+    struct stat st {};
+    if (::fstat(fd.get(), &st) != 0) throw Error("cannot stat " + path + ": " + errnoText(errno));
+    std::array<std::uint8_t, kRegionHeaderSize> b{};
+    const std::size_t want = std::min<std::uint64_t>(kRegionHeaderSize, static_cast<std::uint64_t>(st.st_size));
+    std::size_t got = 0;
+    while (got < want) {
+        const ssize_t n = ::pread(fd.get(), b.data() + got, want - got, static_cast<off_t>(got));
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw Error("cannot read " + path + ": " + errnoText(errno));
+        if (n == 0) break;
+        got += static_cast<std::size_t>(n);
+    }
+    // A file that shrank under us reads as the short file it now is.
+    bytesOnDisk = got < want ? got : static_cast<std::uint64_t>(st.st_size);
+    return parseRegionHeader(b.data(), bytesOnDisk, path);
+}
+
+RegionInfo infoOf(const RegionHeader& h, std::uint64_t bytesOnDisk) {
+    return {h.id, h.min, h.max, h.brickCount, h.activeVoxels, bytesOnDisk};
+}
+
+int openDirectory(const std::string& dir) {
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) throw Error("cannot open work dir " + dir + ": " + errnoText(errno));
+    return fd;
+}
+
+/// Keeps two runs from sharing a work dir: one clearing it under the other
+/// would lose work silently. Where locks are unsupported we go on unlocked.
+void lockDirectory(int fd, bool exclusive, const std::string& dir) {
+    if (::flock(fd, (exclusive ? LOCK_EX : LOCK_SH) | LOCK_NB) != 0 && errno == EWOULDBLOCK)
+        throw Error(dir + ": another yarnvox process (or store) is using this work dir: wait for it to finish, "
+                          "or give another --work-dir");
+}
+
+} // namespace
+
+StoreManifest readManifest(const std::string& dir) {
+    const std::string path = joinPath(dir, kManifestName);
+    const auto bytes = readWholeFile(path);
+    if (!bytes)
+        throw Error(dir + ": no manifest: not a yarnvox work dir, or its run never started");
+    return parseManifest(path, std::string(bytes->begin(), bytes->end()));
+}
+
+BrickStore::BrickStore(std::string dir, const StoreManifest& manifest, bool resume)
+    : dir_(std::move(dir)), manifest_(manifest) {
+    checkGrid(manifest.grid, dir_);
+    manifest_.completeRegions.reset();
+    std::error_code ec;
+    fs::create_directories(dir_, ec);
+    if (ec) throw Error("cannot create work dir " + dir_ + ": " + ec.message());
+    dirFd_ = openDirectory(dir_);
+    try {
+        lockDirectory(dirFd_, true, dir_);
+        const DirListing listing = listDir(dir_);
+        // Temporaries are what a crash left mid-write: never complete, always ours.
+        const auto removeTemporaries = [&] {
+            for (const std::string& name : listing.temporaries) removeOwnFile(dir_, name);
+        };
+        if (resume && listing.manifest) {
+            const StoreManifest disk = readManifest(dir_);
+            if (const std::string diff = runDifference(disk, manifest_); !diff.empty())
+                throw Error(dir_ + ": this work dir belongs to a different run (" + diff +
+                            "): use a fresh --work-dir, or drop --resume to start over in it");
+            manifest_.completeRegions = disk.completeRegions;
+            // The latest run describes the output: `yarnvox merge` uses its metadata.
+            if (disk.runMetadata != manifest_.runMetadata) writeManifest(dir_, dirFd_, manifest_);
+            removeTemporaries();
+        } else {
+            // Without a manifest nothing on disk is known to belong to this run: start over.
+            if (!listing.unknown.empty())
+                throw Error(dir_ + ": refusing to use this directory as a work dir: it holds " +
+                            std::to_string(listing.unknown.size()) + " entr" +
+                            (listing.unknown.size() == 1 ? "y" : "ies") + " yarnvox did not write (e.g. \"" +
+                            listing.unknown.front() + "\"); give an empty or new --work-dir");
+            // Manifest first: a crash halfway through leaves regions without a
+            // manifest, which the next run clears in turn.
+            if (listing.manifest) removeOwnFile(dir_, kManifestName);
+            for (const std::string& name : listing.regions) removeOwnFile(dir_, name);
+            removeTemporaries();
+            writeManifest(dir_, dirFd_, manifest_);
+        }
+        fsyncDir(dirFd_, dir_);
+    } catch (...) {
+        ::close(dirFd_);
+        throw;
+    }
+}
+
+BrickStore::BrickStore(std::string dir) : dir_(std::move(dir)), readOnly_(true) {
+    dirFd_ = openDirectory(dir_);
+    try {
+        lockDirectory(dirFd_, false, dir_);
+        manifest_ = readManifest(dir_);
+    } catch (...) {
+        ::close(dirFd_);
+        throw;
+    }
+}
+
+BrickStore::~BrickStore() {
+    if (dirFd_ >= 0) ::close(dirFd_);
+}
+
+void BrickStore::requireWritable(const char* what) const {
+    if (readOnly_) throw Error(dir_ + ": cannot " + std::string(what) + ": the work dir was opened read-only");
+}
+
+std::string BrickStore::regionPath(std::uint64_t id) const { return joinPath(dir_, regionName(id)); }
+
+bool BrickStore::hasVerifiedRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::string* whyNot) {
+    requireWritable("check regions");
+    const std::string path = regionPath(id);
+    const auto bytes = readWholeFile(path);
+    if (!bytes) {
+        if (whyNot) *whyNot = path + ": not on disk";
+        return false;
+    }
+    try {
+        const RegionHeader h = parseRegionHeader(bytes->data(), bytes->size(), path);
+        checkRegionIdentity(h, manifest_, id, &min, &max, path);
+        decodeRegionBody(bytes->data(), h, path, nullptr);
+        return true;
+    } catch (const Error& e) {
+        if (whyNot) *whyNot = e.what();
+    }
+    removeOwnFile(dir_, regionName(id));
+    fsyncDir(dirFd_, dir_);
+    return false;
+}
+
+RegionInfo BrickStore::writeRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::vector<VoxelBrick> bricks,
+                                   RegionWriteTimings* timings) {
+    requireWritable("write regions");
+    const std::string name = regionName(id);
+    if (min.x > max.x || min.y > max.y || min.z > max.z)
+        throw Error("cannot write " + regionPath(id) + ": region bounds " + str(min) + "-" + str(max) +
+                    " are inverted");
+    auto t = Clock::now();
+    EncodedRegion e = encodeRegion(manifest_, id, min, max, bricks, regionPath(id));
+    bricks = {}; // the encoded copy is all we need from here on
+    const double encodeSeconds = secondsSince(t);
+
+    t = Clock::now();
+    std::vector<std::span<const std::uint8_t>> parts{e.header, e.table};
+    for (const auto& c : e.chunks) parts.emplace_back(c);
+    writeAtomically(dir_, dirFd_, name, parts);
+    if (timings) {
+        timings->encodeSeconds += encodeSeconds;
+        timings->writeSeconds += secondsSince(t);
+    }
+    return infoOf(e.info, e.info.fileSize());
+}
+
+std::vector<RegionInfo> BrickStore::listRegions() const {
+    std::vector<RegionInfo> out;
+    for (const std::string& name : listDir(dir_).regions) {
+        std::uint64_t id = 0, size = 0;
+        parseRegionName(name, id);
+        const std::string path = joinPath(dir_, name);
+        const RegionHeader h = readHeaderOnly(path, size);
+        checkRegionIdentity(h, manifest_, id, nullptr, nullptr, path);
+        out.push_back(infoOf(h, size));
+    }
+    std::sort(out.begin(), out.end(), [](const RegionInfo& a, const RegionInfo& b) { return a.id < b.id; });
+    return out;
+}
+
+std::vector<VoxelBrick> BrickStore::readRegion(std::uint64_t id) const {
+    const std::string path = regionPath(id);
+    const auto bytes = readWholeFile(path);
+    if (!bytes) throw Error(path + ": region file missing");
+    const RegionHeader h = parseRegionHeader(bytes->data(), bytes->size(), path);
+    checkRegionIdentity(h, manifest_, id, nullptr, nullptr, path);
+    std::vector<VoxelBrick> bricks;
+    decodeRegionBody(bytes->data(), h, path, &bricks);
+    return bricks;
+}
+
+void BrickStore::markComplete(std::uint64_t regionCount) {
+    requireWritable("mark the run complete");
+    const std::size_t onDisk = listDir(dir_).regions.size();
+    if (onDisk != regionCount)
+        throw Error(dir_ + ": cannot mark the run complete: " + std::to_string(onDisk) +
+                    " region files on disk, the run has " + std::to_string(regionCount) + " regions");
+    manifest_.completeRegions = regionCount;
+    writeManifest(dir_, dirFd_, manifest_);
+}
+
+std::uint64_t BrickStore::bytesOnDisk() const {
+    std::uint64_t sum = 0;
+    for (const std::string& name : listDir(dir_).regions) {
+        std::error_code ec;
+        const auto size = fs::file_size(joinPath(dir_, name), ec);
+        if (!ec) sum += size;
+    }
+    return sum;
+}
+
+} // namespace yv

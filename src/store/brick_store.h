@@ -1,0 +1,88 @@
+// The on-disk brick store of the out-of-core pipeline: a work directory with a
+// manifest and one checksummed, lz4-compressed file of resolved bricks per
+// region. Layout and rules: formats/brick-store.md.
+#pragma once
+
+#include "core/bricks.h"
+#include "core/sampling.h"
+#include "plan/grid.h"
+#include "store/manifest.h"
+#include "store/region_file.h" // xxh64, for callers hashing their run fingerprint
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// One region file as its header describes it.
+struct RegionInfo {
+    std::uint64_t id = 0;
+    glm::ivec3 min{0}, max{0}; ///< voxel bounds, min inclusive, max exclusive
+    std::uint64_t brickCount = 0, activeVoxels = 0, bytesOnDisk = 0;
+};
+
+/// Where writeRegion spent its time (for the pipeline's counters).
+struct RegionWriteTimings {
+    double encodeSeconds = 0.0; ///< serialise, compress, checksum
+    double writeSeconds = 0.0;  ///< write, fsync, rename, fsync the directory
+};
+
+class BrickStore {
+  public:
+    /// Opens `dir` (created if missing) for a run. resume: keep the regions of
+    /// an earlier run with the same fingerprint, grid and reduce mode (throws
+    /// yv::Error naming the difference otherwise). !resume: start over, deleting
+    /// the store's own files; throws instead when `dir` holds any file the
+    /// store did not write. Holds an exclusive lock on `dir` while alive.
+    BrickStore(std::string dir, const StoreManifest& manifest, bool resume);
+    /// Opens an existing store read-only (merge, inspection): shared lock, no
+    /// file is changed or deleted; hasVerifiedRegion, writeRegion and markComplete throw.
+    explicit BrickStore(std::string dir);
+    ~BrickStore();
+    BrickStore(const BrickStore&) = delete;
+    BrickStore& operator=(const BrickStore&) = delete;
+
+    /// Whether region `id` is on disk, belongs to this run with these bounds and
+    /// passes every check (checksums, decompression). A file that fails is
+    /// deleted, the reason put in `whyNot`, and false returned: the caller recomputes.
+    bool hasVerifiedRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::string* whyNot = nullptr);
+    /// Writes the bricks of one region (any order; written sorted by key)
+    /// atomically: afterwards the file is complete, or absent after a crash.
+    /// Bricks must be distinct and overlap [min, max). Also call it for a region
+    /// without bricks, so a resumed run knows it is done. Thread-safe for distinct ids.
+    RegionInfo writeRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::vector<VoxelBrick> bricks,
+                           RegionWriteTimings* timings = nullptr);
+    /// Every region file, sorted by id, from its header (checksum, size and run
+    /// checked); throws yv::Error on a damaged or foreign one rather than skip it.
+    std::vector<RegionInfo> listRegions() const;
+    /// The bricks of region `id`, sorted by key, after every check; throws yv::Error when damaged.
+    std::vector<VoxelBrick> readRegion(std::uint64_t id) const;
+    /// Records in the manifest that the run wrote all `regionCount` regions;
+    /// throws when the directory holds a different number of region files.
+    void markComplete(std::uint64_t regionCount);
+
+    /// Path of region `id`'s file.
+    std::string regionPath(std::uint64_t id) const;
+    const std::string& dir() const { return dir_; }
+    const StoreManifest& manifest() const { return manifest_; }
+    bool readOnly() const { return readOnly_; }
+    /// Total size of the region files now on disk.
+    std::uint64_t bytesOnDisk() const;
+
+  private:
+    void requireWritable(const char* what) const;
+
+    std::string dir_;
+    StoreManifest manifest_;
+    bool readOnly_ = false;
+    int dirFd_ = -1; ///< held open for the lock and for fsyncing the directory
+};
+
+/// Reads the manifest of an existing work directory (for `yarnvox merge WORKDIR`).
+StoreManifest readManifest(const std::string& dir);
+
+} // namespace yv

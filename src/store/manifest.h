@@ -1,0 +1,45 @@
+// The manifest of a brick store's work directory: which run the directory
+// belongs to. Text, so a person can see what a work dir holds; the format is
+// in formats/brick-store.md.
+#pragma once
+
+#include "core/sampling.h"
+#include "plan/grid.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace yv {
+
+/// What a work directory belongs to. The fingerprint is the caller's hash of
+/// everything that determines the bricks (garment, grid, options).
+struct StoreManifest {
+    std::uint64_t fingerprint = 0;
+    VoxelGrid grid;
+    Reduce reduce = Reduce::Mean;
+    /// The caller's description of the run (e.g. the output's metadata, for a
+    /// later `yarnvox merge`), kept verbatim; not part of the run's identity.
+    std::string runMetadata;
+    /// Set by BrickStore::markComplete: the number of regions of the finished
+    /// run. Empty while the run is unfinished; ignored when comparing runs.
+    std::optional<std::uint64_t> completeRegions;
+};
+
+/// The manifest as text (doubles with 17 digits, so they read back bit-exactly).
+std::string formatManifest(const StoreManifest& m);
+
+/// Parses manifest text strictly; throws yv::Error "PATH: line N: ..." otherwise.
+StoreManifest parseManifest(const std::string& path, const std::string& text);
+
+/// Why `disk` is not the run `now` describes (fingerprint, grid, reduce mode); empty when it is.
+std::string runDifference(const StoreManifest& disk, const StoreManifest& now);
+
+/// Whether two grids are bit-for-bit the same.
+bool sameGrid(const VoxelGrid& a, const VoxelGrid& b);
+
+/// Throws yv::Error unless `g` has finite values, a positive voxel size and
+/// dims that are multiples of 8; `where` names it in the message.
+void checkGrid(const VoxelGrid& g, const std::string& where);
+
+} // namespace yv

@@ -1,0 +1,390 @@
+// Region files: layout, encoding, verification (formats/brick-store.md, "Region file").
+#include "store/region_file.h"
+
+#include "core/error.h"
+
+#include <lz4.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <bit>
+#include <cinttypes>
+#include <climits>
+#include <cstdio>
+#include <cstring>
+#include <numeric>
+
+namespace yv {
+
+// XXH64, after the reference description (github.com/Cyan4973/xxHash, doc/xxhash_spec.md).
+namespace {
+
+constexpr std::uint64_t kP1 = 11400714785074694791ULL, kP2 = 14029467366897019727ULL,
+                        kP3 = 1609587929392839161ULL, kP4 = 9650029242287828579ULL, kP5 = 2870177450012600261ULL;
+
+// Bytes are assembled by hand so the format stays little-endian on any host.
+void put(std::uint8_t* p, std::uint64_t v, int n) {
+    for (int i = 0; i < n; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
+}
+std::uint64_t get(const std::uint8_t* p, int n) {
+    std::uint64_t v = 0;
+    for (int i = 0; i < n; ++i) v |= std::uint64_t{p[i]} << (8 * i);
+    return v;
+}
+std::uint64_t xxRound(std::uint64_t acc, std::uint64_t input) { return std::rotl(acc + input * kP2, 31) * kP1; }
+std::uint64_t xxMerge(std::uint64_t acc, std::uint64_t v) { return (acc ^ xxRound(0, v)) * kP1 + kP4; }
+
+} // namespace
+
+std::uint64_t xxh64(const void* data, std::size_t size) {
+    constexpr std::uint64_t seed = 0;
+    const auto* p = static_cast<const std::uint8_t*>(data);
+    const std::uint8_t* const end = p + size;
+    std::uint64_t h;
+    if (size >= 32) {
+        std::uint64_t v1 = seed + kP1 + kP2, v2 = seed + kP2, v3 = seed, v4 = seed - kP1;
+        for (; end - p >= 32; p += 32) {
+            v1 = xxRound(v1, get(p, 8));
+            v2 = xxRound(v2, get(p + 8, 8));
+            v3 = xxRound(v3, get(p + 16, 8));
+            v4 = xxRound(v4, get(p + 24, 8));
+        }
+        h = std::rotl(v1, 1) + std::rotl(v2, 7) + std::rotl(v3, 12) + std::rotl(v4, 18);
+        h = xxMerge(xxMerge(xxMerge(xxMerge(h, v1), v2), v3), v4);
+    } else {
+        h = seed + kP5;
+    }
+    h += size;
+    for (; end - p >= 8; p += 8) h = std::rotl(h ^ xxRound(0, get(p, 8)), 27) * kP1 + kP4;
+    if (end - p >= 4) {
+        h = std::rotl(h ^ (get(p, 4) * kP1), 23) * kP2 + kP3;
+        p += 4;
+    }
+    for (; p < end; ++p) h = std::rotl(h ^ (*p * kP5), 11) * kP1;
+    h ^= h >> 33;
+    h *= kP2;
+    h ^= h >> 29;
+    h *= kP3;
+    return h ^ (h >> 32);
+}
+
+namespace {
+
+// Layout constants (formats/brick-store.md).
+constexpr char kMagic[8] = {'Y', 'V', 'B', 'R', 'I', 'C', 'K', 'S'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::size_t kHeaderSize = kRegionHeaderSize;
+constexpr std::size_t kChunkEntrySize = 24; // RegionHeader::dataOffset() spells it out too
+constexpr std::size_t kMaskBytes = 8 * 8, kDensityBytes = 4 * kBrickVoxels, kOrientationBytes = 12 * kBrickVoxels;
+constexpr std::size_t kBrickBytes = kMaskBytes + kDensityBytes + kOrientationBytes; // 8256
+// Chunks keep every lz4 call far below its 2 GB limit, bound the scratch
+// memory per thread, and let one region compress on several cores.
+constexpr std::size_t kBricksPerChunk = 2048;              // what we write: 16.1 MiB raw
+constexpr std::size_t kMaxChunkRawBytes = 64u << 20;        // what we accept
+
+// Payload bytes are copied straight from memory (fast for hundreds of MB),
+// which matches the little-endian format only on a little-endian host.
+static_assert(std::endian::native == std::endian::little, "the brick store format assumes a little-endian host");
+static_assert(sizeof(glm::vec3) == 12);
+
+std::string hex64(std::uint64_t v) {
+    char s[24];
+    std::snprintf(s, sizeof s, "0x%016" PRIx64, v);
+    return s;
+}
+
+std::string str(glm::ivec3 v) {
+    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+[[noreturn]] void fail(const std::string& name, std::uint64_t offset, const std::string& what) {
+    throw Error(name + ": byte " + std::to_string(offset) + ": " + what);
+}
+
+void putVec(std::uint8_t* p, glm::ivec3 v) {
+    for (int i = 0; i < 3; ++i) put(p + 4 * i, static_cast<std::uint32_t>(v[i]), 4);
+}
+glm::ivec3 getVec(const std::uint8_t* p) {
+    glm::ivec3 v;
+    for (int i = 0; i < 3; ++i) v[i] = static_cast<std::int32_t>(get(p + 4 * i, 4));
+    return v;
+}
+
+std::array<std::uint8_t, kHeaderSize> encodeHeader(const RegionHeader& h) {
+    std::array<std::uint8_t, kHeaderSize> b{};
+    std::memcpy(b.data(), kMagic, 8);
+    put(&b[8], kVersion, 4);
+    put(&b[12], kHeaderSize, 4);
+    put(&b[16], h.fingerprint, 8);
+    put(&b[24], h.id, 8);
+    putVec(&b[32], h.min);
+    putVec(&b[44], h.max);
+    put(&b[56], std::bit_cast<std::uint64_t>(h.grid.voxelSize), 8);
+    for (int i = 0; i < 3; ++i) put(&b[64 + 8 * i], std::bit_cast<std::uint64_t>(h.grid.origin[i]), 8);
+    putVec(&b[88], h.grid.dims);
+    put(&b[100], h.reduce == Reduce::Max ? 1 : 0, 4);
+    put(&b[104], h.brickCount, 8);
+    put(&b[112], h.activeVoxels, 8);
+    put(&b[120], h.payloadSize, 8);
+    put(&b[128], h.storedSize, 8);
+    put(&b[136], h.chunkCount, 4);
+    // 140..143 reserved, zero.
+    put(&b[144], h.tableChecksum, 8);
+    put(&b[152], xxh64(b.data(), 152), 8);
+    return b;
+}
+
+bool overlaps(std::uint64_t key, glm::ivec3 min, glm::ivec3 max) {
+    const glm::ivec3 lo = brickCoord(key) * kBrickSize;
+    for (int i = 0; i < 3; ++i)
+        if (lo[i] >= max[i] || lo[i] + kBrickSize <= min[i]) return false;
+    return true;
+}
+
+void serializeBrick(const VoxelBrick& b, std::uint8_t* dst) {
+    std::memcpy(dst, b.activeMask.data(), kMaskBytes);
+    std::memcpy(dst + kMaskBytes, b.density.data(), kDensityBytes);
+    std::memcpy(dst + kMaskBytes + kDensityBytes, b.orientation.data(), kOrientationBytes);
+}
+
+void deserializeBrick(const std::uint8_t* src, std::uint64_t key, VoxelBrick& b) {
+    b.key = key;
+    std::memcpy(b.activeMask.data(), src, kMaskBytes);
+    std::memcpy(b.density.data(), src + kMaskBytes, kDensityBytes);
+    std::memcpy(b.orientation.data(), src + kMaskBytes + kDensityBytes, kOrientationBytes);
+}
+
+std::uint64_t countActive(const std::uint8_t* raw, std::size_t bricks) {
+    std::uint64_t n = 0;
+    for (std::size_t i = 0; i < bricks; ++i)
+        for (int w = 0; w < 8; ++w) n += std::popcount(get(raw + i * kBrickBytes + 8 * w, 8));
+    return n;
+}
+
+} // namespace
+
+RegionHeader parseRegionHeader(const std::uint8_t* p, std::uint64_t fileSize, const std::string& name) {
+    // The magic goes first so a foreign or short file is called that, not "truncated".
+    const std::size_t magicLen = std::min<std::uint64_t>(fileSize, 8);
+    if (std::memcmp(p, kMagic, magicLen) != 0) {
+        std::string found;
+        for (std::size_t i = 0; i < magicLen; ++i) {
+            char c[8];
+            std::snprintf(c, sizeof c, p[i] >= 0x20 && p[i] < 0x7f ? "%c" : "\\x%02x", p[i]);
+            found += c;
+        }
+        fail(name, 0, "expected magic \"YVBRICKS\" (a yarnvox region file), found \"" + found + "\"");
+    }
+    if (fileSize < kHeaderSize)
+        fail(name, fileSize, "truncated header: expected " + std::to_string(kHeaderSize) + " bytes, file ends");
+    if (const std::uint64_t v = get(p + 8, 4); v != kVersion)
+        fail(name, 8, "unsupported region file version " + std::to_string(v) + ": expected " +
+                          std::to_string(kVersion) + " (written by another yarnvox version?)");
+    if (const std::uint64_t hs = get(p + 12, 4); hs != kHeaderSize)
+        fail(name, 12, "header size " + std::to_string(hs) + ": expected " + std::to_string(kHeaderSize));
+    if (const std::uint64_t stored = get(p + 152, 8), computed = xxh64(p, 152); stored != computed)
+        fail(name, 152, "header checksum mismatch (stored " + hex64(stored) + ", computed " + hex64(computed) +
+                            "): the header is damaged");
+
+    // The checksum matched: what follows can only fail for a file we did not write.
+    RegionHeader h;
+    h.fingerprint = get(p + 16, 8);
+    h.id = get(p + 24, 8);
+    h.min = getVec(p + 32);
+    h.max = getVec(p + 44);
+    h.grid.voxelSize = std::bit_cast<double>(get(p + 56, 8));
+    for (int i = 0; i < 3; ++i) h.grid.origin[i] = std::bit_cast<double>(get(p + 64 + 8 * i, 8));
+    h.grid.dims = getVec(p + 88);
+    const std::uint64_t reduce = get(p + 100, 4);
+    if (reduce > 1) fail(name, 100, "reduce mode " + std::to_string(reduce) + ": expected 0 (mean) or 1 (max)");
+    h.reduce = reduce == 1 ? Reduce::Max : Reduce::Mean;
+    h.brickCount = get(p + 104, 8);
+    h.activeVoxels = get(p + 112, 8);
+    h.payloadSize = get(p + 120, 8);
+    h.storedSize = get(p + 128, 8);
+    h.chunkCount = static_cast<std::uint32_t>(get(p + 136, 4));
+    h.tableChecksum = get(p + 144, 8);
+    if (get(p + 140, 4) != 0) fail(name, 140, "reserved field is not zero");
+    // Each count is bounded by the file size before it is multiplied, so no product can overflow.
+    if (h.brickCount > fileSize / 8 || h.chunkCount > fileSize / kChunkEntrySize || h.storedSize > fileSize)
+        fail(name, 104, "brick count " + std::to_string(h.brickCount) + ", chunk count " +
+                            std::to_string(h.chunkCount) + " and stored size " + std::to_string(h.storedSize) +
+                            " cannot fit in a file of " + std::to_string(fileSize) + " bytes (truncated?)");
+    if (h.payloadSize != h.brickCount * kBrickBytes)
+        fail(name, 120, "payload size " + std::to_string(h.payloadSize) + ": expected " +
+                            std::to_string(kBrickBytes) + " bytes per brick for " + std::to_string(h.brickCount) +
+                            " bricks");
+    if ((h.brickCount == 0) != (h.chunkCount == 0) || h.chunkCount > h.brickCount)
+        fail(name, 136, "chunk count " + std::to_string(h.chunkCount) + " does not fit " +
+                            std::to_string(h.brickCount) + " bricks");
+    if (h.activeVoxels > h.brickCount * kBrickVoxels)
+        fail(name, 112, "active voxel count " + std::to_string(h.activeVoxels) + " exceeds 512 per brick");
+    if (fileSize < h.fileSize())
+        fail(name, fileSize, "truncated: the header describes " + std::to_string(h.fileSize()) +
+                                 " bytes, the file has " + std::to_string(fileSize));
+    if (fileSize > h.fileSize())
+        fail(name, h.fileSize(), std::to_string(fileSize - h.fileSize()) +
+                                     " trailing bytes after the last chunk: expected end of file");
+    return h;
+}
+
+void checkRegionIdentity(const RegionHeader& h, const StoreManifest& m, std::uint64_t id, const glm::ivec3* min,
+                         const glm::ivec3* max, const std::string& name) {
+    if (h.fingerprint != m.fingerprint)
+        fail(name, 16, "region belongs to another run (fingerprint " + hex64(h.fingerprint) + ", the work dir's " +
+                           hex64(m.fingerprint) + ")");
+    if (h.id != id) fail(name, 24, "holds region " + std::to_string(h.id) + ", expected " + std::to_string(id));
+    if (!sameGrid(h.grid, m.grid)) fail(name, 56, "grid differs from the work dir's manifest");
+    if (h.reduce != m.reduce)
+        fail(name, 100, std::string("reduce mode ") + toString(h.reduce) + ", the work dir's is " + toString(m.reduce));
+    if (min && max && (h.min != *min || h.max != *max))
+        fail(name, 32, "bounds " + str(h.min) + "-" + str(h.max) + " differ from the plan's " + str(*min) + "-" +
+                           str(*max));
+}
+
+EncodedRegion encodeRegion(const StoreManifest& m, std::uint64_t id, glm::ivec3 min, glm::ivec3 max,
+                           const std::vector<VoxelBrick>& bricks, const std::string& name) {
+    // Sorting indices moves 8 bytes per brick instead of 8 KB.
+    if (bricks.size() > UINT32_MAX) throw Error("cannot write " + name + ": too many bricks for one region");
+    std::vector<std::uint32_t> order(bricks.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return bricks[a].key < bricks[b].key; });
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        const std::uint64_t key = bricks[order[i]].key;
+        if (i > 0 && key == bricks[order[i - 1]].key)
+            throw Error("cannot write " + name + ": brick " + str(brickCoord(key)) + " given twice");
+        if (key >> 63 || !overlaps(key, min, max))
+            throw Error("cannot write " + name + ": brick " + str(brickCoord(key)) + " lies outside the region " +
+                        str(min) + "-" + str(max));
+    }
+
+    EncodedRegion e;
+    RegionHeader& h = e.info;
+    h.fingerprint = m.fingerprint;
+    h.id = id;
+    h.min = min;
+    h.max = max;
+    h.grid = m.grid;
+    h.reduce = m.reduce;
+    h.brickCount = bricks.size();
+    h.payloadSize = h.brickCount * kBrickBytes;
+    h.chunkCount = static_cast<std::uint32_t>((bricks.size() + kBricksPerChunk - 1) / kBricksPerChunk);
+
+    e.chunks.resize(h.chunkCount);
+    e.table.resize(8 * h.brickCount + kChunkEntrySize * h.chunkCount);
+    for (std::size_t i = 0; i < order.size(); ++i) put(&e.table[8 * i], bricks[order[i]].key, 8);
+    std::vector<std::uint64_t> active(h.chunkCount);
+    tbb::parallel_for(std::uint32_t(0), h.chunkCount, [&](std::uint32_t c) {
+        const std::size_t first = std::size_t(c) * kBricksPerChunk;
+        const std::size_t n = std::min(kBricksPerChunk, bricks.size() - first);
+        std::vector<std::uint8_t> raw(n * kBrickBytes);
+        for (std::size_t i = 0; i < n; ++i) serializeBrick(bricks[order[first + i]], &raw[i * kBrickBytes]);
+        std::vector<std::uint8_t>& out = e.chunks[c];
+        out.resize(static_cast<std::size_t>(LZ4_compressBound(static_cast<int>(raw.size()))));
+        const int stored = LZ4_compress_default(reinterpret_cast<const char*>(raw.data()),
+                                                reinterpret_cast<char*>(out.data()), static_cast<int>(raw.size()),
+                                                static_cast<int>(out.size()));
+        YV_CHECK(stored > 0);
+        out.resize(static_cast<std::size_t>(stored));
+        std::uint8_t* entry = &e.table[8 * h.brickCount + kChunkEntrySize * c];
+        put(entry, out.size(), 4);
+        put(entry + 4, raw.size(), 4);
+        put(entry + 8, xxh64(out.data(), out.size()), 8);
+        put(entry + 16, xxh64(raw.data(), raw.size()), 8);
+        active[c] = countActive(raw.data(), n);
+    });
+    for (std::uint32_t c = 0; c < h.chunkCount; ++c) {
+        h.storedSize += e.chunks[c].size();
+        h.activeVoxels += active[c];
+    }
+    h.tableChecksum = xxh64(e.table.data(), e.table.size());
+    e.header = encodeHeader(h);
+    return e;
+}
+
+void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::string& name,
+                      std::vector<VoxelBrick>* out) {
+    const std::uint64_t tableEnd = h.dataOffset();
+    if (const std::uint64_t computed = xxh64(p + h.indexOffset(), tableEnd - h.indexOffset());
+        computed != h.tableChecksum)
+        fail(name, h.indexOffset(), "checksum mismatch over the brick index and chunk table (bytes " +
+                                        std::to_string(h.indexOffset()) + ".." + std::to_string(tableEnd) +
+                                        "): the file is damaged");
+
+    std::vector<std::uint64_t> keys(h.brickCount);
+    for (std::uint64_t i = 0; i < h.brickCount; ++i) {
+        keys[i] = get(p + h.indexOffset() + 8 * i, 8);
+        if (keys[i] >> 63 || (i > 0 && keys[i] <= keys[i - 1]))
+            fail(name, h.indexOffset() + 8 * i, "brick key " + hex64(keys[i]) + ": expected keys in ascending order");
+        if (!overlaps(keys[i], h.min, h.max))
+            fail(name, h.indexOffset() + 8 * i, "brick " + str(brickCoord(keys[i])) + " lies outside the region " +
+                                                    str(h.min) + "-" + str(h.max));
+    }
+
+    struct Chunk {
+        std::uint64_t offset, stored, raw, firstBrick, storedSum, rawSum;
+    };
+    std::vector<Chunk> chunks(h.chunkCount);
+    std::uint64_t offset = tableEnd, brick = 0;
+    for (std::uint32_t c = 0; c < h.chunkCount; ++c) {
+        const std::uint8_t* entry = p + h.tableOffset() + kChunkEntrySize * c;
+        const std::uint64_t at = h.tableOffset() + kChunkEntrySize * c;
+        Chunk& k = chunks[c];
+        k = {offset, get(entry, 4), get(entry + 4, 4), brick, get(entry + 8, 8), get(entry + 16, 8)};
+        if (k.raw == 0 || k.raw % kBrickBytes != 0 || k.raw > kMaxChunkRawBytes)
+            fail(name, at + 4, "chunk " + std::to_string(c) + " raw size " + std::to_string(k.raw) +
+                                   ": expected a positive multiple of " + std::to_string(kBrickBytes) +
+                                   " bytes, at most " + std::to_string(kMaxChunkRawBytes));
+        if (k.stored > static_cast<std::uint64_t>(LZ4_compressBound(static_cast<int>(k.raw))) ||
+            k.stored > h.fileSize() - offset)
+            fail(name, at, "chunk " + std::to_string(c) + " stored size " + std::to_string(k.stored) +
+                               " is impossible for " + std::to_string(k.raw) + " raw bytes here");
+        offset += k.stored;
+        brick += k.raw / kBrickBytes;
+    }
+    if (brick != h.brickCount || offset != h.fileSize())
+        fail(name, h.tableOffset(), "chunk table covers " + std::to_string(brick) + " bricks in " +
+                                        std::to_string(offset - tableEnd) + " bytes, the header says " +
+                                        std::to_string(h.brickCount) + " bricks in " + std::to_string(h.storedSize));
+
+    if (out) out->resize(h.brickCount);
+    // Errors are kept per chunk and the first reported, so the message does
+    // not depend on which thread got there first.
+    std::vector<std::string> errors(h.chunkCount);
+    std::vector<std::uint64_t> active(h.chunkCount);
+    tbb::parallel_for(std::uint32_t(0), h.chunkCount, [&](std::uint32_t c) {
+        const Chunk& k = chunks[c];
+        const std::string where = name + ": byte " + std::to_string(k.offset) + ": chunk " + std::to_string(c) +
+                                  " of " + std::to_string(h.chunkCount) + " (bytes " + std::to_string(k.offset) +
+                                  ".." + std::to_string(k.offset + k.stored) + ")";
+        if (xxh64(p + k.offset, k.stored) != k.storedSum) {
+            errors[c] = where + ": checksum mismatch: the compressed data is damaged";
+            return;
+        }
+        std::vector<std::uint8_t> raw(k.raw);
+        const int got = LZ4_decompress_safe(reinterpret_cast<const char*>(p + k.offset),
+                                            reinterpret_cast<char*>(raw.data()), static_cast<int>(k.stored),
+                                            static_cast<int>(k.raw));
+        if (got != static_cast<int>(k.raw)) {
+            errors[c] = where + ": lz4 data does not decompress to " + std::to_string(k.raw) + " bytes";
+            return;
+        }
+        if (xxh64(raw.data(), raw.size()) != k.rawSum) {
+            errors[c] = where + ": checksum mismatch after decompression";
+            return;
+        }
+        const std::size_t n = k.raw / kBrickBytes;
+        active[c] = countActive(raw.data(), n);
+        if (out)
+            for (std::size_t i = 0; i < n; ++i)
+                deserializeBrick(&raw[i * kBrickBytes], keys[k.firstBrick + i], (*out)[k.firstBrick + i]);
+    });
+    for (const std::string& e : errors)
+        if (!e.empty()) throw Error(e);
+    if (const std::uint64_t sum = std::accumulate(active.begin(), active.end(), std::uint64_t(0));
+        sum != h.activeVoxels)
+        fail(name, 112, "the header counts " + std::to_string(h.activeVoxels) + " active voxels, the bricks hold " +
+                            std::to_string(sum));
+}
+
+} // namespace yv

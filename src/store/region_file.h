@@ -1,0 +1,68 @@
+// Region files of the brick store: layout, encoding, and every check a
+// reader makes (formats/brick-store.md, "Region file"). Bytes in memory only;
+// brick_store.cpp reads and writes the files.
+#pragma once
+
+#include "core/bricks.h"
+#include "store/manifest.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// XXH64 with seed 0: the checksum of region files.
+std::uint64_t xxh64(const void* data, std::size_t size);
+
+constexpr std::size_t kRegionHeaderSize = 160;
+
+/// A region file's header, decoded.
+struct RegionHeader {
+    std::uint64_t fingerprint = 0, id = 0;
+    glm::ivec3 min{0}, max{0};
+    VoxelGrid grid;
+    Reduce reduce = Reduce::Mean;
+    std::uint64_t brickCount = 0, activeVoxels = 0, payloadSize = 0, storedSize = 0;
+    std::uint32_t chunkCount = 0;
+    std::uint64_t tableChecksum = 0;
+
+    std::uint64_t indexOffset() const { return kRegionHeaderSize; }
+    std::uint64_t tableOffset() const { return kRegionHeaderSize + 8 * brickCount; }
+    std::uint64_t dataOffset() const { return tableOffset() + 24 * std::uint64_t(chunkCount); }
+    std::uint64_t fileSize() const { return dataOffset() + storedSize; }
+};
+
+/// A region file ready to write, in three parts written back to back.
+struct EncodedRegion {
+    std::array<std::uint8_t, kRegionHeaderSize> header;
+    std::vector<std::uint8_t> table; ///< key index, then the chunk table
+    std::vector<std::vector<std::uint8_t>> chunks;
+    RegionHeader info;
+};
+
+/// Encodes the bricks of region `id` of run `run` (any order; stored sorted by
+/// key), compressing chunks in parallel. Throws yv::Error, naming `name`, on a
+/// brick given twice or one that does not overlap [min, max).
+EncodedRegion encodeRegion(const StoreManifest& run, std::uint64_t id, glm::ivec3 min, glm::ivec3 max,
+                           const std::vector<VoxelBrick>& bricks, const std::string& name);
+
+/// Checks and decodes a header, and that `fileSize` is the size it describes.
+/// `p` holds min(fileSize, kRegionHeaderSize) bytes; `name` is used in errors.
+RegionHeader parseRegionHeader(const std::uint8_t* p, std::uint64_t fileSize, const std::string& name);
+
+/// Throws yv::Error unless the header belongs to `run` and region `id` (and
+/// has bounds [*min, *max) when those are given).
+void checkRegionIdentity(const RegionHeader& h, const StoreManifest& run, std::uint64_t id, const glm::ivec3* min,
+                         const glm::ivec3* max, const std::string& name);
+
+/// Verifies everything after the header of the whole file `p` (whose header is
+/// `h`) and, when `out` is given, decodes the bricks into it, sorted by key.
+void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::string& name,
+                      std::vector<VoxelBrick>* out);
+
+} // namespace yv

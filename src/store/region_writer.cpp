@@ -1,0 +1,162 @@
+#include "store/region_writer.h"
+
+#include "core/error.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+
+namespace yv {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::size_t heldBytes(const std::vector<BrickAccumulator>& accumulators) {
+    std::size_t n = accumulators.capacity() * sizeof(BrickAccumulator);
+    for (const BrickAccumulator& a : accumulators) n += a.words.capacity() * sizeof(std::uint32_t);
+    return n;
+}
+
+} // namespace
+
+RegionWriter::RegionWriter(BrickStore& store, Reduce reduce, std::size_t maxQueuedBytes, unsigned workers)
+    : store_(store), reduce_(reduce), maxQueuedBytes_(maxQueuedBytes) {
+    if (store.manifest().reduce != reduce)
+        throw Error(store.dir() + ": the work dir holds " + toString(store.manifest().reduce) +
+                    " bricks, the writer was asked for " + toString(reduce));
+    if (store.readOnly()) throw Error(store.dir() + ": cannot write regions: the work dir was opened read-only");
+    const unsigned n = workers == 0 ? 2 : workers;
+    threads_.reserve(n);
+    try {
+        for (unsigned i = 0; i < n; ++i) threads_.emplace_back([this] { work(); });
+    } catch (...) {
+        stop();
+        throw;
+    }
+}
+
+RegionWriter::~RegionWriter() { stop(); }
+
+void RegionWriter::stop() {
+    {
+        std::lock_guard lock(mutex_);
+        for (const Job& job : queue_) heldBytes_ -= job.bytes;
+        queue_.clear();
+        closing_ = true;
+    }
+    workReady_.notify_all();
+    spaceFree_.notify_all();
+    for (std::thread& t : threads_)
+        if (t.joinable()) t.join();
+}
+
+void RegionWriter::submit(std::uint64_t id, glm::ivec3 min, glm::ivec3 max,
+                          std::vector<BrickAccumulator> accumulators) {
+    // Checked here, in the caller's thread: resolveBrick reads the words unchecked.
+    const std::size_t words = std::size_t(wordsPerVoxel(reduce_)) * kBrickVoxels;
+    for (const BrickAccumulator& a : accumulators)
+        if (a.words.size() != words)
+            throw Error("region " + std::to_string(id) + ": accumulator of brick key " + std::to_string(a.key) +
+                        " has " + std::to_string(a.words.size()) + " words, " + toString(reduce_) + " needs " +
+                        std::to_string(words));
+    Job job{id, min, max, std::move(accumulators), 0};
+    job.bytes = heldBytes(job.accumulators);
+
+    std::unique_lock lock(mutex_);
+    if (closing_) throw Error("region " + std::to_string(id) + ": submitted after the region writer finished");
+    const auto waitStart = Clock::now();
+    spaceFree_.wait(lock, [&] {
+        return error_ || closing_ || heldBytes_ == 0 || heldBytes_ + job.bytes <= maxQueuedBytes_;
+    });
+    stats_.submitWaitSeconds += secondsSince(waitStart);
+    if (error_) std::rethrow_exception(error_);
+    if (closing_) throw Error("region " + std::to_string(id) + ": submitted after the region writer finished");
+    heldBytes_ += job.bytes;
+    stats_.peakQueuedBytes = std::max<std::uint64_t>(stats_.peakQueuedBytes, heldBytes_);
+    queue_.push_back(std::move(job));
+    lock.unlock();
+    workReady_.notify_one();
+}
+
+void RegionWriter::work() {
+    for (;;) {
+        Job job;
+        bool skip;
+        {
+            std::unique_lock lock(mutex_);
+            workReady_.wait(lock, [&] { return !queue_.empty() || closing_; });
+            if (queue_.empty()) return;
+            job = std::move(queue_.front());
+            queue_.pop_front();
+            skip = error_ != nullptr; // after a failure the run is lost: drop, don't write
+        }
+        std::exception_ptr error;
+        if (!skip) {
+            try {
+                process(job);
+            } catch (...) {
+                error = std::current_exception();
+            }
+        }
+        job.accumulators = {};
+        {
+            std::lock_guard lock(mutex_);
+            if (error && !error_) error_ = error;
+            heldBytes_ -= job.bytes;
+        }
+        spaceFree_.notify_all();
+    }
+}
+
+void RegionWriter::process(Job& job) {
+    auto t = Clock::now();
+    std::vector<VoxelBrick> bricks(job.accumulators.size());
+    std::vector<std::uint8_t> keep(job.accumulators.size());
+    tbb::parallel_for(std::size_t(0), bricks.size(),
+                      [&](std::size_t i) { keep[i] = resolveBrick(reduce_, job.accumulators[i], bricks[i]); });
+    job.accumulators = {};
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < bricks.size(); ++i)
+        if (keep[i]) {
+            if (kept != i) bricks[kept] = bricks[i];
+            ++kept;
+        }
+    bricks.resize(kept);
+    const double resolveSeconds = secondsSince(t);
+
+    RegionWriteTimings timings;
+    const RegionInfo info = store_.writeRegion(job.id, job.min, job.max, std::move(bricks), &timings);
+
+    std::lock_guard lock(mutex_);
+    results_.push_back(info);
+    stats_.resolveSeconds += resolveSeconds;
+    stats_.encodeSeconds += timings.encodeSeconds;
+    stats_.writeSeconds += timings.writeSeconds;
+    stats_.regionsWritten += 1;
+    stats_.bricksWritten += info.brickCount;
+    stats_.bytesWritten += info.bytesOnDisk;
+}
+
+std::vector<RegionInfo> RegionWriter::finish() {
+    {
+        std::lock_guard lock(mutex_);
+        closing_ = true;
+    }
+    workReady_.notify_all();
+    spaceFree_.notify_all();
+    for (std::thread& t : threads_)
+        if (t.joinable()) t.join();
+    if (error_) std::rethrow_exception(error_);
+    std::sort(results_.begin(), results_.end(), [](const RegionInfo& a, const RegionInfo& b) { return a.id < b.id; });
+    return results_;
+}
+
+RegionWriterStats RegionWriter::stats() const {
+    std::lock_guard lock(mutex_);
+    return stats_;
+}
+
+} // namespace yv

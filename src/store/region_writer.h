@@ -1,0 +1,79 @@
+// The pipeline stage between the voxelizer and the disk: takes the raw
+// accumulators of finished regions, resolves, compresses and writes them on
+// worker threads, and bounds the memory held by regions waiting their turn.
+#pragma once
+
+#include "core/bricks.h"
+#include "store/brick_store.h"
+
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace yv {
+
+struct RegionWriterStats {
+    double resolveSeconds = 0.0;    ///< summed over workers
+    double encodeSeconds = 0.0;     ///< serialise, compress, checksum; summed over workers
+    double writeSeconds = 0.0;      ///< write, fsync, rename; summed over workers
+    double submitWaitSeconds = 0.0; ///< time submit() blocked on a full queue (the producer stalled on disk)
+    std::uint64_t regionsWritten = 0, bricksWritten = 0, bytesWritten = 0;
+    std::uint64_t peakQueuedBytes = 0; ///< most accumulator bytes held at once, queued or in a worker
+};
+
+class RegionWriter {
+  public:
+    /// Starts `workers` threads (0: two, so one region's disk write overlaps
+    /// the next one's compression) writing into `store`, whose reduce mode must
+    /// be `reduce`. At most `maxQueuedBytes` of accumulators are held at once,
+    /// counting regions queued and regions being worked on.
+    RegionWriter(BrickStore& store, Reduce reduce, std::size_t maxQueuedBytes, unsigned workers = 0);
+    /// Stops the workers after the regions they hold; regions still queued are
+    /// dropped (call finish() to write everything).
+    ~RegionWriter();
+    RegionWriter(const RegionWriter&) = delete;
+    RegionWriter& operator=(const RegionWriter&) = delete;
+
+    /// Queues one region's accumulators (any order; bricks that resolve to no
+    /// active voxel are dropped, a region may end up with none). Blocks while
+    /// the bound would be exceeded, unless nothing is held (a region larger than
+    /// the bound is taken alone). Throws the first worker error once one occurred.
+    void submit(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::vector<BrickAccumulator> accumulators);
+    /// Waits for every submitted region, then returns them sorted by id, or
+    /// rethrows the first worker error.
+    std::vector<RegionInfo> finish();
+    /// Counters so far (complete after finish()).
+    RegionWriterStats stats() const;
+
+  private:
+    struct Job {
+        std::uint64_t id = 0;
+        glm::ivec3 min{0}, max{0};
+        std::vector<BrickAccumulator> accumulators;
+        std::size_t bytes = 0;
+    };
+    void work();
+    void process(Job& job);
+    void stop();
+
+    BrickStore& store_;
+    Reduce reduce_;
+    std::size_t maxQueuedBytes_;
+
+    mutable std::mutex mutex_;
+    std::condition_variable workReady_, spaceFree_;
+    std::deque<Job> queue_;
+    std::size_t heldBytes_ = 0;
+    bool closing_ = false;
+    std::exception_ptr error_;
+    std::vector<RegionInfo> results_;
+    RegionWriterStats stats_;
+    std::vector<std::thread> threads_;
+};
+
+} // namespace yv

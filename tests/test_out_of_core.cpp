@@ -1,0 +1,196 @@
+// Zoom regions and the work directory: the same tree whatever the budget,
+// and a killed run resumed to the same result.
+#include "garment/cross_section.h"
+#include "garment/generate.h"
+#include "gpu/egl_context.h"
+#include "gpu/gl_voxelizer.h"
+#include "test_helpers.h"
+
+#include <catch2/catch.hpp>
+#include <openvdb/openvdb.h>
+
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+using namespace yv;
+namespace fs = std::filesystem;
+
+namespace {
+
+#define REQUIRE_GL()                                                             \
+    if (!GlContext::available()) {                                               \
+        WARN("no OpenGL 4.5 context on this machine: GL backend test skipped"); \
+        return;                                                                  \
+    }
+
+class Collect : public RegionSink {
+  public:
+    void consume(const ZoomRegion&, std::vector<BrickAccumulator>&& bricks) override {
+        for (BrickAccumulator& b : bricks) all.push_back(std::move(b));
+        ++regions;
+    }
+    std::vector<BrickAccumulator> all;
+    std::uint64_t regions = 0;
+};
+
+BrickVolume runWithBudget(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, std::uint64_t budget,
+                          GlVoxelizeCounters& counters) {
+    GlVoxelizeSettings s;
+    s.fragmentCapacity = budget;
+    GlBackend backend(plan, xs, grid, s, counters);
+    const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), 1});
+    counters.plannedRegions = zoom.regions.size();
+    Collect sink;
+    backend.run(zoom.regions, sink);
+    return resolveVolume(grid, Reduce::Mean, sink.all);
+}
+
+} // namespace
+
+TEST_CASE("Past the 2 GB texture limit, 64+ zoom regions give exactly the tree of one big budget", "[gl][out-of-core]") {
+    REQUIRE_GL();
+    GenerateOptions g;
+    g.pattern = WeavePattern::Twill;
+    g.shape = GarmentShape::Cylinder; // a tall, round grid: 1080 x 1072 x 2056 voxels at 2048
+    g.crossings = 64;
+    const Garment garment = generateGarment(g);
+    SliceOptions opt;
+    opt.radius = garment.yarnRadius;
+    opt.twist = 2.0;
+    opt.slicesPerSegment = 2; // few slices, so llvmpipe gets through quickly
+    const SlicePlan plan = planSlices(garment, opt);
+    const VoxelGrid grid = makeGrid(plan, 2048, 0.0);
+    // One byte per voxel would already be past a 2 GB 3D texture.
+    REQUIRE(grid.voxelCount() > (std::uint64_t(2) << 30));
+    const CrossSection xs = makeDiskCrossSection();
+
+    GlVoxelizeCounters big, small;
+    const BrickVolume a = runWithBudget(plan, xs, grid, 0, big);
+    const BrickVolume b = runWithBudget(plan, xs, grid, 200000, small);
+    INFO("regions: big budget " << big.plannedRegions << ", small " << small.plannedRegions << "; overflows "
+                                << small.overflows);
+    CHECK(small.plannedRegions >= 64);
+    CHECK(small.fragments == big.fragments);
+    REQUIRE(a.bricks.size() == b.bricks.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < a.bricks.size(); ++i)
+        differing += a.bricks[i].key != b.bricks[i].key || a.bricks[i].activeMask != b.bricks[i].activeMask ||
+                     std::memcmp(a.bricks[i].density.data(), b.bricks[i].density.data(), 4 * kBrickVoxels) != 0 ||
+                     std::memcmp(a.bricks[i].orientation.data(), b.bricks[i].orientation.data(), 12 * kBrickVoxels) != 0;
+    CHECK(differing == 0);
+    CHECK(a.activeVoxelCount() > 1000000);
+}
+
+namespace {
+
+std::string yarnvox() { return std::string(YV_BINARY_DIR) + "/yarnvox"; }
+
+fs::path scratchDir(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("yv_ooc_" + std::to_string(getpid())) / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir.parent_path());
+    return dir;
+}
+
+int runQuiet(const std::string& args) { return std::system((yarnvox() + " " + args + " >/dev/null 2>&1").c_str()); }
+
+std::string readFile(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// OpenVDB writes a fresh 36-character UUID into each file's header (after
+/// the magic, the versions and one flag byte); everything else must match.
+bool sameVdbBytes(const fs::path& a, const fs::path& b) {
+    std::string x = readFile(a), y = readFile(b);
+    if (x.size() != y.size() || x.size() < 57) return false;
+    std::fill(x.begin() + 21, x.begin() + 57, '-');
+    std::fill(y.begin() + 21, y.begin() + 57, '-');
+    return x == y;
+}
+
+std::size_t regionFiles(const fs::path& dir) {
+    std::size_t n = 0;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+        n += e.path().extension() == ".yvb";
+    return n;
+}
+
+} // namespace
+
+TEST_CASE("A run killed part-way and resumed gives the same .vdb; damaged regions are recomputed", "[gl][out-of-core][cli]") {
+    REQUIRE_GL();
+    const fs::path dir = scratchDir("resume");
+    fs::create_directories(dir);
+    const fs::path bcc = dir / "g.bcc";
+    REQUIRE(runQuiet("gen --pattern twill --shape cylinder --crossings 64 -o " + bcc.string()) == 0);
+    const std::string common = " --resolution 2048 --slices-per-segment 2 --twist 2 --fragment-budget 50000 --quiet ";
+
+    // The reference: one uninterrupted run.
+    const fs::path reference = dir / "reference.vdb";
+    REQUIRE(runQuiet("voxelize " + bcc.string() + " -o " + reference.string() + common + "--work-dir " +
+                     (dir / "work-ref").string()) == 0);
+    const std::size_t regions = regionFiles(dir / "work-ref");
+    REQUIRE(regions > 20);
+
+    // Killed once a few regions are on disk.
+    const fs::path work = dir / "work", out = dir / "out.vdb";
+    const pid_t child = fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        execl(yarnvox().c_str(), "yarnvox", "voxelize", bcc.c_str(), "-o", out.c_str(), "--resolution", "2048",
+              "--slices-per-segment", "2", "--twist", "2", "--fragment-budget", "50000", "--quiet", "--work-dir",
+              work.c_str(), static_cast<char*>(nullptr));
+        _exit(127);
+    }
+    while (regionFiles(work) < regions / 4) {
+        int status = 0;
+        if (waitpid(child, &status, WNOHANG) == child) FAIL("the run ended before it could be killed");
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    kill(child, SIGKILL);
+    int status = 0;
+    waitpid(child, &status, 0);
+    REQUIRE(WIFSIGNALED(status));
+    CHECK_FALSE(fs::exists(out));
+    const std::size_t before = regionFiles(work);
+    CHECK(before < regions);
+
+    // Resumed: the regions on disk are re-used, the rest computed.
+    const fs::path stats = dir / "stats.json";
+    REQUIRE(runQuiet("voxelize " + bcc.string() + " -o " + out.string() + common + "--work-dir " + work.string() +
+                     " --resume --stats " + stats.string()) == 0);
+    CHECK(sameVdbBytes(reference, out));
+    std::string json = readFile(stats);
+    CHECK(json.find("\"regions_resumed\": " + std::to_string(before)) != std::string::npos);
+
+    // A damaged region file is found, recomputed, and the result is the same again.
+    fs::path victim;
+    for (const auto& e : fs::directory_iterator(work))
+        if (e.path().extension() == ".yvb" && fs::file_size(e.path()) > 200) victim = e.path();
+    REQUIRE(!victim.empty());
+    {
+        std::fstream f(victim, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(static_cast<std::streamoff>(fs::file_size(victim) - 10));
+        f.put('\x5a');
+    }
+    const fs::path again = dir / "again.vdb";
+    REQUIRE(runQuiet("voxelize " + bcc.string() + " -o " + again.string() + common + "--work-dir " + work.string() +
+                     " --resume --stats " + stats.string()) == 0);
+    CHECK(sameVdbBytes(reference, again));
+    json = readFile(stats);
+    CHECK(json.find("\"regions_damaged_recomputed\": 1") != std::string::npos);
+    CHECK(json.find("\"regions_resumed\": " + std::to_string(regions - 1)) != std::string::npos);
+
+    // `yarnvox merge` of the finished work dir writes the same file once more.
+    const fs::path merged = dir / "merged.vdb";
+    REQUIRE(runQuiet("merge " + work.string() + " -o " + merged.string()) == 0);
+    CHECK(sameVdbBytes(reference, merged));
+    fs::remove_all(dir.parent_path());
+}
