@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <thread>
 #include <unistd.h>
 
 namespace yv {
@@ -164,7 +165,9 @@ void runVoxelize(const VoxelizeArgs& a) {
         std::uint64_t recomputed = 0, storeBytes = 0;
         {
             BrickStore store(workDir, manifest, a.resume);
-            RegionWriter writer(store, settings.reduce, writerQueueBytes());
+            // Resolving (an eigenvector per voxel) and compressing keep several cores busy.
+            const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
+            RegionWriter writer(store, settings.reduce, writerQueueBytes(), workers);
             StoreSink sink(store, writer, a.resume);
             backend.run(zoom.regions, sink);
             writer.finish();

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <unordered_map>
 
@@ -58,6 +59,51 @@ class GlBuffer {
     std::uint64_t size_ = 0;
 };
 
+/// Host-visible copy target for readback. Reading device buffers directly
+/// (glGetBufferSubData) makes the NVIDIA driver migrate them to host memory,
+/// which slows every later pass that touches them; copying into this
+/// persistently mapped buffer leaves the working buffers in video memory.
+class ReadbackBuffer {
+  public:
+    ~ReadbackBuffer() { release(); }
+    /// Copies `bytes` from the start of `source` and returns them, once the GPU is done.
+    const void* read(GLuint source, std::uint64_t bytes, std::uint64_t* gpuBytes) {
+        if (bytes == 0) return nullptr;
+        if (bytes > size_) {
+            if (gpuBytes) *gpuBytes -= size_;
+            release();
+            size_ = std::max<std::uint64_t>(bytes, 1 << 20);
+            glCreateBuffers(1, &id_);
+            const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_CLIENT_STORAGE_BIT;
+            glNamedBufferStorage(id_, static_cast<GLsizeiptr>(size_), nullptr, flags);
+            mapped_ = glMapNamedBufferRange(id_, 0, static_cast<GLsizeiptr>(size_), GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT);
+            checkGlError("mapping the readback buffer");
+            if (gpuBytes) *gpuBytes += size_;
+        }
+        glCopyNamedBufferSubData(source, id_, 0, 0, static_cast<GLsizeiptr>(bytes));
+        glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+        GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+        const GLenum waited = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, GLuint64(600) * 1000000000);
+        glDeleteSync(fence);
+        if (waited != GL_ALREADY_SIGNALED && waited != GL_CONDITION_SATISFIED)
+            throw Error("GPU readback did not finish within 10 minutes (driver hang or lost device)");
+        return mapped_;
+    }
+
+  private:
+    void release() {
+        if (!id_) return;
+        glUnmapNamedBuffer(id_);
+        glDeleteBuffers(1, &id_);
+        id_ = 0;
+        size_ = 0;
+        mapped_ = nullptr;
+    }
+    GLuint id_ = 0;
+    std::uint64_t size_ = 0;
+    const void* mapped_ = nullptr;
+};
+
 /// Time of the GL commands between begin() and end(): both ends wait for the
 /// GPU to drain (glFinish), so this is what the pass costs the pipeline.
 /// (Timer queries would be finer, but llvmpipe answers them with garbage.)
@@ -94,7 +140,7 @@ class GlBackend::Impl {
     Impl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                 const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters)
         : plan_(plan), grid_(grid), settings_(settings), counters_(counters),
-          context_(GlContextOptions{settings.device, settings.verbose}), reduce_(settings.base.reduce),
+          context_(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr}), reduce_(settings.base.reduce),
           words_(wordsPerVoxel(reduce_)) {
         const GlInfo& info = context_.info();
         counters_.renderer = info.renderer;
@@ -304,7 +350,7 @@ class GlBackend::Impl {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
         GLuint fragmentCount = 0;
-        glGetNamedBufferSubData(counter_.id(), 0, 4, &fragmentCount);
+        std::memcpy(&fragmentCount, small_.read(counter_.id(), 4, &gpuBytes_), 4);
         if (fragmentCount > capacity_) return false;
         if (fragmentCount == 0) return true;
 
@@ -334,7 +380,7 @@ class GlBackend::Impl {
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         }
         GLuint activeBricks = 0;
-        glGetNamedBufferSubData(counts_.id(), 0, 4, &activeBricks);
+        std::memcpy(&activeBricks, small_.read(counts_.id(), 4, &gpuBytes_), 4);
         if (activeBricks > brickBudget_) {
             counters_.brickSeconds += timer.end();
             return false;
@@ -361,15 +407,15 @@ class GlBackend::Impl {
         // Read back only the touched bricks.
         const auto readStart = std::chrono::steady_clock::now();
         std::vector<std::uint32_t> slotBrick(activeBricks);
-        glGetNamedBufferSubData(slotBricks_.id(), 0, GLsizeiptr(activeBricks) * 4, slotBrick.data());
-        std::vector<std::uint32_t> words(brickWords);
-        glGetNamedBufferSubData(brickWords_.id(), 0, GLsizeiptr(brickWords) * 4, words.data());
+        std::memcpy(slotBrick.data(), small_.read(slotBricks_.id(), std::uint64_t(activeBricks) * 4, &gpuBytes_),
+                    std::size_t(activeBricks) * 4);
+        const auto* words = static_cast<const std::uint32_t*>(readback_.read(brickWords_.id(), brickWords * 4, &gpuBytes_));
         const std::size_t perBrick = std::size_t(words_) * kBrickVoxels;
         for (GLuint slot = 0; slot < activeBricks; ++slot) {
             const std::uint32_t b = slotBrick[slot];
             const glm::ivec3 local(b % bricks.x, (b / bricks.x) % bricks.y, b / (bricks.x * bricks.y));
             const std::uint64_t key = brickKey(item.min / 8 + local);
-            const std::uint32_t* src = words.data() + slot * perBrick;
+            const std::uint32_t* src = words + slot * perBrick;
             auto [it, inserted] = slotOfKey_.try_emplace(key, accumulators_.size());
             if (inserted)
                 accumulators_.push_back({key, std::vector<std::uint32_t>(src, src + perBrick)});
@@ -394,6 +440,7 @@ class GlBackend::Impl {
     std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
     int regionCap_ = 1024;
     GLuint maxGroups_ = 65535;
+    ReadbackBuffer small_, readback_;
     GlBuffer segments_, drawList_, fragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
     GLuint texture_ = 0, vao_ = 0, fbo_ = 0;
     GlProgram raster_, flag_, scan_, scatter_, maxOrient_;
