@@ -10,6 +10,7 @@ layout(std430, binding = 0) readonly buffer Segments { GpuSegment segments[]; };
 layout(std430, binding = 1) readonly buffer DrawList { uvec2 drawList[]; }; // x: segment, y: first instance
 
 uniform int uDrawCount;        // entries in drawList
+uniform uint uUniformSlices;   // slices of every segment when all have the same count, else 0
 uniform float uRadius;         // yarn radius, voxel units
 uniform float uTwist;          // radians per voxel unit of yarn length
 uniform int uSupersample;
@@ -37,9 +38,11 @@ vec3 rotateMinimal(vec3 v, vec3 from, vec3 to) {
 }
 
 void main() {
-    // Last list entry whose first instance is <= gl_InstanceID.
-    int lo = 0, hi = uDrawCount - 1;
+    // Last list entry whose first instance is <= gl_InstanceID: a division
+    // when every segment has the same slice count, else a binary search.
     uint instance = uint(gl_InstanceID);
+    int lo = uUniformSlices != 0u ? int(instance / uUniformSlices) : 0;
+    int hi = uUniformSlices != 0u ? lo : uDrawCount - 1;
     while (lo < hi) {
         int mid = (lo + hi + 1) >> 1;
         if (drawList[mid].y <= instance) lo = mid; else hi = mid - 1;

@@ -162,3 +162,27 @@ TEST_CASE("GL: a capacity below one segment's worth is refused with a clear erro
     CHECK_THROWS_WITH(voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings(Reduce::Mean, 100)),
                       Catch::Contains("fragment capacity 100"));
 }
+
+TEST_CASE("GL agrees with the CPU when slice counts vary per segment (--slice-spacing)", "[gl][agreement]") {
+    REQUIRE_GL();
+    GenerateOptions g;
+    g.pattern = WeavePattern::Knit; // knit segments differ in length, so K differs
+    g.crossings = 48;
+    const Garment garment = generateGarment(g);
+    SliceOptions opt;
+    opt.radius = garment.yarnRadius;
+    opt.twist = 1.0;
+    opt.spacing = 0.05;
+    const SlicePlan plan = planSlices(garment, opt);
+    std::uint32_t lo = ~0u, hi = 0;
+    for (const SegmentRecord& s : plan.segments) lo = std::min(lo, s.sliceCount), hi = std::max(hi, s.sliceCount);
+    REQUIRE(lo < hi);
+    const VoxelGrid grid = makeGrid(plan, 96, 0.0);
+    const CrossSection xs = makeFiberCrossSection();
+    const test::VolumeComparison cmp = test::compareVolumes(voxelizeCpu(plan, xs, grid, VoxelizeSettings{}),
+                                                            voxelizeGl(plan, xs, grid, glSettings()));
+    INFO("IoU " << cmp.iou << " mass ratio " << cmp.massRatio << " angle " << cmp.meanAngleDeg);
+    CHECK(cmp.iou >= 0.99);
+    CHECK(std::abs(cmp.massRatio - 1.0) <= 0.01);
+    CHECK(cmp.meanAngleDeg < 2.0);
+}

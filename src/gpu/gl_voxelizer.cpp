@@ -226,8 +226,12 @@ class GlBackend::Impl {
         maxGroups_ = static_cast<GLuint>(std::min(info.maxComputeWorkGroupCountX, 65535));
 
         // The smallest piece of work is one segment over one brick.
-        std::uint32_t maxSlices = 0;
-        for (const SegmentRecord& s : plan_.segments) maxSlices = std::max(maxSlices, s.sliceCount);
+        std::uint32_t maxSlices = 0, minSlices = ~0u;
+        for (const SegmentRecord& s : plan_.segments) {
+            maxSlices = std::max(maxSlices, s.sliceCount);
+            minSlices = std::min(minSlices, s.sliceCount);
+        }
+        uniformSlices_ = minSlices == maxSlices ? maxSlices : 0;
         const std::uint64_t worst = std::uint64_t(maxSlices) * 64 * settings_.base.supersample * settings_.base.supersample;
         if (capacity_ < worst)
             throw Error("fragment capacity " + std::to_string(capacity_) + " is below the " + std::to_string(worst) +
@@ -328,6 +332,7 @@ class GlBackend::Impl {
 
         raster_.use();
         glUniform1i(raster_.uniform("uDrawCount"), static_cast<GLint>(item.segments.size()));
+        glUniform1ui(raster_.uniform("uUniformSlices"), uniformSlices_);
         glUniform1f(raster_.uniform("uRadius"), float(plan_.options.radius / grid_.voxelSize));
         glUniform1f(raster_.uniform("uTwist"), float(plan_.options.twist * grid_.voxelSize));
         glUniform1i(raster_.uniform("uSupersample"), S);
@@ -439,6 +444,7 @@ class GlBackend::Impl {
     int words_;
     std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
     int regionCap_ = 1024;
+    std::uint32_t uniformSlices_ = 0; ///< slices per segment when all segments agree, else 0
     GLuint maxGroups_ = 65535;
     ReadbackBuffer small_, readback_;
     GlBuffer segments_, drawList_, fragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;

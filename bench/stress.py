@@ -1,0 +1,233 @@
+#!/usr/bin/env python3
+"""Stress benchmark: the whole yarnvox pipeline at garment scale, against the
+paper's dense method and the CPU backend, in one run on one machine.
+
+For each garment size and resolution it runs `yarnvox gen` and
+`yarnvox voxelize --stats` for each method (gl: sparse, out of core; dense: the
+paper's 3D textures; cpu: the TBB reference) and records per stage seconds,
+slices/s, fragments/s, active voxels/s, peak host and GPU memory, bytes on
+disk, regions and splits. Runs that cannot happen here are skipped with the
+reason, never faked.
+
+Output in --out (default bench/results/stress-<date>-<host>): results.json,
+results.csv, summary.md and SVG plots.
+
+    bench/stress.py --quick            # minutes on a 2-core machine, no GPU
+    bench/stress.py                    # 0.1M to 41M slices, 1024 to 8192
+"""
+import argparse
+import csv
+import datetime
+import json
+import os
+import platform
+import resource
+import shutil
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# (name, crossings, slices per segment): slices ~ 2 * crossings * K.
+FULL_SIZES = [("0.1M", 2000, 25), ("1M", 20000, 25), ("5M", 100000, 25),
+              ("17.6M", 352000, 25), ("41M", 410000, 50)]
+QUICK_SIZES = [("0.1M", 2000, 25), ("0.5M", 10000, 25)]
+FULL_RES = [1024, 2048, 4096, 8192]
+QUICK_RES = [256, 512]
+
+
+def run(cmd, timeout):
+    start = time.monotonic()
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    return p.returncode, p.stdout + p.stderr, time.monotonic() - start
+
+
+def child_peak_rss_bytes():
+    return resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help="small sizes that run in minutes on 2 cores")
+    ap.add_argument("--yarnvox", default=os.path.join(ROOT, "build", "yarnvox"))
+    ap.add_argument("--methods", default="gl,dense,cpu")
+    ap.add_argument("--out", default=None)
+    ap.add_argument("--timeout", type=float, default=900, help="seconds per run")
+    ap.add_argument("--work", default="/tmp/yv-stress", help="scratch folder for garments and outputs")
+    args = ap.parse_args()
+
+    if not os.access(args.yarnvox, os.X_OK):
+        sys.exit(f"stress: {args.yarnvox} not found: build first (tools/test or tools/demo)")
+    sizes = QUICK_SIZES if args.quick else FULL_SIZES
+    resolutions = QUICK_RES if args.quick else FULL_RES
+    methods = args.methods.split(",")
+    host = platform.node()
+    date = datetime.date.today().isoformat()
+    out = args.out or os.path.join(ROOT, "bench", "results", f"stress-{date}-{'quick' if args.quick else 'full'}-{host}")
+    os.makedirs(out, exist_ok=True)
+    os.makedirs(args.work, exist_ok=True)
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+
+    rows = []
+    for name, crossings, k in sizes:
+        bcc = os.path.join(args.work, f"plain-{crossings}.bcc")
+        if not os.path.exists(bcc):
+            rc, log, _ = run([args.yarnvox, "gen", "--pattern", "plain", "--crossings", str(crossings), "-o", bcc], args.timeout)
+            if rc:
+                sys.exit(f"stress: gen failed: {log}")
+        for res in resolutions:
+            for method in methods:
+                row = {"size": name, "crossings": crossings, "slices_per_segment": k, "resolution": res, "method": method}
+                if method == "cpu" and (res > 2048 or crossings > 100000) and not args.quick:
+                    row["skipped"] = "the CPU reference holds the whole volume in memory; only run up to 2048 and 5M slices"
+                    rows.append(row)
+                    continue
+                vdb = os.path.join(args.work, "out.vdb")
+                stats = os.path.join(args.work, "stats.json")
+                for f in (vdb, stats):
+                    if os.path.exists(f):
+                        os.remove(f)
+                cmd = [args.yarnvox, "voxelize", bcc, "-o", vdb, "--resolution", str(res), "--slices-per-segment", str(k),
+                       "--stats", stats, "--quiet"]
+                cmd += {"gl": ["--backend", "gl"], "dense": ["--backend", "gl", "--method", "dense"], "cpu": ["--backend", "cpu"]}[method]
+                try:
+                    rc, log, wall = run(cmd, args.timeout)
+                except subprocess.TimeoutExpired:
+                    row["skipped"] = f"did not finish within {args.timeout:.0f} s"
+                    rows.append(row)
+                    continue
+                if rc:
+                    # The dense method stops where one 3D texture ends: that is a result, not a failure.
+                    row["skipped"] = log.strip().splitlines()[-1] if log.strip() else f"exit {rc}"
+                    rows.append(row)
+                    continue
+                s = json.load(open(stats))
+                b = s.get("backend_stats", {})
+                secs = s["seconds"]
+                row.update({
+                    "slices": s["slices"], "grid": s["grid_dims"], "wall_seconds": wall,
+                    "seconds": secs, "voxelize_seconds": secs.get("voxelize", 0.0),
+                    "slices_per_second": s["slices_per_second"], "active_voxels": s["active_voxels"],
+                    "active_voxels_per_second": s["active_voxels_per_second"],
+                    "fragments": b.get("fragments", s.get("samples", 0)),
+                    "raster_fragments_per_second": b["fragments"] / b["gpu_raster_seconds"] if b.get("gpu_raster_seconds") else None,
+                    "brick_fragments_per_second": b["fragments"] / b["gpu_brick_seconds"] if b.get("gpu_brick_seconds") else None,
+                    "peak_host_bytes": s["peak_host_bytes"], "peak_gpu_bytes": b.get("gpu_peak_bytes"),
+                    "bytes_on_disk": os.path.getsize(vdb) + b.get("store_bytes_on_disk", 0),
+                    "regions": b.get("zoom_regions"), "splits": b.get("overflow_retries"),
+                    "renderer": b.get("renderer", "cpu"),
+                })
+                rows.append(row)
+                print(f"{name:>6} {res:>5} {method:>5}: {wall:7.2f} s  {row['active_voxels']:>11} voxels", flush=True)
+
+    meta = {"date": date, "host": host, "commit": commit, "command": " ".join([os.path.relpath(sys.argv[0], ROOT)] + sys.argv[1:]),
+            "renderer": next((r["renderer"] for r in rows if r.get("renderer") not in (None, "cpu")), "none")}
+    json.dump({"meta": meta, "runs": rows}, open(os.path.join(out, "results.json"), "w"), indent=1)
+    fields = ["size", "crossings", "resolution", "method", "slices", "grid", "wall_seconds", "voxelize_seconds",
+              "slices_per_second", "active_voxels", "active_voxels_per_second", "fragments", "raster_fragments_per_second",
+              "brick_fragments_per_second", "peak_host_bytes", "peak_gpu_bytes", "bytes_on_disk", "regions", "splits", "skipped"]
+    with open(os.path.join(out, "results.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    write_summary(out, meta, rows, methods)
+    write_plots(out, rows, methods)
+    print(f"wrote {out}")
+
+
+def fmt(v, unit=""):
+    if v is None:
+        return "-"
+    for scale, suffix in ((1e9, "G"), (1e6, "M"), (1e3, "k")):
+        if abs(v) >= scale:
+            return f"{v / scale:.3g}{suffix}{unit}"
+    return f"{v:.3g}{unit}"
+
+
+def write_summary(out, meta, rows, methods):
+    lines = [f"# yarnvox stress benchmark", "",
+             f"{meta['date']}, host {meta['host']}, renderer {meta['renderer']}, commit {meta['commit']}", "",
+             f"Command: `{meta['command']}`", "",
+             "| size | res | method | wall | voxelize | slices/s | active voxels | peak host | peak GPU | on disk | regions | note |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if "skipped" in r:
+            lines.append(f"| {r['size']} | {r['resolution']} | {r['method']} | - | - | - | - | - | - | - | - | skipped: {r['skipped']} |")
+        else:
+            lines.append(f"| {r['size']} | {r['resolution']} | {r['method']} | {r['wall_seconds']:.2f} s | {r['voxelize_seconds']:.2f} s | "
+                         f"{fmt(r['slices_per_second'])} | {fmt(r['active_voxels'])} | {fmt(r['peak_host_bytes'], 'B')} | "
+                         f"{fmt(r['peak_gpu_bytes'], 'B')} | {fmt(r['bytes_on_disk'], 'B')} | {r['regions'] or '-'} | |")
+    lines += ["", "## Ratios (same garment, same resolution, this run)", "",
+              "| size | res | gl vs dense: time | gl vs dense: GPU memory | gl vs cpu: time |", "|---|---|---|---|---|"]
+    index = {(r["size"], r["resolution"], r["method"]): r for r in rows if "skipped" not in r}
+    for (size, res, method), r in index.items():
+        if method != "gl":
+            continue
+        d, c = index.get((size, res, "dense")), index.get((size, res, "cpu"))
+        t_d = f"{d['wall_seconds'] / r['wall_seconds']:.2f}x faster" if d else "dense cannot run"
+        m_d = f"{d['peak_gpu_bytes'] / r['peak_gpu_bytes']:.1f}x less" if d and d.get("peak_gpu_bytes") and r.get("peak_gpu_bytes") else "-"
+        t_c = f"{c['wall_seconds'] / r['wall_seconds']:.2f}x faster" if c else "-"
+        lines.append(f"| {size} | {res} | {t_d} | {m_d} | {t_c} |")
+    lines += ["", "Plots: `time.svg`, `memory.svg`, `throughput.svg`, `ratio.svg`."]
+    open(os.path.join(out, "summary.md"), "w").write("\n".join(lines) + "\n")
+
+
+def svg_chart(path, title, series, xlabel, ylabel, logx=True, logy=True):
+    """A small line chart with log axes, no dependencies. series: {label: [(x, y)]}."""
+    import math
+    w, h, m = 640, 400, 60
+    pts = [(x, y) for s in series.values() for x, y in s if x and y and x > 0 and y > 0]
+    colors = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#7f7f7f"]
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="11">',
+           f'<rect width="{w}" height="{h}" fill="white"/>', f'<text x="{w / 2}" y="18" text-anchor="middle" font-size="14">{title}</text>']
+    if pts:
+        tx = (lambda v: math.log10(v)) if logx else (lambda v: v)
+        ty = (lambda v: math.log10(v)) if logy else (lambda v: v)
+        x0, x1 = min(tx(p[0]) for p in pts), max(tx(p[0]) for p in pts)
+        y0, y1 = min(ty(p[1]) for p in pts), max(ty(p[1]) for p in pts)
+        x1, y1 = (x1 if x1 > x0 else x0 + 1), (y1 if y1 > y0 else y0 + 1)
+        X = lambda v: m + (tx(v) - x0) / (x1 - x0) * (w - 2 * m)
+        Y = lambda v: h - m - (ty(v) - y0) / (y1 - y0) * (h - 2 * m)
+        out.append(f'<line x1="{m}" y1="{h - m}" x2="{w - m}" y2="{h - m}" stroke="black"/><line x1="{m}" y1="{m}" x2="{m}" y2="{h - m}" stroke="black"/>')
+        for v, label in ((x0, 10 ** x0 if logx else x0), (x1, 10 ** x1 if logx else x1)):
+            out.append(f'<text x="{m + (v - x0) / (x1 - x0) * (w - 2 * m)}" y="{h - m + 15}" text-anchor="middle">{fmt(label)}</text>')
+        for v, label in ((y0, 10 ** y0 if logy else y0), (y1, 10 ** y1 if logy else y1)):
+            out.append(f'<text x="{m - 5}" y="{h - m - (v - y0) / (y1 - y0) * (h - 2 * m)}" text-anchor="end">{fmt(label)}</text>')
+        for i, (label, s) in enumerate(series.items()):
+            s = sorted((x, y) for x, y in s if x and y and x > 0 and y > 0)
+            c = colors[i % len(colors)]
+            if s:
+                out.append(f'<polyline fill="none" stroke="{c}" stroke-width="2" points="{" ".join(f"{X(x):.1f},{Y(y):.1f}" for x, y in s)}"/>')
+                out += [f'<circle cx="{X(x):.1f}" cy="{Y(y):.1f}" r="3" fill="{c}"/>' for x, y in s]
+            out.append(f'<text x="{w - m + 5 - 120}" y="{m + 14 * i}" fill="{c}">{label}</text>')
+    out.append(f'<text x="{w / 2}" y="{h - 15}" text-anchor="middle">{xlabel}</text>')
+    out.append(f'<text x="15" y="{h / 2}" transform="rotate(-90 15 {h / 2})" text-anchor="middle">{ylabel}</text></svg>')
+    open(path, "w").write("\n".join(out))
+
+
+def write_plots(out, rows, methods):
+    ok = [r for r in rows if "skipped" not in r]
+    res = sorted({r["resolution"] for r in ok})
+    def series(metric, filt=lambda r: True):
+        return {f"{m} @{q}": [(r["slices"], metric(r)) for r in ok if r["method"] == m and r["resolution"] == q and filt(r)]
+                for m in methods for q in res}
+    svg_chart(os.path.join(out, "time.svg"), "End-to-end time", series(lambda r: r["wall_seconds"]), "slices", "seconds")
+    svg_chart(os.path.join(out, "memory.svg"), "Peak host memory", series(lambda r: r["peak_host_bytes"]), "slices", "bytes")
+    svg_chart(os.path.join(out, "throughput.svg"), "Throughput per stage (gl)",
+              {**{f"raster frag/s @{q}": [(r["slices"], r["raster_fragments_per_second"]) for r in ok if r["method"] == "gl" and r["resolution"] == q] for q in res},
+               **{f"brick frag/s @{q}": [(r["slices"], r["brick_fragments_per_second"]) for r in ok if r["method"] == "gl" and r["resolution"] == q] for q in res}},
+              "slices", "fragments / s")
+    index = {(r["size"], r["resolution"], r["method"]): r for r in ok}
+    ratio = {}
+    for (size, q, m), r in index.items():
+        if m == "gl":
+            for base in ("dense", "cpu"):
+                b = index.get((size, q, base))
+                if b:
+                    ratio.setdefault(f"{base}/gl time @{q}", []).append((r["slices"], b["wall_seconds"] / r["wall_seconds"]))
+    svg_chart(os.path.join(out, "ratio.svg"), "Baseline time / yarnvox time", ratio, "slices", "ratio")
+
+
+if __name__ == "__main__":
+    main()
