@@ -1,0 +1,266 @@
+#include "gpu/dense_voxelizer.h"
+
+#include "core/error.h"
+#include "gpu/egl_context.h"
+#include "gpu/gl_program.h"
+#include "gpu/gpu_layout.h"
+
+#include <epoxy/gl.h>
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+namespace yv {
+namespace {
+
+/// Seconds of the GL commands issued by `work`, the GPU drained at both ends
+/// (timer queries would be finer, but llvmpipe answers them with garbage).
+template <class F> double timedGpu(F&& work) {
+    glFinish();
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    glFinish();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Owns the GL objects of one run so an exception frees them before the context goes.
+struct GlObjects {
+    GLuint textures[3] = {0, 0, 0}; // density, theta, phi
+    GLuint crossSection = 0, segments = 0, drawList = 0, vao = 0, fbo = 0;
+    ~GlObjects() {
+        glDeleteTextures(3, textures);
+        glDeleteTextures(1, &crossSection);
+        glDeleteBuffers(1, &segments);
+        glDeleteBuffers(1, &drawList);
+        glDeleteVertexArrays(1, &vao);
+        glDeleteFramebuffers(1, &fbo);
+    }
+};
+
+GLuint uploadBuffer(const void* data, std::size_t bytes) {
+    GLuint id = 0;
+    glCreateBuffers(1, &id);
+    glNamedBufferStorage(id, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    if (bytes) glNamedBufferSubData(id, 0, static_cast<GLsizeiptr>(bytes), data);
+    return id;
+}
+
+/// Segments in voxel units from the grid origin, as gl_voxelizer.cpp uploads them.
+std::vector<GpuSegment> gpuSegments(const SlicePlan& plan, const VoxelGrid& grid) {
+    const double invH = 1.0 / grid.voxelSize;
+    std::vector<GpuSegment> gpu(plan.segments.size());
+    for (std::size_t i = 0; i < gpu.size(); ++i) {
+        const SegmentRecord& s = plan.segments[i];
+        GpuSegment& g = gpu[i];
+        for (int j = 0; j < 4; ++j) {
+            const glm::dvec3 p = (s.points[j] - grid.origin) * invH;
+            g.p[j][0] = float(p.x), g.p[j][1] = float(p.y), g.p[j][2] = float(p.z), g.p[j][3] = 0.0f;
+        }
+        g.up[0] = float(s.knotUp.x), g.up[1] = float(s.knotUp.y), g.up[2] = float(s.knotUp.z);
+        g.up[3] = float(s.arcStart * invH);
+        const float length = float(s.length * invH);
+        std::memcpy(&g.info[2], &length, 4);
+        g.info[0] = static_cast<std::uint32_t>(s.firstSlice);
+        g.info[1] = s.sliceCount;
+        g.info[3] = s.yarn;
+    }
+    return gpu;
+}
+
+std::string dimsText(const glm::ivec3& d) {
+    return std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z);
+}
+
+/// Axis from the paper's angles: theta = acos(z) / pi, phi = (atan(y, x) + pi) / (2 pi).
+glm::vec3 decodeAngles(std::uint8_t theta, std::uint8_t phi) {
+    const double t = theta / 255.0 * M_PI, p = phi / 255.0 * 2.0 * M_PI - M_PI;
+    return glm::vec3(canonicalAxis({std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)}));
+}
+
+/// Bricks with any non-zero density among the brick layers of one z slab
+/// (`nz` slices from `z0`, a multiple of 8), each channel W*H*nz bytes.
+void convertSlab(const VoxelGrid& grid, int z0, int nz, const std::uint8_t* density, const std::uint8_t* theta,
+                 const std::uint8_t* phi, std::vector<VoxelBrick>& out) {
+    const glm::ivec3 d = grid.dims, bricks = (d + 7) / 8;
+    const int layers = (nz + 7) / 8;
+    // One list per brick column in x, joined in order afterwards.
+    std::vector<std::vector<VoxelBrick>> perX(bricks.x);
+    tbb::parallel_for(0, bricks.x, [&](int bx) {
+        for (int by = 0; by < bricks.y; ++by)
+            for (int lz = 0; lz < layers; ++lz) {
+                VoxelBrick brick;
+                bool any = false;
+                for (int x = 0; x < 8; ++x)
+                    for (int y = 0; y < 8; ++y)
+                        for (int z = 0; z < 8; ++z) {
+                            const int gx = bx * 8 + x, gy = by * 8 + y, sz = lz * 8 + z;
+                            if (gx >= d.x || gy >= d.y || sz >= nz) continue;
+                            const std::size_t i = (std::size_t(sz) * d.y + gy) * d.x + gx;
+                            if (density[i] == 0) continue;
+                            const int v = brickOffset(x, y, z);
+                            brick.density[v] = density[i] / 255.0f;
+                            brick.orientation[v] = decodeAngles(theta[i], phi[i]);
+                            brick.activeMask[v >> 6] |= std::uint64_t(1) << (v & 63);
+                            any = true;
+                        }
+                if (!any) continue;
+                brick.key = brickKey({bx, by, z0 / 8 + lz});
+                perX[bx].push_back(brick);
+            }
+    });
+    for (auto& list : perX) out.insert(out.end(), list.begin(), list.end());
+}
+
+} // namespace
+
+BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                          const GlVoxelizeSettings& settings, DenseVoxelizeCounters* counters) {
+    DenseVoxelizeCounters local;
+    DenseVoxelizeCounters& c = counters ? *counters : local;
+    const int S = settings.base.supersample;
+    if (S < 1 || S > 16) throw Error("--supersample must be 1 to 16 (got " + std::to_string(S) + ")");
+
+    GlContext context(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr});
+    const GlInfo& info = context.info();
+    c.renderer = info.renderer;
+    c.platform = info.platform;
+
+    // The method's limit: the whole grid in one 3D texture per channel, all
+    // three resident at once. Checked before any work, so benchmarks can
+    // report "cannot run" cheaply.
+    const glm::ivec3 dims = grid.dims;
+    const std::uint64_t voxels = grid.voxelCount();
+    const long long freeBytes = context.queryFreeMemoryBytes();
+    const int maxSide = std::max({dims.x, dims.y, dims.z});
+    const bool tooLarge = maxSide > info.max3dTextureSize || (freeBytes > 0 && 3 * voxels > std::uint64_t(freeBytes));
+    if (tooLarge || dims.x <= 0 || dims.y <= 0 || dims.z <= 0)
+        throw Error("dense method: grid " + dimsText(dims) + " exceeds one 3D texture (max " +
+                    std::to_string(info.max3dTextureSize) + " per axis / " +
+                    (freeBytes > 0 ? std::to_string(freeBytes >> 20) + " MiB free GPU memory" : std::string("GPU memory")) +
+                    " for 3 textures of " + std::to_string(voxels >> 20) + " MiB)");
+    // One pixel per (supersampled) voxel column of the whole grid.
+    GLint fbMax[2] = {0, 0}, viewportMax[2] = {0, 0};
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &fbMax[0]);
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &fbMax[1]);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewportMax);
+    const long long viewport = (long long)maxSide * S;
+    if (viewport > std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]}))
+        throw Error("dense method: grid " + dimsText(dims) + " at supersample " + std::to_string(S) +
+                    " needs a " + std::to_string(viewport) + " pixel viewport, above this GPU's limit of " +
+                    std::to_string(std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]})));
+
+    GlObjects gl;
+    const std::vector<GpuSegment> segments = gpuSegments(plan, grid);
+    gl.segments = uploadBuffer(segments.data(), segments.size() * sizeof(GpuSegment));
+    // Draw list: every segment, with its first instance.
+    std::vector<std::uint32_t> draw(segments.size() * 2);
+    std::uint64_t instances = 0;
+    for (std::size_t i = 0; i < plan.segments.size(); ++i) {
+        draw[2 * i] = static_cast<std::uint32_t>(i);
+        draw[2 * i + 1] = static_cast<std::uint32_t>(instances);
+        instances += plan.segments[i].sliceCount;
+    }
+    if (instances > 0x7fffffff)
+        throw Error("dense method: " + std::to_string(instances) + " slices exceed one instanced draw");
+    c.instances = instances;
+    gl.drawList = uploadBuffer(draw.data(), draw.size() * 4);
+
+    glCreateTextures(GL_TEXTURE_2D, 1, &gl.crossSection);
+    glTextureStorage2D(gl.crossSection, 1, GL_R8UI, xs.size, xs.size);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(gl.crossSection, 0, 0, 0, xs.size, xs.size, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data());
+    glTextureParameteri(gl.crossSection, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(gl.crossSection, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    checkGlError("uploading segments and the cross-section");
+
+    glGetError(); // start the allocation check clean
+    glCreateTextures(GL_TEXTURE_3D, 3, gl.textures);
+    for (GLuint t : gl.textures) glTextureStorage3D(t, 1, GL_R8, dims.x, dims.y, dims.z);
+    if (glGetError() != GL_NO_ERROR)
+        throw Error("dense method: grid " + dimsText(dims) + " exceeds one 3D texture (the driver cannot allocate 3 textures of " +
+                    std::to_string(voxels >> 20) + " MiB)");
+    c.textureBytes = 3 * voxels;
+
+    c.clearSeconds = timedGpu([&] {
+        const std::uint8_t zero = 0;
+        for (GLuint t : gl.textures) glClearTexImage(t, 0, GL_RED, GL_UNSIGNED_BYTE, &zero);
+    });
+    checkGlError("clearing the 3D textures");
+
+    GlProgram program = GlProgram::graphics("slice.vert", "dense.frag");
+    glCreateVertexArrays(1, &gl.vao);
+    glCreateFramebuffers(1, &gl.fbo);
+    glNamedFramebufferParameteri(gl.fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, GLint(viewport));
+    glNamedFramebufferParameteri(gl.fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, GLint(viewport));
+    glBindFramebuffer(GL_FRAMEBUFFER, gl.fbo);
+    glViewport(0, 0, GLsizei(viewport), GLsizei(viewport));
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+
+    program.use();
+    glUniform1i(program.uniform("uDrawCount"), static_cast<GLint>(plan.segments.size()));
+    // slice.vert's shortcut when every segment has the same slice count (0:
+    // search the draw list); a location of -1 is ignored by GL.
+    std::uint32_t minSlices = ~0u, maxSlices = 0;
+    for (const SegmentRecord& s : plan.segments) {
+        minSlices = std::min(minSlices, s.sliceCount);
+        maxSlices = std::max(maxSlices, s.sliceCount);
+    }
+    glUniform1ui(program.uniform("uUniformSlices"), minSlices == maxSlices ? maxSlices : 0u);
+    glUniform1f(program.uniform("uRadius"), float(plan.options.radius / grid.voxelSize));
+    glUniform1f(program.uniform("uTwist"), float(plan.options.twist * grid.voxelSize));
+    glUniform1i(program.uniform("uSupersample"), S);
+    glUniform3i(program.uniform("uRegionMin"), 0, 0, 0);
+    glUniform3i(program.uniform("uDims"), dims.x, dims.y, dims.z);
+    glUniform2f(program.uniform("uViewport"), float(viewport), float(viewport));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, gl.segments);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, gl.drawList);
+    glBindTextureUnit(0, gl.crossSection);
+    for (GLuint i = 0; i < 3; ++i) glBindImageTexture(i, gl.textures[i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_R8);
+    glBindVertexArray(gl.vao);
+    if (instances > 0)
+        c.rasterSeconds = timedGpu([&] { glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances)); });
+    checkGlError("dense raster pass");
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+
+    // Read back slab by slab in z (whole brick layers, about 256 MiB of host
+    // memory for the three channels) so big grids do not need 3 bytes per
+    // voxel on the host as well.
+    const auto readStart = std::chrono::steady_clock::now();
+    const std::uint64_t layerBytes = std::uint64_t(dims.x) * dims.y * 8;
+    const int slabDepth = int(std::clamp<std::uint64_t>((std::uint64_t(256) << 20) / (3 * layerBytes), 1, (dims.z + 7) / 8)) * 8;
+    std::vector<std::uint8_t> slab[3];
+    BrickVolume volume;
+    volume.grid = grid;
+    volume.reduce = Reduce::Max;
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    for (int z0 = 0; z0 < dims.z; z0 += slabDepth) {
+        const int nz = std::min(slabDepth, dims.z - z0);
+        const std::size_t bytes = std::size_t(dims.x) * dims.y * nz;
+        // Each call's buffer size is a GLsizei: calls of at most 1 GiB.
+        const std::size_t sliceBytes = std::size_t(dims.x) * dims.y;
+        const int chunk = int(std::max<std::size_t>(1, (std::size_t(1) << 30) / sliceBytes));
+        for (int k = 0; k < 3; ++k) {
+            slab[k].resize(bytes);
+            for (int z = 0; z < nz; z += chunk) {
+                const int n = std::min(chunk, nz - z);
+                glGetTextureSubImage(gl.textures[k], 0, 0, 0, z0 + z, dims.x, dims.y, n, GL_RED, GL_UNSIGNED_BYTE,
+                                     static_cast<GLsizei>(sliceBytes * n), slab[k].data() + sliceBytes * z);
+            }
+        }
+        checkGlError("reading back the 3D textures");
+        convertSlab(grid, z0, nz, slab[0].data(), slab[1].data(), slab[2].data(), volume.bricks);
+    }
+    std::sort(volume.bricks.begin(), volume.bricks.end(),
+              [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });
+    c.readbackSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - readStart).count();
+    return volume;
+}
+
+} // namespace yv
