@@ -52,6 +52,8 @@ def main():
     ap.add_argument("--quick", action="store_true", help="small sizes that run in minutes on 2 cores")
     ap.add_argument("--yarnvox", default=os.path.join(ROOT, "build", "yarnvox"))
     ap.add_argument("--methods", default="gl,dense,cpu")
+    ap.add_argument("--sizes", default=None, help="comma-separated subset of the size names, e.g. 0.1M,41M")
+    ap.add_argument("--resolutions", default=None, help="comma-separated resolutions instead of the set's")
     ap.add_argument("--out", default=None)
     ap.add_argument("--timeout", type=float, default=900, help="seconds per run")
     ap.add_argument("--work", default="/tmp/yv-stress", help="scratch folder for garments and outputs")
@@ -61,6 +63,10 @@ def main():
         sys.exit(f"stress: {args.yarnvox} not found: build first (tools/test or tools/demo)")
     sizes = QUICK_SIZES if args.quick else FULL_SIZES
     resolutions = QUICK_RES if args.quick else FULL_RES
+    if args.sizes:
+        sizes = [s for s in sizes if s[0] in args.sizes.split(",")]
+    if args.resolutions:
+        resolutions = [int(r) for r in args.resolutions.split(",")]
     methods = args.methods.split(",")
     host = platform.node()
     date = datetime.date.today().isoformat()
@@ -115,7 +121,7 @@ def main():
                     "brick_fragments_per_second": b["fragments"] / b["gpu_brick_seconds"] if b.get("gpu_brick_seconds") and b.get("fragments") else None,
                     "peak_host_bytes": s["peak_host_bytes"], "peak_gpu_bytes": b.get("gpu_peak_bytes"),
                     "bytes_on_disk": os.path.getsize(vdb) + b.get("store_bytes_on_disk", 0),
-                    "regions": b.get("zoom_regions"), "splits": b.get("overflow_retries"),
+                    "regions": b.get("zoom_regions"), "splits": b.get("overflow_retries"), "list_growths": b.get("fragment_list_growths"),
                     "renderer": b.get("renderer", "cpu"),
                 })
                 rows.append(row)
@@ -126,7 +132,7 @@ def main():
     json.dump({"meta": meta, "runs": rows}, open(os.path.join(out, "results.json"), "w"), indent=1)
     fields = ["size", "crossings", "resolution", "method", "slices", "grid", "wall_seconds", "voxelize_seconds",
               "slices_per_second", "active_voxels", "active_voxels_per_second", "fragments", "raster_fragments_per_second",
-              "brick_fragments_per_second", "peak_host_bytes", "peak_gpu_bytes", "bytes_on_disk", "regions", "splits", "skipped"]
+              "brick_fragments_per_second", "peak_host_bytes", "peak_gpu_bytes", "bytes_on_disk", "regions", "splits", "list_growths", "skipped"]
     with open(os.path.join(out, "results.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
         w.writeheader()
@@ -159,15 +165,16 @@ def write_summary(out, meta, rows, methods):
                          f"{fmt(r['slices_per_second'])} | {fmt(r['active_voxels'])} | {fmt(r['peak_host_bytes'], 'B')} | "
                          f"{fmt(r['peak_gpu_bytes'], 'B')} | {fmt(r['bytes_on_disk'], 'B')} | {r['regions'] or '-'} | |")
     lines += ["", "## Ratios (same garment, same resolution, this run)", "",
-              "| size | res | gl vs dense: time | gl vs dense: GPU memory | gl vs cpu: time |", "|---|---|---|---|---|"]
+              "Each ratio is baseline / yarnvox (gl): above 1, yarnvox is faster or uses less.", "",
+              "| size | res | time: dense / gl | GPU memory: dense / gl | time: cpu / gl |", "|---|---|---|---|---|"]
     index = {(r["size"], r["resolution"], r["method"]): r for r in rows if "skipped" not in r}
     for (size, res, method), r in index.items():
         if method != "gl":
             continue
         d, c = index.get((size, res, "dense")), index.get((size, res, "cpu"))
-        t_d = f"{d['wall_seconds'] / r['wall_seconds']:.2f}x faster" if d else "dense cannot run"
-        m_d = f"{d['peak_gpu_bytes'] / r['peak_gpu_bytes']:.1f}x less" if d and d.get("peak_gpu_bytes") and r.get("peak_gpu_bytes") else "-"
-        t_c = f"{c['wall_seconds'] / r['wall_seconds']:.2f}x faster" if c else "-"
+        t_d = f"{d['wall_seconds'] / r['wall_seconds']:.2f}" if d else "dense cannot run"
+        m_d = f"{d['peak_gpu_bytes'] / r['peak_gpu_bytes']:.2f}" if d and d.get("peak_gpu_bytes") and r.get("peak_gpu_bytes") else "-"
+        t_c = f"{c['wall_seconds'] / r['wall_seconds']:.2f}" if c else "-"
         lines.append(f"| {size} | {res} | {t_d} | {m_d} | {t_c} |")
     lines += ["", "Plots: `time.svg`, `memory.svg`, `throughput.svg`, `ratio.svg`."]
     open(os.path.join(out, "summary.md"), "w").write("\n".join(lines) + "\n")

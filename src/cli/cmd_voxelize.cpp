@@ -220,6 +220,7 @@ void runVoxelize(const VoxelizeArgs& a) {
             .set("fragments", counters.fragments)
             .set("raster_passes", counters.passes)
             .set("overflow_retries", counters.overflows)
+            .set("fragment_list_growths", counters.listGrowths)
             .set("zoom_regions", counters.plannedRegions)
             .set("regions_computed", counters.regions)
             .set("regions_resumed", counters.resumedRegions)

@@ -21,6 +21,7 @@ namespace yv {
 namespace {
 
 constexpr GLuint kWorkGroup = 256;
+constexpr std::uint64_t kInitialFragmentSlots = 1 << 20; // 16 MiB of fragments
 
 /// A GL buffer that grows on demand (contents are not kept when it grows).
 class GlBuffer {
@@ -157,7 +158,10 @@ class GlBackend::Impl {
         if (reduce_ == Reduce::Max) maxOrient_ = GlProgram::compute("brick_max_orient.comp");
         glCreateVertexArrays(1, &vao_);
         glCreateFramebuffers(1, &fbo_);
-        fragments_.reserve(capacity_ * sizeof(GpuFragment), &gpuBytes_);
+        // The list starts small and grows to what passes need, up to the budget,
+        // so a small garment does not hold the whole budget on the GPU.
+        fragmentSlots_ = std::min<std::uint64_t>(capacity_, kInitialFragmentSlots);
+        fragments_.reserve(fragmentSlots_ * sizeof(GpuFragment), &gpuBytes_);
         counter_.reserve(4, &gpuBytes_);
         counts_.reserve(16, &gpuBytes_);
         notePeak();
@@ -339,7 +343,7 @@ class GlBackend::Impl {
         glUniform3i(raster_.uniform("uRegionMin"), item.min.x, item.min.y, item.min.z);
         glUniform3i(raster_.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
         glUniform2f(raster_.uniform("uViewport"), float(viewport), float(viewport));
-        glUniform1ui(raster_.uniform("uCapacity"), static_cast<GLuint>(capacity_));
+        glUniform1ui(raster_.uniform("uCapacity"), static_cast<GLuint>(fragmentSlots_));
         segments_.bindStorage(0);
         drawList_.bindStorage(1);
         fragments_.bindStorage(2);
@@ -357,6 +361,14 @@ class GlBackend::Impl {
         GLuint fragmentCount = 0;
         std::memcpy(&fragmentCount, small_.read(counter_.id(), 4, &gpuBytes_), 4);
         if (fragmentCount > capacity_) return false;
+        if (fragmentCount > fragmentSlots_) {
+            // Within the budget but beyond the list as allocated: grow it and
+            // redo the same pass (the counter told us exactly how much is needed).
+            fragmentSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(fragmentCount) + fragmentCount / 4);
+            fragments_.reserve(fragmentSlots_ * sizeof(GpuFragment), &gpuBytes_);
+            ++counters_.listGrowths;
+            return process(item);
+        }
         if (fragmentCount == 0) return true;
 
         // Brick passes: flag, scan, then scatter into the touched bricks only.
@@ -444,6 +456,7 @@ class GlBackend::Impl {
     int words_;
     std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
     int regionCap_ = 1024;
+    std::uint64_t fragmentSlots_ = 0; ///< fragments the list holds now (grows up to capacity_)
     std::uint32_t uniformSlices_ = 0; ///< slices per segment when all segments agree, else 0
     GLuint maxGroups_ = 65535;
     ReadbackBuffer small_, readback_;
