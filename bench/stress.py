@@ -57,7 +57,12 @@ def main():
     ap.add_argument("--out", default=None)
     ap.add_argument("--timeout", type=float, default=900, help="seconds per run")
     ap.add_argument("--work", default="/tmp/yv-stress", help="scratch folder for garments and outputs")
+    ap.add_argument("--combine", nargs="+", metavar="RESULTS_JSON",
+                    help="merge the results.json of several partial runs (one machine) into --out, with summary and plots")
     args = ap.parse_args()
+    if args.combine:
+        combine(args.combine, args.out)
+        return
 
     if not os.access(args.yarnvox, os.X_OK):
         sys.exit(f"stress: {args.yarnvox} not found: build first (tools/test or tools/demo)")
@@ -137,6 +142,23 @@ def main():
         w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
+    write_summary(out, meta, rows, methods)
+    write_plots(out, rows, methods)
+    print(f"wrote {out}")
+
+
+def combine(paths, out):
+    """Partial runs (e.g. one per device call) become one result set."""
+    if not out:
+        sys.exit("stress: --combine needs --out")
+    os.makedirs(out, exist_ok=True)
+    parts = [json.load(open(p)) for p in paths]
+    rows = [r for part in parts for r in part["runs"]]
+    meta = dict(parts[0]["meta"])
+    meta["command"] = " + ".join(part["meta"]["command"] for part in parts)
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    json.dump({"meta": meta, "runs": rows, "parts": [part["meta"] for part in parts]},
+              open(os.path.join(out, "results.json"), "w"), indent=1)
     write_summary(out, meta, rows, methods)
     write_plots(out, rows, methods)
     print(f"wrote {out}")
