@@ -16,12 +16,6 @@ using namespace yv;
 
 namespace {
 
-#define REQUIRE_GL()                                                                 \
-    if (!GlContext::available()) {                                                   \
-        WARN("no OpenGL 4.5 context on this machine: dense method test skipped");   \
-        return;                                                                      \
-    }
-
 GlVoxelizeSettings maxSettings() {
     GlVoxelizeSettings s;
     s.base.reduce = Reduce::Max;
@@ -65,7 +59,7 @@ void checkAgainstSparse(const SlicePlan& plan, const CrossSection& xs, const Vox
 } // namespace
 
 TEST_CASE("dense method agrees with the sparse GL backend on a straight disk yarn", "[gl][dense]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     SliceOptions opt;
     opt.radius = 0.3;
     const SlicePlan plan = planSlices(test::straightYarn({0.1, 0.2, 0.3}, glm::normalize(glm::dvec3(1, 0.4, 0.25)), 6), opt);
@@ -74,7 +68,7 @@ TEST_CASE("dense method agrees with the sparse GL backend on a straight disk yar
 }
 
 TEST_CASE("dense method agrees with the sparse GL backend on a generated garment", "[gl][dense]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     GenerateOptions g;
     g.pattern = WeavePattern::Knit;
     g.shape = GarmentShape::Cylinder;
@@ -90,7 +84,7 @@ TEST_CASE("dense method agrees with the sparse GL backend on a generated garment
 }
 
 TEST_CASE("dense method refuses a grid larger than one 3D texture", "[gl][dense]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     int max3d = 0;
     {
         GlContext context;

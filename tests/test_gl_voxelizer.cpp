@@ -13,12 +13,6 @@ using namespace yv;
 
 namespace {
 
-#define REQUIRE_GL()                                                                 \
-    if (!GlContext::available()) {                                                   \
-        WARN("no OpenGL 4.5 context on this machine: GL backend test skipped");     \
-        return;                                                                      \
-    }
-
 GlVoxelizeSettings glSettings(Reduce r = Reduce::Mean, std::uint64_t capacity = 0) {
     GlVoxelizeSettings s;
     s.base.reduce = r;
@@ -39,7 +33,7 @@ bool identical(const BrickVolume& a, const BrickVolume& b) {
 } // namespace
 
 TEST_CASE("GL: a straight disk yarn fills pi r^2 L and follows its axis", "[gl][analytic]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     for (glm::dvec3 axis : {glm::dvec3(1, 0, 0), glm::dvec3(1, 0.4, 0.25)}) {
         SliceOptions opt;
         opt.radius = 0.3;
@@ -58,7 +52,7 @@ TEST_CASE("GL: a straight disk yarn fills pi r^2 L and follows its axis", "[gl][
 }
 
 TEST_CASE("GL: twisted yarn angle at radius rho is atan(rho tau)", "[gl][analytic]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     SliceOptions opt;
     opt.radius = 0.3;
     opt.twist = 3.0;
@@ -85,7 +79,7 @@ TEST_CASE("GL: twisted yarn angle at radius rho is atan(rho tau)", "[gl][analyti
 }
 
 TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreement]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     struct Case {
         WeavePattern pattern;
         GarmentShape shape;
@@ -128,7 +122,7 @@ TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreem
 }
 
 TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses nothing", "[gl][overflow]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     GenerateOptions g;
     g.pattern = WeavePattern::Plain;
     g.crossings = 36;
@@ -154,7 +148,7 @@ TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses no
 }
 
 TEST_CASE("GL: a capacity below one segment's worth is refused with a clear error", "[gl][overflow]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     SliceOptions opt;
     opt.radius = 0.3;
     const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {1, 0, 0}, 3), opt);
@@ -164,7 +158,7 @@ TEST_CASE("GL: a capacity below one segment's worth is refused with a clear erro
 }
 
 TEST_CASE("GL agrees with the CPU when slice counts vary per segment (--slice-spacing)", "[gl][agreement]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     GenerateOptions g;
     g.pattern = WeavePattern::Knit; // knit segments differ in length, so K differs
     g.crossings = 48;

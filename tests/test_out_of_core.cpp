@@ -22,12 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-#define REQUIRE_GL()                                                             \
-    if (!GlContext::available()) {                                               \
-        WARN("no OpenGL 4.5 context on this machine: GL backend test skipped"); \
-        return;                                                                  \
-    }
-
 class Collect : public RegionSink {
   public:
     void consume(const ZoomRegion&, std::vector<BrickAccumulator>&& bricks) override {
@@ -53,7 +47,7 @@ BrickVolume runWithBudget(const SlicePlan& plan, const CrossSection& xs, const V
 } // namespace
 
 TEST_CASE("Past the 2 GB texture limit, 64+ zoom regions give exactly the tree of one big budget", "[gl][out-of-core]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     GenerateOptions g;
     g.pattern = WeavePattern::Twill;
     g.shape = GarmentShape::Cylinder; // a tall, round grid: 1080 x 1072 x 2056 voxels at 2048
@@ -125,7 +119,7 @@ std::size_t regionFiles(const fs::path& dir) {
 } // namespace
 
 TEST_CASE("A run killed part-way and resumed gives the same .vdb; damaged regions are recomputed", "[gl][out-of-core][cli]") {
-    REQUIRE_GL();
+    YV_REQUIRE_GL();
     const fs::path dir = scratchDir("resume");
     fs::create_directories(dir);
     const fs::path bcc = dir / "g.bcc";

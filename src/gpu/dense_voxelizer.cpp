@@ -50,28 +50,6 @@ GLuint uploadBuffer(const void* data, std::size_t bytes) {
     return id;
 }
 
-/// Segments in voxel units from the grid origin, as gl_voxelizer.cpp uploads them.
-std::vector<GpuSegment> gpuSegments(const SlicePlan& plan, const VoxelGrid& grid) {
-    const double invH = 1.0 / grid.voxelSize;
-    std::vector<GpuSegment> gpu(plan.segments.size());
-    for (std::size_t i = 0; i < gpu.size(); ++i) {
-        const SegmentRecord& s = plan.segments[i];
-        GpuSegment& g = gpu[i];
-        for (int j = 0; j < 4; ++j) {
-            const glm::dvec3 p = (s.points[j] - grid.origin) * invH;
-            g.p[j][0] = float(p.x), g.p[j][1] = float(p.y), g.p[j][2] = float(p.z), g.p[j][3] = 0.0f;
-        }
-        g.up[0] = float(s.knotUp.x), g.up[1] = float(s.knotUp.y), g.up[2] = float(s.knotUp.z);
-        g.up[3] = float(s.arcStart * invH);
-        const float length = float(s.length * invH);
-        std::memcpy(&g.info[2], &length, 4);
-        g.info[0] = static_cast<std::uint32_t>(s.firstSlice);
-        g.info[1] = s.sliceCount;
-        g.info[3] = s.yarn;
-    }
-    return gpu;
-}
-
 std::string dimsText(const glm::ivec3& d) {
     return std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z);
 }
@@ -155,7 +133,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
                     std::to_string(std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]})));
 
     GlObjects gl;
-    const std::vector<GpuSegment> segments = gpuSegments(plan, grid);
+    const std::vector<GpuSegment> segments = packSegments(plan, grid);
     gl.segments = uploadBuffer(segments.data(), segments.size() * sizeof(GpuSegment));
     // Draw list: every segment, with its first instance.
     std::vector<std::uint32_t> draw(segments.size() * 2);

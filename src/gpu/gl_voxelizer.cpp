@@ -248,25 +248,7 @@ class GlBackend::Impl {
     }
 
     void uploadSegments() {
-        const double invH = 1.0 / grid_.voxelSize;
-        std::vector<GpuSegment> gpu(plan_.segments.size());
-        for (std::size_t i = 0; i < gpu.size(); ++i) {
-            const SegmentRecord& s = plan_.segments[i];
-            GpuSegment& g = gpu[i];
-            for (int j = 0; j < 4; ++j) {
-                const glm::dvec3 p = (s.points[j] - grid_.origin) * invH;
-                g.p[j][0] = float(p.x), g.p[j][1] = float(p.y), g.p[j][2] = float(p.z), g.p[j][3] = 0.0f;
-            }
-            g.up[0] = float(s.knotUp.x), g.up[1] = float(s.knotUp.y), g.up[2] = float(s.knotUp.z);
-            g.up[3] = float(s.arcStart * invH);
-            const float length = float(s.length * invH);
-            std::uint32_t lengthBits;
-            std::memcpy(&lengthBits, &length, 4);
-            g.info[0] = static_cast<std::uint32_t>(s.firstSlice);
-            g.info[1] = s.sliceCount;
-            g.info[2] = lengthBits;
-            g.info[3] = s.yarn;
-        }
+        const std::vector<GpuSegment> gpu = packSegments(plan_, grid_);
         segments_.upload(gpu.data(), gpu.size() * sizeof(GpuSegment), &gpuBytes_);
         counters_.sliceDataBytes = segments_.size();
     }

@@ -1,7 +1,11 @@
 // Buffer layouts shared by C++ and shaders/common.glsl (std430), GL-free.
 #pragma once
 
+#include "garment/slices.h"
+#include "plan/grid.h"
+
 #include <cstdint>
+#include <vector>
 
 namespace yv {
 
@@ -21,5 +25,9 @@ struct GpuFragment {
     std::uint32_t density; ///< float bits of the cross-section density
 };
 static_assert(sizeof(GpuFragment) == 16, "GpuFragment must match shaders/common.glsl");
+
+/// The plan's segments as the vertex shader reads them: control points and
+/// lengths in voxel units from the grid origin, so floats keep their precision.
+std::vector<GpuSegment> packSegments(const SlicePlan& plan, const VoxelGrid& grid);
 
 } // namespace yv

@@ -1,0 +1,28 @@
+#include "gpu/gpu_layout.h"
+
+#include <cstring>
+
+namespace yv {
+
+std::vector<GpuSegment> packSegments(const SlicePlan& plan, const VoxelGrid& grid) {
+    const double invH = 1.0 / grid.voxelSize;
+    std::vector<GpuSegment> gpu(plan.segments.size());
+    for (std::size_t i = 0; i < gpu.size(); ++i) {
+        const SegmentRecord& s = plan.segments[i];
+        GpuSegment& g = gpu[i];
+        for (int j = 0; j < 4; ++j) {
+            const glm::dvec3 p = (s.points[j] - grid.origin) * invH;
+            g.p[j][0] = float(p.x), g.p[j][1] = float(p.y), g.p[j][2] = float(p.z), g.p[j][3] = 0.0f;
+        }
+        g.up[0] = float(s.knotUp.x), g.up[1] = float(s.knotUp.y), g.up[2] = float(s.knotUp.z);
+        g.up[3] = float(s.arcStart * invH);
+        const float length = float(s.length * invH);
+        g.info[0] = static_cast<std::uint32_t>(s.firstSlice);
+        g.info[1] = s.sliceCount;
+        std::memcpy(&g.info[2], &length, 4);
+        g.info[3] = s.yarn;
+    }
+    return gpu;
+}
+
+} // namespace yv
