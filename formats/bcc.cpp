@@ -1,14 +1,10 @@
 // BCC reader and writer; the layout is described in formats/bcc.md.
 #include "bcc.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cerrno>
 #include <cmath>
@@ -16,7 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <system_error>
+#include <optional>
 #include <utility>
 
 namespace yv {
@@ -57,41 +53,8 @@ std::string quoted(const std::uint8_t* p, std::size_t n) {
     return s + "\"";
 }
 
-std::string errnoText(int err) { return std::generic_category().message(err); }
-
 [[noreturn]] void fail(const std::string& name, std::size_t offset, const std::string& what) {
     throw Error(name + ": byte " + std::to_string(offset) + ": " + what);
-}
-
-// Owns a descriptor so every early exit closes it; release() hands it back
-// when the caller must see close()'s result.
-class Fd {
-  public:
-    explicit Fd(int fd) : fd_(fd) {}
-    Fd(const Fd&) = delete;
-    Fd& operator=(const Fd&) = delete;
-    ~Fd() {
-        if (fd_ >= 0) ::close(fd_);
-    }
-    int get() const { return fd_; }
-    int release() { return std::exchange(fd_, -1); }
-
-  private:
-    int fd_;
-};
-
-// A temporary name next to the target keeps the rename on one file system;
-// pid and counter keep concurrent writers apart, O_EXCL the rest.
-Fd createTemporary(const std::string& path, std::string& tmp) {
-    static std::atomic<unsigned> counter{0};
-    for (int attempt = 0;; ++attempt) {
-        tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-        const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) return Fd(fd);
-        if (errno != EEXIST || attempt >= 100)
-            throw Error("cannot write " + path + ": cannot create temporary file " + tmp + ": " +
-                        errnoText(errno));
-    }
 }
 
 } // namespace
@@ -183,24 +146,9 @@ Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name
 }
 
 Garment readBcc(const std::string& path) {
-    Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
-    if (fd.get() < 0) throw Error("cannot open " + path + ": " + errnoText(errno));
-
-    std::vector<std::uint8_t> bytes;
-    struct stat st {};
-    if (::fstat(fd.get(), &st) == 0 && st.st_size > 0) bytes.reserve(static_cast<std::size_t>(st.st_size));
-    // Read until EOF rather than trusting st_size: the file may change or be a pipe.
-    std::uint8_t chunk[1 << 16];
-    for (;;) {
-        const ssize_t got = ::read(fd.get(), chunk, sizeof chunk);
-        if (got == 0) break;
-        if (got < 0) {
-            if (errno == EINTR) continue;
-            throw Error("cannot read " + path + ": " + errnoText(errno));
-        }
-        bytes.insert(bytes.end(), chunk, chunk + got);
-    }
-    return parseBcc(bytes, path);
+    const std::optional<std::vector<std::uint8_t>> bytes = readWholeFile(path);
+    if (!bytes) throw Error("cannot open " + path + ": " + errnoText(ENOENT));
+    return parseBcc(*bytes, path);
 }
 
 std::vector<std::uint8_t> encodeBcc(const Garment& garment) {
@@ -252,27 +200,7 @@ void writeBcc(const std::string& path, const Garment& garment) {
         throw Error(path + ": " + e.what());
     }
 
-    std::string tmp;
-    Fd fd = createTemporary(path, tmp);
-    // Removing the temporary on every failure keeps half-written files from piling up.
-    const auto abandon = [&](const char* step, int err) {
-        if (fd.get() >= 0) ::close(fd.release());
-        ::unlink(tmp.c_str());
-        return Error("cannot write " + path + ": " + step + " " + tmp + ": " + errnoText(err));
-    };
-
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-        const ssize_t put = ::write(fd.get(), bytes.data() + done, bytes.size() - done);
-        if (put < 0 && errno == EINTR) continue;
-        if (put < 0) throw abandon("write", errno);
-        done += static_cast<std::size_t>(put);
-    }
-    // Data must be on disk before the rename publishes the name, or a crash
-    // could leave a complete-looking name over a short file.
-    if (::fsync(fd.get()) != 0) throw abandon("fsync", errno);
-    if (::close(fd.release()) != 0) throw abandon("close", errno);
-    if (::rename(tmp.c_str(), path.c_str()) != 0) throw abandon("rename", errno);
+    writeFileAtomically(path, bytes);
 }
 
 } // namespace yv

@@ -1,5 +1,6 @@
 #include "core/stats.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <cmath>
@@ -71,22 +72,7 @@ std::string JsonObject::dump(int indent) const {
 }
 
 void writeTextFileAtomically(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".partial";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.flush();
-        if (!out) {
-            std::remove(tmp.c_str());
-            throw Error(path + ": cannot write file");
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::remove(tmp.c_str());
-        throw Error(path + ": cannot rename into place: " + ec.message());
-    }
+    writeFileAtomically(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
 }
 
 } // namespace yv

@@ -2,6 +2,7 @@
 // locking, and the BrickStore operations on top of manifest.h and region_file.h.
 #include "store/brick_store.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <fcntl.h>
@@ -32,7 +33,6 @@ using Clock = std::chrono::steady_clock;
 
 constexpr const char* kManifestName = "manifest";
 
-std::string errnoText(int err) { return std::generic_category().message(err); }
 
 std::string str(glm::ivec3 v) {
     return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
@@ -40,90 +40,9 @@ std::string str(glm::ivec3 v) {
 
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-class Fd {
-  public:
-    explicit Fd(int fd) : fd_(fd) {}
-    Fd(const Fd&) = delete;
-    Fd& operator=(const Fd&) = delete;
-    ~Fd() {
-        if (fd_ >= 0) ::close(fd_);
-    }
-    int get() const { return fd_; }
-    int release() { return std::exchange(fd_, -1); }
-
-  private:
-    int fd_;
-};
 
 std::string joinPath(const std::string& dir, const std::string& name) { return (fs::path(dir) / name).string(); }
 
-/// Whole file; nullopt when it does not exist.
-std::optional<std::vector<std::uint8_t>> readWholeFile(const std::string& path) {
-    Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
-    if (fd.get() < 0) {
-        if (errno == ENOENT) return std::nullopt;
-        throw Error("cannot open " + path + ": " + errnoText(errno));
-    }
-    struct stat st {};
-    if (::fstat(fd.get(), &st) != 0) throw Error("cannot stat " + path + ": " + errnoText(errno));
-    // One byte of slack so reaching EOF at the stat size does not force a regrowth.
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(std::max<off_t>(st.st_size, 0)) + 1);
-    std::size_t used = 0;
-    for (;;) {
-        if (used == bytes.size()) bytes.resize(bytes.size() * 2);
-        const ssize_t got = ::read(fd.get(), bytes.data() + used, bytes.size() - used);
-        if (got == 0) break;
-        if (got < 0) {
-            if (errno == EINTR) continue;
-            throw Error("cannot read " + path + ": " + errnoText(errno));
-        }
-        used += static_cast<std::size_t>(got);
-    }
-    bytes.resize(used);
-    return bytes;
-}
-
-void fsyncDir(int dirFd, const std::string& dir) {
-    if (::fsync(dirFd) != 0 && errno != EINVAL) // EINVAL: file systems that cannot sync directories
-        throw Error("cannot fsync work dir " + dir + ": " + errnoText(errno));
-}
-
-/// Writes `parts` to dir/name via a temporary name in the same directory,
-/// fsync, rename and a directory fsync: after a crash the file is either the
-/// old one, absent, or complete.
-void writeAtomically(const std::string& dir, int dirFd, const std::string& name,
-                     std::span<const std::span<const std::uint8_t>> parts) {
-    static std::atomic<unsigned> counter{0};
-    const std::string path = joinPath(dir, name);
-    std::string tmp;
-    int raw = -1;
-    for (int attempt = 0; raw < 0; ++attempt) {
-        tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-        raw = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (raw < 0 && (errno != EEXIST || attempt >= 100))
-            throw Error("cannot write " + path + ": cannot create temporary file " + tmp + ": " + errnoText(errno));
-    }
-    Fd fd(raw);
-    // Removing the temporary on every failure keeps half-written files from piling up.
-    const auto abandon = [&](const char* step, int err) {
-        if (fd.get() >= 0) ::close(fd.release());
-        ::unlink(tmp.c_str());
-        return Error("cannot write " + path + ": " + step + " " + tmp + ": " + errnoText(err));
-    };
-    for (std::span<const std::uint8_t> part : parts) {
-        std::size_t done = 0;
-        while (done < part.size()) {
-            const ssize_t put = ::write(fd.get(), part.data() + done, part.size() - done);
-            if (put < 0 && errno == EINTR) continue;
-            if (put < 0) throw abandon("write", errno);
-            done += static_cast<std::size_t>(put);
-        }
-    }
-    if (::fsync(fd.get()) != 0) throw abandon("fsync", errno);
-    if (::close(fd.release()) != 0) throw abandon("close", errno);
-    if (::rename(tmp.c_str(), path.c_str()) != 0) throw abandon("rename", errno);
-    fsyncDir(dirFd, dir);
-}
 
 // ---------------------------------------------------------------------------
 // Names in the work directory: only these are ours to create or delete.
