@@ -4,6 +4,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/text.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -33,10 +34,6 @@ using Clock = std::chrono::steady_clock;
 
 constexpr const char* kManifestName = "manifest";
 
-
-std::string str(glm::ivec3 v) {
-    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
-}
 
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -248,7 +245,7 @@ RegionInfo BrickStore::writeRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 
     requireWritable("write regions");
     const std::string name = regionName(id);
     if (min.x > max.x || min.y > max.y || min.z > max.z)
-        throw Error("cannot write " + regionPath(id) + ": region bounds " + str(min) + "-" + str(max) +
+        throw Error("cannot write " + regionPath(id) + ": region bounds " + coordText(min) + "-" + coordText(max) +
                     " are inverted");
     auto t = Clock::now();
     EncodedRegion e = encodeRegion(manifest_, id, min, max, bricks, regionPath(id));

@@ -2,6 +2,7 @@
 #include "store/manifest.h"
 
 #include "core/error.h"
+#include "core/text.h"
 
 #include <algorithm>
 #include <charconv>
@@ -17,16 +18,6 @@ namespace {
 
 constexpr std::uint64_t kVersion = 1;
 constexpr const char* kManifestTitle = "yarnvox brick store";
-
-std::string hex64(std::uint64_t v) {
-    char s[24];
-    std::snprintf(s, sizeof s, "0x%016" PRIx64, v);
-    return s;
-}
-
-std::string str(glm::ivec3 v) {
-    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
-}
 
 std::string num(double v) {
     char s[40];
@@ -152,7 +143,7 @@ void checkGrid(const VoxelGrid& g, const std::string& where) {
                     g.dims.x % 8 == 0 && g.dims.y % 8 == 0 && g.dims.z % 8 == 0;
     if (!ok)
         throw Error(where + ": invalid grid (origin " + num(g.origin.x) + " " + num(g.origin.y) + " " +
-                    num(g.origin.z) + ", voxel size " + num(g.voxelSize) + ", dims " + str(g.dims) +
+                    num(g.origin.z) + ", voxel size " + num(g.voxelSize) + ", dims " + coordText(g.dims) +
                     "): expected finite values, a positive voxel size and dims that are multiples of 8");
 }
 
@@ -183,9 +174,9 @@ std::string runDifference(const StoreManifest& disk, const StoreManifest& now) {
         add("fingerprint " + hex64(disk.fingerprint) + " on disk, " + hex64(now.fingerprint) + " for this run");
     if (!sameGrid(disk.grid, now.grid))
         add("grid on disk has origin (" + num(disk.grid.origin.x) + ", " + num(disk.grid.origin.y) + ", " +
-            num(disk.grid.origin.z) + "), voxel size " + num(disk.grid.voxelSize) + ", dims " + str(disk.grid.dims) +
+            num(disk.grid.origin.z) + "), voxel size " + num(disk.grid.voxelSize) + ", dims " + coordText(disk.grid.dims) +
             "; this run has origin (" + num(now.grid.origin.x) + ", " + num(now.grid.origin.y) + ", " +
-            num(now.grid.origin.z) + "), voxel size " + num(now.grid.voxelSize) + ", dims " + str(now.grid.dims));
+            num(now.grid.origin.z) + "), voxel size " + num(now.grid.voxelSize) + ", dims " + coordText(now.grid.dims));
     if (disk.reduce != now.reduce)
         add(std::string("reduce ") + toString(disk.reduce) + " on disk, " + toString(now.reduce) + " for this run");
     return d;

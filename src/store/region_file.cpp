@@ -2,6 +2,7 @@
 #include "store/region_file.h"
 
 #include "core/error.h"
+#include "core/text.h"
 
 #include <lz4.h>
 #include <tbb/parallel_for.h>
@@ -86,16 +87,6 @@ constexpr std::size_t kMaxChunkRawBytes = 64u << 20;        // what we accept
 // which matches the little-endian format only on a little-endian host.
 static_assert(std::endian::native == std::endian::little, "the brick store format assumes a little-endian host");
 static_assert(sizeof(glm::vec3) == 12);
-
-std::string hex64(std::uint64_t v) {
-    char s[24];
-    std::snprintf(s, sizeof s, "0x%016" PRIx64, v);
-    return s;
-}
-
-std::string str(glm::ivec3 v) {
-    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
-}
 
 [[noreturn]] void fail(const std::string& name, std::uint64_t offset, const std::string& what) {
     throw Error(name + ": byte " + std::to_string(offset) + ": " + what);
@@ -238,8 +229,8 @@ void checkRegionIdentity(const RegionHeader& h, const StoreManifest& m, std::uin
     if (h.reduce != m.reduce)
         fail(name, 100, std::string("reduce mode ") + toString(h.reduce) + ", the work dir's is " + toString(m.reduce));
     if (min && max && (h.min != *min || h.max != *max))
-        fail(name, 32, "bounds " + str(h.min) + "-" + str(h.max) + " differ from the plan's " + str(*min) + "-" +
-                           str(*max));
+        fail(name, 32, "bounds " + coordText(h.min) + "-" + coordText(h.max) + " differ from the plan's " + coordText(*min) + "-" +
+                           coordText(*max));
 }
 
 EncodedRegion encodeRegion(const StoreManifest& m, std::uint64_t id, glm::ivec3 min, glm::ivec3 max,
@@ -252,10 +243,10 @@ EncodedRegion encodeRegion(const StoreManifest& m, std::uint64_t id, glm::ivec3 
     for (std::size_t i = 0; i < order.size(); ++i) {
         const std::uint64_t key = bricks[order[i]].key;
         if (i > 0 && key == bricks[order[i - 1]].key)
-            throw Error("cannot write " + name + ": brick " + str(brickCoord(key)) + " given twice");
+            throw Error("cannot write " + name + ": brick " + coordText(brickCoord(key)) + " given twice");
         if (key >> 63 || !overlaps(key, min, max))
-            throw Error("cannot write " + name + ": brick " + str(brickCoord(key)) + " lies outside the region " +
-                        str(min) + "-" + str(max));
+            throw Error("cannot write " + name + ": brick " + coordText(brickCoord(key)) + " lies outside the region " +
+                        coordText(min) + "-" + coordText(max));
     }
 
     EncodedRegion e;
@@ -317,8 +308,8 @@ void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::s
         if (keys[i] >> 63 || (i > 0 && keys[i] <= keys[i - 1]))
             fail(name, h.indexOffset() + 8 * i, "brick key " + hex64(keys[i]) + ": expected keys in ascending order");
         if (!overlaps(keys[i], h.min, h.max))
-            fail(name, h.indexOffset() + 8 * i, "brick " + str(brickCoord(keys[i])) + " lies outside the region " +
-                                                    str(h.min) + "-" + str(h.max));
+            fail(name, h.indexOffset() + 8 * i, "brick " + coordText(brickCoord(keys[i])) + " lies outside the region " +
+                                                    coordText(h.min) + "-" + coordText(h.max));
     }
 
     struct Chunk {

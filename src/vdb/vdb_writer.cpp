@@ -1,6 +1,7 @@
 #include "vdb/vdb_writer.h"
 
 #include "core/error.h"
+#include "core/text.h"
 
 #include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
@@ -17,10 +18,6 @@ namespace {
 
 using DensityLeaf = openvdb::FloatGrid::TreeType::LeafNodeType;
 using OrientationLeaf = openvdb::Vec3SGrid::TreeType::LeafNodeType;
-
-std::string coordText(glm::ivec3 v) {
-    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
-}
 
 void fsyncPath(const std::string& path, int flags) {
     if (int fd = ::open(path.c_str(), flags | O_CLOEXEC); fd >= 0) {
