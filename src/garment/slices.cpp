@@ -96,6 +96,7 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
         SegmentRecord& rec = plan.segments[i];
         const bool yarnStart = i == 0 || plan.segments[i - 1].yarn != rec.yarn;
         const glm::dvec3 t0 = unitTangent(rec.points, 0.0, rec.yarn);
+        rec.knotTangent = t0;
         if (yarnStart) {
             rec.arcStart = 0.0;
             rec.knotUp = anyPerpendicular(t0);
@@ -103,8 +104,7 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
             const SegmentRecord& prevRec = plan.segments[i - 1];
             rec.arcStart = prevRec.arcStart + prevRec.length;
             // Parallel transport: the frame turns only as much as the tangent does.
-            const glm::dvec3 prevT0 = unitTangent(prevRec.points, 0.0, prevRec.yarn);
-            const glm::dvec3 up = rotateMinimal(prevRec.knotUp, prevT0, t0);
+            const glm::dvec3 up = rotateMinimal(prevRec.knotUp, prevRec.knotTangent, t0);
             rec.knotUp = glm::normalize(up - glm::dot(up, t0) * t0);
         }
         rec.firstSlice = firstSlice;
@@ -145,8 +145,7 @@ Slice placeSlice(const SegmentRecord& segment, std::uint32_t k, const SliceOptio
                               evalCatmullRom(segment.points, k * invK));
     s.twistStep = options.twist * s.thickness;
 
-    const glm::dvec3 t0 = unitTangent(segment.points, 0.0, segment.yarn);
-    glm::dvec3 up = rotateMinimal(segment.knotUp, t0, s.tangent);
+    glm::dvec3 up = rotateMinimal(segment.knotUp, segment.knotTangent, s.tangent);
     up = glm::normalize(up - glm::dot(up, s.tangent) * s.tangent);
     // Twist phase grows with arc length; within a segment arc length is taken
     // as linear in t, the same rule the vertex shader uses.

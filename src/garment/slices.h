@@ -31,7 +31,8 @@ struct SliceOptions {
 /// One curve segment of one yarn, with what it takes to place its slices.
 struct SegmentRecord {
     SegmentPoints points;     ///< P[i-1], P[i], P[i+1], P[i+2]
-    glm::dvec3 knotUp;        ///< frame "up" at t = 0, perpendicular to the tangent there
+    glm::dvec3 knotTangent;   ///< unit tangent at t = 0
+    glm::dvec3 knotUp;        ///< frame "up" at t = 0, perpendicular to knotTangent
     double arcStart = 0.0;    ///< arc length of the yarn before this segment (sum of slice chords)
     double length = 0.0;      ///< sum of this segment's slice chords
     std::uint64_t firstSlice = 0;
