@@ -53,9 +53,9 @@ class StoreSink : public RegionSink {
     void consume(const ZoomRegion& r, std::vector<BrickAccumulator>&& bricks) override {
         // Fibre volume from the raw words before they leave: integer sums for
         // mean, the densest samples for max.
+        const bool mean = store_.manifest().reduce == Reduce::Mean;
         for (const BrickAccumulator& b : bricks)
-            for (int v = 0; v < kBrickVoxels; ++v)
-                densitySum += store_.manifest().reduce == Reduce::Mean ? b.words[v] / kFixedScale : bitsFloat(b.words[v]);
+            for (int v = 0; v < kBrickVoxels; ++v) densitySum += mean ? b.words[v] / kFixedScale : bitsFloat(b.words[v]);
         writer_.submit(r.id, r.min, r.max, std::move(bricks));
     }
     std::uint64_t recomputed = 0; ///< damaged region files found on resume
