@@ -1,7 +1,8 @@
 // Samples the cross-section at level 0 and appends one voxel fragment per
-// sample on fibre. Each fragment finds its sample from its pixel in global
-// (grid) coordinates and the slice's plane, exactly as the CPU reference
-// does, so the result is the same bits whatever region the pass covers.
+// voxel that the sample's slab column crosses. Each fragment finds its sample
+// from its pixel in global (grid) coordinates and the slice's plane, exactly
+// as the CPU reference does, so the result is the same bits whatever region
+// the pass covers.
 
 layout(binding = 0) uniform usampler2D uCrossSection; // R8UI, texel 255 = solid fibre
 layout(binding = 0, offset = 0) uniform atomic_uint uFragmentCount;
@@ -9,7 +10,6 @@ layout(std430, binding = 2) writeonly buffer Fragments { Fragment fragments[]; }
 
 uniform uint uCapacity;       // fragments the list holds; the counter goes on past it
 uniform float uRadius;        // yarn radius, voxel units
-uniform float uTwist;         // radians per voxel unit of yarn length
 uniform int uSupersample;
 uniform ivec3 uRegionMin;
 uniform ivec3 uRegionBricks;  // region size in bricks
@@ -19,8 +19,10 @@ flat in vec3 vCenter;
 flat in vec3 vRight;
 flat in vec3 vUp;
 flat in vec3 vTangent;
+flat in vec3 vCurvature;
 flat in float vThickness;
-flat in float vWeightScale;
+flat in float vTwistStep;
+flat in float vDepthScale;
 
 void main() {
     int a = vAxis, b = (a + 1) % 3, c = (a + 2) % 3;
@@ -36,12 +38,9 @@ void main() {
     float y = (vRight[b] * dc - vRight[c] * db) / det;
     if (x < -uRadius || x >= uRadius || y < -uRadius || y >= uRadius) return;
 
-    ivec3 voxel;
-    voxel[a] = int(floor(vCenter[a] + x * vRight[a] + y * vUp[a]));
-    voxel[b] = pixel.x / uSupersample;
-    voxel[c] = pixel.y / uSupersample;
-    voxel -= uRegionMin;
-    if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, uRegionBricks * 8))) return;
+    ivec2 face = ivec2(pixel.x / uSupersample, pixel.y / uSupersample) - ivec2(uRegionMin[b], uRegionMin[c]);
+    ivec3 regionSize = uRegionBricks * 8;
+    if (face.x < 0 || face.y < 0 || face.x >= regionSize[b] || face.y >= regionSize[c]) return;
 
     int size = textureSize(uCrossSection, 0).x;
     ivec2 texel = clamp(ivec2(floor((vec2(x, y) / uRadius + 1.0) * 0.5 * float(size))), ivec2(0), ivec2(size - 1));
@@ -49,18 +48,32 @@ void main() {
     if (value == 0u) return;
     float density = float(value) / 255.0;
 
+    // The pixel's column through the slab: its depth follows the bend (the
+    // tube's Jacobian), centred where the column meets the slice.
+    float depth = max(0.0, 1.0 - dot(vCurvature, x * vRight + y * vUp)) * vDepthScale;
+    if (!(depth > 0.0)) return;
+    float z0 = vCenter[a] + x * vRight[a] + y * vUp[a] - 0.5 * depth, z1 = z0 + depth;
+
     // Eq. 1 of the paper: where the fibre at (x, y) sits on the next slice.
-    float step = uTwist * vThickness;
-    float cs = cos(step), sn = sin(step);
-    vec3 dir = (x * cs - y * sn - x) * vRight + (x * sn + y * cs - y) * vUp + vThickness * vTangent;
+    float cs = cos(vTwistStep), sn = sin(vTwistStep);
+    uint axis = encodeAxis(normalize((x * cs - y * sn - x) * vRight + (x * sn + y * cs - y) * vUp + vThickness * vTangent));
+    float weight = density / (S * S);
 
-    ivec3 brick = voxel >> 3;
-    uint brickIndex = uint(brick.x + uRegionBricks.x * (brick.y + uRegionBricks.y * brick.z));
-    ivec3 local = voxel & 7;
-    uint key = (brickIndex << 9) | uint((local.x << 6) | (local.y << 3) | local.z);
-
-    uint slot = atomicCounterIncrement(uFragmentCount);
-    if (slot < uCapacity)
-        fragments[slot] = Fragment(key, uint(round(density * vWeightScale * kFixedScale)), encodeAxis(normalize(dir)),
-                                   floatBitsToUint(density));
+    // One fragment per voxel the column crosses (a box filter in depth).
+    ivec3 voxel;
+    voxel[b] = face.x;
+    voxel[c] = face.y;
+    for (float v = floor(z0); v < z1; v += 1.0) {
+        float share = min(z1, v + 1.0) - max(z0, v);
+        if (!(share > 0.0)) continue;
+        voxel[a] = int(v) - uRegionMin[a];
+        if (voxel[a] < 0 || voxel[a] >= regionSize[a]) continue;
+        ivec3 brick = voxel >> 3;
+        uint brickIndex = uint(brick.x + uRegionBricks.x * (brick.y + uRegionBricks.y * brick.z));
+        ivec3 local = voxel & 7;
+        uint key = (brickIndex << 9) | uint((local.x << 6) | (local.y << 3) | local.z);
+        uint slot = atomicCounterIncrement(uFragmentCount);
+        if (slot < uCapacity)
+            fragments[slot] = Fragment(key, uint(round(weight * share * kFixedScale)), axis, floatBitsToUint(density));
+    }
 }

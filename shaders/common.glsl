@@ -6,8 +6,9 @@ const float kFixedScale = 16777216.0;
 const int kBrickVoxels = 512;
 
 // One curve segment (96 bytes): control points in voxel units relative to
-// the grid origin; up.w = arc length before the segment; info = first slice
-// within the draw's list, slice count, float bits of the segment length, yarn.
+// the grid origin; p[0].w = twist rate (radians per voxel unit of length);
+// up.w = twist phase at the segment's start; info = first slice within the
+// draw's list, slice count, float bits of the segment length, yarn.
 struct GpuSegment {
     vec4 p[4];
     vec4 up;
@@ -33,6 +34,20 @@ vec3 catmullRomDerivative(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t) {
     float t2 = t * t;
     return 0.5 * ((-1.0 + 4.0 * t - 3.0 * t2) * p0 + (-10.0 * t + 9.0 * t2) * p1 +
                   (1.0 + 8.0 * t - 9.0 * t2) * p2 + (-2.0 * t + 3.0 * t2) * p3);
+}
+
+vec3 catmullRomSecondDerivative(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t) {
+    return 0.5 * ((4.0 - 6.0 * t) * p0 + (-10.0 + 18.0 * t) * p1 + (8.0 - 18.0 * t) * p2 + (-2.0 + 6.0 * t) * p3);
+}
+
+// Projection axis: the dominant component of the slice normal; components
+// within a relative 2^-10 of the largest go to the lowest index, so that
+// float here and double on the CPU agree at exact 45-degree ties
+// (src/core/sampling.h: dominantAxis).
+int dominantAxis(vec3 n) {
+    vec3 a = abs(n);
+    float floorValue = max(a.x, max(a.y, a.z)) * (1.0 - 1.0 / 1024.0);
+    return a.x >= floorValue ? 0 : (a.y >= floorValue ? 1 : 2);
 }
 
 // Axis folded onto the upper hemisphere (v and -v are the same fibre).

@@ -1,5 +1,6 @@
 // The paper's dense method (Appendix A): every sample on fibre is written
-// straight into dense 3D textures, density as a max and the fibre direction as
+// straight into dense 3D textures, into the one voxel that holds it (no split
+// of the slab in depth: the paper's rule, kept as the baseline), density as a max and the fibre direction as
 // two 8-bit angles. The sample itself is computed exactly as append.frag does
 // (global pixel index, slice plane, half-open square, level-0 texel), so the
 // baseline differs from the sparse backend only in how samples are stored.
@@ -16,7 +17,6 @@ layout(binding = 1, r8) uniform writeonly image3D uTheta;
 layout(binding = 2, r8) uniform writeonly image3D uPhi;
 
 uniform float uRadius;        // yarn radius, voxel units
-uniform float uTwist;         // radians per voxel unit of yarn length
 uniform int uSupersample;
 uniform ivec3 uDims;          // grid size in voxels (the textures' size)
 
@@ -25,8 +25,10 @@ flat in vec3 vCenter;
 flat in vec3 vRight;
 flat in vec3 vUp;
 flat in vec3 vTangent;
+flat in vec3 vCurvature;
 flat in float vThickness;
-flat in float vWeightScale;
+flat in float vTwistStep;
+flat in float vDepthScale;
 
 const float kPi = 3.14159265358979323846;
 
@@ -56,8 +58,7 @@ void main() {
     float density = float(value) / 255.0;
 
     // Eq. 1 of the paper: where the fibre at (x, y) sits on the next slice.
-    float step = uTwist * vThickness;
-    float cs = cos(step), sn = sin(step);
+    float cs = cos(vTwistStep), sn = sin(vTwistStep);
     vec3 dir = normalize((x * cs - y * sn - x) * vRight + (x * sn + y * cs - y) * vUp + vThickness * vTangent);
 
     // Racy max, as the paper (see the top of the file). Unlike the paper, the

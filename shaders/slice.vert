@@ -1,8 +1,8 @@
 // Places slice gl_InstanceID of the draw's segment list from curve data (no
 // per-slice matrices) and projects it along the dominant axis of its normal
 // onto the region's face, one pixel per (supersampled) voxel column. The quad
-// is drawn slightly larger than the slice; append.frag keeps exactly the
-// pixel centres inside the slice, so coverage never depends on the region.
+// is drawn slightly larger than the slice; the fragment shader keeps exactly
+// the pixel centres inside the slice, so coverage never depends on the region.
 
 layout(std430, binding = 0) readonly buffer Segments { GpuSegment segments[]; };
 // Segments this draw covers (indices into `segments`), and the first
@@ -12,18 +12,19 @@ layout(std430, binding = 1) readonly buffer DrawList { uvec2 drawList[]; }; // x
 uniform int uDrawCount;        // entries in drawList
 uniform uint uUniformSlices;   // slices of every segment when all have the same count, else 0
 uniform float uRadius;         // yarn radius, voxel units
-uniform float uTwist;          // radians per voxel unit of yarn length
 uniform int uSupersample;
 uniform ivec3 uRegionMin;      // region box in voxels
 uniform vec2 uViewport;        // viewport size in pixels (covers every axis' face)
 
 flat out int vAxis;
-flat out vec3 vCenter;    // voxel units from the grid origin
+flat out vec3 vCenter;     // voxel units from the grid origin
 flat out vec3 vRight;
 flat out vec3 vUp;
 flat out vec3 vTangent;
-flat out float vThickness;
-flat out float vWeightScale;
+flat out vec3 vCurvature;  // curvature vector, 1 / voxel units
+flat out float vThickness; // voxel units
+flat out float vTwistStep; // radians the cross-section turns by at the next slice
+flat out float vDepthScale; // slab depth along the projection axis, voxel units, before the bend's scale
 
 vec3 rotateMinimal(vec3 v, vec3 from, vec3 to) {
     float c = dot(from, to);
@@ -54,18 +55,20 @@ void main() {
 
     float t = (float(k) + 0.5) / K;
     vec3 center = catmullRom(p0, p1, p2, p3, t);
-    vec3 tangent = normalize(catmullRomDerivative(p0, p1, p2, p3, t));
+    vec3 d1 = catmullRomDerivative(p0, p1, p2, p3, t);
+    vec3 d2 = catmullRomSecondDerivative(p0, p1, p2, p3, t);
+    vec3 tangent = normalize(d1);
     float thickness = length(catmullRom(p0, p1, p2, p3, float(k + 1u) / K) - catmullRom(p0, p1, p2, p3, float(k) / K));
 
     vec3 t0 = normalize(catmullRomDerivative(p0, p1, p2, p3, 0.0));
     vec3 up = rotateMinimal(seg.up.xyz, t0, tangent);
     up = normalize(up - dot(up, tangent) * tangent);
-    float phase = uTwist * (seg.up.w + t * uintBitsToFloat(seg.info.z));
+    float twistRate = seg.p[0].w;
+    float phase = seg.up.w + twistRate * t * uintBitsToFloat(seg.info.z);
     vec3 right = cos(phase) * up + sin(phase) * cross(tangent, up);
     vec3 sliceUp = cross(tangent, right);
 
-    vec3 at = abs(tangent);
-    int a = (at.x >= at.y && at.x >= at.z) ? 0 : (at.y >= at.z ? 1 : 2);
+    int a = dominantAxis(tangent);
     int b = (a + 1) % 3, c = (a + 2) % 3;
 
     // Two pixels of margin in the plane are at least one pixel on the face,
@@ -81,6 +84,8 @@ void main() {
     vRight = right;
     vUp = sliceUp;
     vTangent = tangent;
+    vCurvature = (d2 - dot(d2, tangent) * tangent) / dot(d1, d1);
     vThickness = thickness;
-    vWeightScale = thickness / (float(uSupersample * uSupersample) * at[a]);
+    vTwistStep = twistRate * thickness;
+    vDepthScale = thickness / abs(tangent[a]);
 }

@@ -467,12 +467,12 @@ TEST_CASE("RegionWriter with a tiny queue bound writes every region, as resolveV
     const std::vector<AccumulatorRegion> regions = makeAccumulatorRegions(32, 6);
     std::vector<BrickAccumulator> all;
     for (const auto& r : regions) all.insert(all.end(), r.accumulators.begin(), r.accumulators.end());
-    const BrickVolume expected = resolveVolume(testGrid(), Reduce::Mean, all);
+    const BrickVolume expected = resolveVolume(testGrid(), Reduce::Mean, Overlap::Clamp, all);
     REQUIRE(expected.bricks.size() < all.size()); // some accumulators resolve to nothing
 
     {
         BrickStore store(dir, testManifest(), false);
-        RegionWriter writer(store, Reduce::Mean, bound, 3);
+        RegionWriter writer(store, Reduce::Mean, Overlap::Clamp, bound, 3);
         for (const auto& r : regions) writer.submit(r.id, r.min, r.max, r.accumulators);
         const std::vector<RegionInfo> infos = writer.finish();
         REQUIRE(infos.size() == regions.size());
@@ -503,7 +503,7 @@ TEST_CASE("A RegionWriter worker error surfaces from submit and finish, without 
     fs::remove_all(dir); // every write now fails
 
     SECTION("tiny bound: the second submit waits for the first region, then sees its error") {
-        RegionWriter writer(store, Reduce::Mean, 1, 2);
+        RegionWriter writer(store, Reduce::Mean, Overlap::Clamp, 1, 2);
         writer.submit(regions[0].id, regions[0].min, regions[0].max, regions[0].accumulators);
         const AccumulatorRegion& next = regions[1];
         CHECK_THAT(errorOf([&] { writer.submit(next.id, next.min, next.max, next.accumulators); }),
@@ -511,7 +511,7 @@ TEST_CASE("A RegionWriter worker error surfaces from submit and finish, without 
         CHECK_THROWS_AS(writer.finish(), Error);
     }
     SECTION("large bound: everything queued, finish reports the error") {
-        RegionWriter writer(store, Reduce::Mean, std::size_t(1) << 30, 2);
+        RegionWriter writer(store, Reduce::Mean, Overlap::Clamp, std::size_t(1) << 30, 2);
         for (const auto& r : regions) {
             try {
                 writer.submit(r.id, r.min, r.max, r.accumulators);
@@ -521,7 +521,7 @@ TEST_CASE("A RegionWriter worker error surfaces from submit and finish, without 
         CHECK_THAT(errorOf([&] { writer.finish(); }), Catch::Contains("cannot write"));
     }
     SECTION("a malformed accumulator is refused in the caller's thread") {
-        RegionWriter writer(store, Reduce::Mean, 1);
+        RegionWriter writer(store, Reduce::Mean, Overlap::Clamp, 1);
         std::vector<BrickAccumulator> bad(1);
         bad[0].words.resize(kMaxWords * kBrickVoxels);
         CHECK_THAT(errorOf([&] { writer.submit(9, kAll0, kAll1, bad); }), Catch::Contains("words"));

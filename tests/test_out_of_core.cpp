@@ -41,7 +41,7 @@ BrickVolume runWithBudget(const SlicePlan& plan, const CrossSection& xs, const V
     counters.plannedRegions = zoom.regions.size();
     Collect sink;
     backend.run(zoom.regions, sink);
-    return resolveVolume(grid, Reduce::Mean, sink.all);
+    return resolveVolume(grid, Reduce::Mean, Overlap::Clamp, sink.all);
 }
 
 } // namespace

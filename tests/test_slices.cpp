@@ -29,7 +29,7 @@ TEST_CASE("Slice frames stay orthonormal and do not flip on a curved yarn", "[sl
     double worstTurn = 0.0;
     for (const SegmentRecord& seg : plan.segments)
         for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
-            const Slice s = placeSlice(seg, k, opt);
+            const Slice s = placeSlice(seg, k);
             CHECK(std::abs(glm::length(s.tangent) - 1) < 1e-9);
             CHECK(std::abs(glm::length(s.right) - 1) < 1e-9);
             CHECK(std::abs(glm::length(s.up) - 1) < 1e-9);
@@ -50,8 +50,8 @@ TEST_CASE("Twist turns the frame by twist times arc length", "[slices]") {
     opt.radius = 0.1;
     opt.twist = 0.5;
     const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {0, 0, 1}, 6), opt);
-    const Slice first = placeSlice(plan.segments[0], 0, opt);
-    const Slice later = placeSlice(plan.segments[3], 2, opt);
+    const Slice first = placeSlice(plan.segments[0], 0);
+    const Slice later = placeSlice(plan.segments[3], 2);
     const double arc = 3.0 + 2.5 / 4.0 - 0.5 / 4.0;
     const double angle = std::atan2(glm::dot(glm::cross(first.right, later.right), first.tangent), glm::dot(first.right, later.right));
     CHECK(angle == Approx(std::remainder(opt.twist * arc, 2 * M_PI)).margin(1e-9));
@@ -65,7 +65,7 @@ TEST_CASE("Slice thicknesses add up to the yarn length", "[slices]") {
     const SlicePlan plan = planSlices(test::straightYarn({1, 2, 3}, {1, 1, 0.5}, 9), opt);
     double total = 0.0;
     for (const SegmentRecord& seg : plan.segments)
-        for (std::uint32_t k = 0; k < seg.sliceCount; ++k) total += placeSlice(seg, k, opt).thickness;
+        for (std::uint32_t k = 0; k < seg.sliceCount; ++k) total += placeSlice(seg, k).thickness;
     CHECK(total == Approx(9.0).epsilon(1e-12));
 }
 
@@ -83,7 +83,7 @@ TEST_CASE("Fibre direction follows the paper's eq. 1", "[slices]") {
     opt.radius = 0.5;
     opt.twist = 2.0;
     const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {0, 0, 1}, 4), opt);
-    const Slice s = placeSlice(plan.segments[1], 10, opt);
+    const Slice s = placeSlice(plan.segments[1], 10);
     for (double rho : {0.0, 0.1, 0.3, 0.45}) {
         const glm::dvec3 d = fiberDirection(s, rho, 0.0);
         CHECK(std::acos(glm::dot(d, s.tangent)) == Approx(std::atan(rho * opt.twist)).margin(2e-3));

@@ -31,8 +31,9 @@ namespace yv {
 namespace {
 
 struct VoxelizeArgs {
-    std::string input, output, backend = "gl", method = "sparse", crossSection = "fibers", reduce = "mean", statsPath, workDir;
-    int resolution = 0, slicesPerSegment = 25, supersample = 1, device = -1;
+    std::string input, output, backend = "gl", method = "sparse", crossSection = "fibers", reduce = "mean",
+        overlap = "clamp", statsPath, workDir;
+    int resolution = 0, slicesPerSegment = 0, supersample = 1, device = -1;
     double voxelSize = 0.0, yarnRadius = 0.0, spacing = 0.0, twist = 0.0;
     std::uint64_t fragmentCapacity = 0;
     bool quiet = false, verbose = false, resume = false, keepWorkDir = false;
@@ -51,15 +52,9 @@ class StoreSink : public RegionSink {
         return false;
     }
     void consume(const ZoomRegion& r, std::vector<BrickAccumulator>&& bricks) override {
-        // Fibre volume from the raw words before they leave: integer sums for
-        // mean, the densest samples for max.
-        const bool mean = store_.manifest().reduce == Reduce::Mean;
-        for (const BrickAccumulator& b : bricks)
-            for (int v = 0; v < kBrickVoxels; ++v) densitySum += mean ? b.words[v] / kFixedScale : bitsFloat(b.words[v]);
         writer_.submit(r.id, r.min, r.max, std::move(bricks));
     }
     std::uint64_t recomputed = 0; ///< damaged region files found on resume
-    double densitySum = 0.0;      ///< over the regions computed in this run
 
   private:
     BrickStore& store_;
@@ -95,20 +90,32 @@ void runVoxelize(const VoxelizeArgs& a) {
 
     CrossSection xs = makeCrossSection(a.crossSection);
     SliceOptions sliceOptions;
-    sliceOptions.slicesPerSegment = a.slicesPerSegment;
-    sliceOptions.spacing = a.spacing;
     sliceOptions.twist = a.twist;
     sliceOptions.radius = a.yarnRadius > 0 ? a.yarnRadius : (xs.radius > 0 ? xs.radius : garment.yarnRadius);
     if (!(sliceOptions.radius > 0))
         throw Error(a.input + ": the file gives no yarn radius: pass --yarn-radius R (world units)");
-    const SlicePlan plan = planSlices(garment, sliceOptions);
-    stages.set("slices", timer.lap());
-
     if (a.resolution == 0 && a.voxelSize == 0.0)
         throw Error("give --resolution N (voxels on the longest axis) or --voxel-size H");
+    // Slices follow the voxel size, not the garment's control points: one
+    // slice per (supersampled) voxel along the yarn, unless asked otherwise.
+    const double voxelSize = voxelSizeFor(garment, sliceOptions.radius, a.resolution, a.voxelSize);
+    const bool explicitSpacing = a.slicesPerSegment > 0 || a.spacing > 0.0;
+    sliceOptions.slicesPerSegment = a.slicesPerSegment;
+    sliceOptions.spacing = explicitSpacing ? a.spacing : defaultSliceSpacing(voxelSize, a.supersample);
+    const SlicePlan plan = planSlices(garment, sliceOptions);
+    stages.set("slices", timer.lap());
     const VoxelGrid grid = makeGrid(plan, a.resolution, a.voxelSize);
+    if (explicitSpacing && !a.quiet && plan.maxSpacing > 1.01 * grid.voxelSize)
+        std::fprintf(stderr,
+                     "warning: %s places slices up to %.3g voxels apart: each slab is split over the voxels it "
+                     "spans and treated as flat across them, so bends are coarsened (leave it out for one slice "
+                     "per voxel)\n",
+                     a.slicesPerSegment > 0 ? ("--slices-per-segment " + std::to_string(a.slicesPerSegment)).c_str()
+                                            : "--slice-spacing",
+                     plan.maxSpacing / grid.voxelSize);
     VoxelizeSettings settings;
     settings.reduce = a.reduce == "max" ? Reduce::Max : Reduce::Mean;
+    settings.overlap = a.overlap == "sum" ? Overlap::Sum : Overlap::Clamp;
     settings.supersample = a.supersample;
     settings.quiet = a.quiet;
 
@@ -121,10 +128,14 @@ void runVoxelize(const VoxelizeArgs& a) {
     meta.yarnRadius = sliceOptions.radius;
     meta.twist = a.twist;
     meta.supersample = a.supersample;
+    meta.overlap = toString(settings.overlap);
+    meta.sliceSpacing = plan.maxSpacing;
 
     JsonObject backendStats;
     std::uint64_t samples = 0, active = 0, bricks = 0;
-    double fiberVolume = 0.0, voxelizeSeconds = 0.0;
+    double voxelizeSeconds = 0.0;
+    ResolveTally tally;
+    bool tallyComplete = true; // false when regions came from a resumed run
     if (a.method == "dense") {
         // The paper's method, kept as a benchmark baseline: one dense 3D texture set.
         if (a.backend != "gl") throw Error("--method dense needs --backend gl");
@@ -141,7 +152,7 @@ void runVoxelize(const VoxelizeArgs& a) {
         stages.set("write", timer.lap());
         active = volume.activeVoxelCount();
         bricks = volume.bricks.size();
-        fiberVolume = volume.totalMass();
+        tally = volume.tally;
         backendStats.set("renderer", counters.renderer)
             .set("platform", counters.platform)
             .set("method", "dense")
@@ -162,7 +173,7 @@ void runVoxelize(const VoxelizeArgs& a) {
         stages.set("write", timer.lap());
         active = volume.activeVoxelCount();
         bricks = volume.bricks.size();
-        fiberVolume = volume.totalMass();
+        tally = volume.tally;
     } else {
         GlVoxelizeSettings gl;
         gl.base = settings;
@@ -183,7 +194,8 @@ void runVoxelize(const VoxelizeArgs& a) {
         const bool ownWorkDir = a.workDir.empty();
         const std::string workDir = ownWorkDir ? a.output + ".work" : a.workDir;
         StoreManifest manifest;
-        manifest.fingerprint = runFingerprint(a.input, sliceOptions, xs, grid, settings.reduce, a.supersample, zoom);
+        manifest.fingerprint =
+            runFingerprint(a.input, sliceOptions, xs, grid, settings.reduce, settings.overlap, a.supersample, zoom);
         manifest.grid = grid;
         manifest.reduce = settings.reduce;
         manifest.runMetadata = encodeMetadata(meta);
@@ -193,7 +205,7 @@ void runVoxelize(const VoxelizeArgs& a) {
             BrickStore store(workDir, manifest, a.resume);
             // Resolving (an eigenvector per voxel) and compressing keep several cores busy.
             const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
-            RegionWriter writer(store, settings.reduce, writerQueueBytes(), workers);
+            RegionWriter writer(store, settings.reduce, settings.overlap, writerQueueBytes(), workers);
             StoreSink sink(store, writer, a.resume);
             backend.run(zoom.regions, sink);
             writer.finish();
@@ -209,8 +221,9 @@ void runVoxelize(const VoxelizeArgs& a) {
                 active += r.activeVoxels;
                 bricks += r.brickCount;
             }
-            // Regions taken from a resumed run were not summed here.
-            fiberVolume = counters.resumedRegions ? -1.0 : sink.densitySum * std::pow(grid.voxelSize, 3);
+            // Regions taken from a resumed run were not resolved here.
+            tally = writerStats.tally;
+            tallyComplete = counters.resumedRegions == 0;
         }
         if (ownWorkDir && !a.keepWorkDir) std::filesystem::remove_all(workDir);
 
@@ -245,6 +258,7 @@ void runVoxelize(const VoxelizeArgs& a) {
                          static_cast<unsigned long long>(counters.overflows));
     }
 
+    const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;
     if (!a.statsPath.empty()) {
         JsonObject stats;
         stats.set("yarnvox_version", YV_VERSION)
@@ -261,7 +275,11 @@ void runVoxelize(const VoxelizeArgs& a) {
                                   std::to_string(grid.dims.z))
             .set("active_voxels", active)
             .set("bricks", bricks)
-            .set("fiber_volume", fiberVolume)
+            .set("slice_spacing", plan.maxSpacing)
+            .set("overlap", toString(settings.overlap))
+            .set("fiber_volume", tallyComplete ? tally.densitySum * h3 : -1.0)
+            .set("voxels_over_one", tallyComplete ? static_cast<std::int64_t>(tally.voxelsOverOne) : std::int64_t(-1))
+            .set("mass_share_over_one", tallyComplete ? tally.excessShare() : -1.0)
             .set("slices_per_second", plan.sliceCount / voxelizeSeconds)
             .set("active_voxels_per_second", active / voxelizeSeconds)
             .set("peak_host_bytes", peakResidentBytes())
@@ -275,6 +293,12 @@ void runVoxelize(const VoxelizeArgs& a) {
                     a.input.c_str(), static_cast<unsigned long long>(plan.sliceCount),
                     static_cast<unsigned long long>(active), static_cast<std::size_t>(bricks), grid.dims.x, grid.dims.y,
                     grid.dims.z, grid.voxelSize, voxelizeSeconds, a.output.c_str());
+    // Interpenetrating yarns: say how much fibre the overlap rule met, when more than a trace.
+    if (!a.quiet && tallyComplete && settings.reduce == Reduce::Mean && tally.excessShare() > 1e-3)
+        std::printf("overlap: %llu voxels held more than their volume of fibre (%.2f %% of the fibre volume above 1); %s\n",
+                    static_cast<unsigned long long>(tally.voxelsOverOne), 100.0 * tally.excessShare(),
+                    settings.overlap == Overlap::Clamp ? "clamped to 1 (--overlap sum keeps the sums)"
+                                                       : "kept as sums (--overlap sum)");
 }
 
 } // namespace
@@ -299,17 +323,25 @@ void addVoxelizeCommand(CLI::App& app) {
         ->excludes(res);
     cmd->add_option("--yarn-radius", a->yarnRadius, "Yarn radius, world units (default: from the cross-section PNG or the garment file)")
         ->check(CLI::PositiveNumber);
-    cmd->add_option("--slices-per-segment", a->slicesPerSegment, "Slices per curve segment (the paper uses 25 and 50)")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 100000));
-    cmd->add_option("--slice-spacing", a->spacing, "Distance between slices, world units (instead of --slices-per-segment)")
-        ->check(CLI::PositiveNumber);
+    auto* perSegment =
+        cmd->add_option("--slices-per-segment", a->slicesPerSegment,
+                        "Slices per curve segment (the paper uses 25 and 50; default: one slice per voxel along the yarn)")
+            ->check(CLI::Range(1, 100000));
+    cmd->add_option("--slice-spacing", a->spacing,
+                    "Distance between slices, world units (default: the voxel size over --supersample)")
+        ->check(CLI::PositiveNumber)
+        ->excludes(perSegment);
     cmd->add_option("--twist", a->twist, "Yarn twist, radians per world unit of yarn length")->capture_default_str();
     cmd->add_option("--cross-section", a->crossSection, "Fibre density on each slice: fibers, disk, or FILE.png (alpha = density)")
         ->capture_default_str();
     cmd->add_option("--reduce", a->reduce, "mean: fibre volume fraction and mean axis; max: the paper's max density")
         ->capture_default_str()
         ->check(CLI::IsMember({"mean", "max"}));
+    cmd->add_option("--overlap", a->overlap,
+                    "Where yarns interpenetrate (mean): clamp keeps every voxel's fibre fraction at or below 1; "
+                    "sum adds them up")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"clamp", "sum"}));
     cmd->add_option("--supersample", a->supersample, "Samples per voxel face along each axis")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));

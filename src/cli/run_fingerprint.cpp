@@ -23,7 +23,8 @@ class Fingerprint {
 } // namespace
 
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
-                             const VoxelGrid& grid, Reduce reduce, int supersample, const ZoomPlan& zoom) {
+                             const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,
+                             const ZoomPlan& zoom) {
     Fingerprint f;
     std::ifstream in(inputPath, std::ios::binary);
     if (!in) throw Error(inputPath + ": cannot read the garment to fingerprint the run");
@@ -33,7 +34,7 @@ std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& s
     f.add(xs.size);
     f.add(xs.density.data(), xs.density.size());
     f.add(grid.origin), f.add(grid.voxelSize), f.add(grid.dims);
-    f.add(static_cast<int>(reduce)), f.add(supersample);
+    f.add(static_cast<int>(reduce)), f.add(static_cast<int>(overlap)), f.add(supersample);
     for (const ZoomRegion& r : zoom.regions) f.add(r.id), f.add(r.min), f.add(r.max);
     return f.value();
 }
@@ -43,7 +44,8 @@ std::string encodeMetadata(const VolumeMetadata& m) {
     out.precision(17);
     out << "input=" << m.input << "\nbackend=" << m.backend << "\ncross_section=" << m.crossSection
         << "\nresolution=" << m.resolution << "\nslice_count=" << m.sliceCount << "\nyarn_radius=" << m.yarnRadius
-        << "\ntwist=" << m.twist << "\nsupersample=" << m.supersample << "\n";
+        << "\ntwist=" << m.twist << "\nsupersample=" << m.supersample << "\noverlap=" << m.overlap
+        << "\nslice_spacing=" << m.sliceSpacing << "\n";
     return out.str();
 }
 
@@ -62,6 +64,8 @@ VolumeMetadata decodeMetadata(const std::string& text) {
         else if (key == "yarn_radius") m.yarnRadius = std::stod(value);
         else if (key == "twist") m.twist = std::stod(value);
         else if (key == "supersample") m.supersample = std::stoi(value);
+        else if (key == "overlap") m.overlap = value;
+        else if (key == "slice_spacing") m.sliceSpacing = std::stod(value);
     }
     return m;
 }

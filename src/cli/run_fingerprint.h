@@ -16,7 +16,8 @@ namespace yv {
 /// slice options, the cross-section texture, the grid, the reduction and
 /// supersampling, and the zoom regions (ids and bounds).
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
-                             const VoxelGrid& grid, Reduce reduce, int supersample, const ZoomPlan& zoom);
+                             const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,
+                             const ZoomPlan& zoom);
 
 /// VolumeMetadata as "key=value" lines (kept in the work dir for `yarnvox merge`), and back.
 std::string encodeMetadata(const VolumeMetadata& m);

@@ -71,16 +71,32 @@ glm::dvec3 principalAxis(const double t[6]) {
     return glm::normalize(glm::dvec3(v[0][best], v[1][best], v[2][best]));
 }
 
-bool resolveBrick(Reduce reduce, const BrickAccumulator& acc, VoxelBrick& out) {
+ResolveTally& ResolveTally::operator+=(const ResolveTally& o) {
+    activeVoxels += o.activeVoxels;
+    voxelsOverOne += o.voxelsOverOne;
+    densitySum += o.densitySum;
+    rawDensitySum += o.rawDensitySum;
+    excessOverOne += o.excessOverOne;
+    return *this;
+}
+
+bool resolveBrick(Reduce reduce, Overlap overlap, const BrickAccumulator& acc, VoxelBrick& out, ResolveTally* tally) {
     out.key = acc.key;
     out.activeMask.fill(0);
     const std::uint32_t* w = acc.words.data();
     bool any = false;
+    ResolveTally local;
     for (int v = 0; v < kBrickVoxels; ++v) {
         float density = 0.0f;
         glm::dvec3 axis(0.0);
         if (reduce == Reduce::Mean) {
-            density = static_cast<float>(w[v] / kFixedScale);
+            const double raw = w[v] / kFixedScale;
+            local.rawDensitySum += raw;
+            if (w[v] > std::uint32_t(kFixedScale)) {
+                ++local.voxelsOverOne;
+                local.excessOverOne += raw - 1.0;
+            }
+            density = static_cast<float>(overlap == Overlap::Clamp ? std::min(raw, 1.0) : raw);
             if (w[v] != 0) {
                 double t[6];
                 for (int i = 0; i < 6; ++i) t[i] = static_cast<std::int32_t>(w[(1 + i) * kBrickVoxels + v]);
@@ -88,6 +104,7 @@ bool resolveBrick(Reduce reduce, const BrickAccumulator& acc, VoxelBrick& out) {
             }
         } else {
             density = bitsFloat(w[v]);
+            local.rawDensitySum += density;
             if (w[v] != 0) axis = decodeAxis(w[kBrickVoxels + v]);
         }
         out.density[v] = density;
@@ -95,8 +112,11 @@ bool resolveBrick(Reduce reduce, const BrickAccumulator& acc, VoxelBrick& out) {
         if (density > 0.0f) {
             out.activeMask[v >> 6] |= std::uint64_t(1) << (v & 63);
             any = true;
+            ++local.activeVoxels;
+            local.densitySum += density;
         }
     }
+    if (tally) *tally += local;
     return any;
 }
 
@@ -118,7 +138,8 @@ double BrickVolume::totalMass() const {
     return sum * grid.voxelSize * grid.voxelSize * grid.voxelSize;
 }
 
-BrickVolume resolveVolume(const VoxelGrid& grid, Reduce reduce, std::vector<BrickAccumulator>& accumulators) {
+BrickVolume resolveVolume(const VoxelGrid& grid, Reduce reduce, Overlap overlap,
+                          std::vector<BrickAccumulator>& accumulators) {
     tbb::parallel_sort(accumulators.begin(), accumulators.end(),
                        [](const BrickAccumulator& a, const BrickAccumulator& b) { return a.key < b.key; });
     BrickVolume volume;
@@ -126,11 +147,15 @@ BrickVolume resolveVolume(const VoxelGrid& grid, Reduce reduce, std::vector<Bric
     volume.reduce = reduce;
     std::vector<VoxelBrick> bricks(accumulators.size());
     std::vector<std::uint8_t> keep(accumulators.size());
-    tbb::parallel_for(std::size_t(0), accumulators.size(),
-                      [&](std::size_t i) { keep[i] = resolveBrick(reduce, accumulators[i], bricks[i]); });
+    std::vector<ResolveTally> tallies(accumulators.size());
+    tbb::parallel_for(std::size_t(0), accumulators.size(), [&](std::size_t i) {
+        keep[i] = resolveBrick(reduce, overlap, accumulators[i], bricks[i], &tallies[i]);
+    });
     volume.bricks.reserve(bricks.size());
-    for (std::size_t i = 0; i < bricks.size(); ++i)
+    for (std::size_t i = 0; i < bricks.size(); ++i) {
+        volume.tally += tallies[i]; // in key order: the same bits for the same volume
         if (keep[i]) volume.bricks.push_back(bricks[i]);
+    }
     return volume;
 }
 

@@ -53,17 +53,34 @@ struct VoxelBrick {
     int activeCount() const;
 };
 
+/// What resolving found, summed over voxels: how much density the overlap
+/// rule clamped away, for --stats and the summary line.
+struct ResolveTally {
+    std::uint64_t activeVoxels = 0;
+    std::uint64_t voxelsOverOne = 0; ///< voxels whose summed fraction exceeded 1 (before clamping)
+    double densitySum = 0.0;         ///< output densities
+    double rawDensitySum = 0.0;      ///< densities before clamping
+    double excessOverOne = 0.0;      ///< sum of (d - 1) over voxels with d > 1, before clamping
+
+    ResolveTally& operator+=(const ResolveTally& o);
+    /// Share of the fibre volume that lay above 1 (removed by clamping).
+    double excessShare() const { return rawDensitySum > 0.0 ? excessOverOne / rawDensitySum : 0.0; }
+};
+
 /// Turns accumulated words into density and orientation. Mean: density is the
-/// sum of volume fractions; orientation the principal axis of the structure
-/// tensor. Max: the largest sample density and that sample's axis. Voxels with
-/// zero density stay inactive. Returns false when no voxel is active.
-bool resolveBrick(Reduce reduce, const BrickAccumulator& acc, VoxelBrick& out);
+/// sum of volume fractions, clamped to 1 with Overlap::Clamp; orientation the
+/// principal axis of the structure tensor. Max: the largest sample density and
+/// that sample's axis. Voxels with zero density stay inactive. Adds to `tally`
+/// when given. Returns false when no voxel is active.
+bool resolveBrick(Reduce reduce, Overlap overlap, const BrickAccumulator& acc, VoxelBrick& out,
+                  ResolveTally* tally = nullptr);
 
 /// A sparse result: bricks sorted by key, plus the grid they live in.
 struct BrickVolume {
     VoxelGrid grid;
     Reduce reduce = Reduce::Mean;
     std::vector<VoxelBrick> bricks;
+    ResolveTally tally; ///< what resolving the bricks found
 
     std::uint64_t activeVoxelCount() const;
     /// Sum of density times voxel volume (fibre volume, in world units cubed).
@@ -71,7 +88,8 @@ struct BrickVolume {
 };
 
 /// Resolves accumulators (any order) into a BrickVolume sorted by key, in parallel.
-BrickVolume resolveVolume(const VoxelGrid& grid, Reduce reduce, std::vector<BrickAccumulator>& accumulators);
+BrickVolume resolveVolume(const VoxelGrid& grid, Reduce reduce, Overlap overlap,
+                          std::vector<BrickAccumulator>& accumulators);
 
 /// Principal eigenvector of a symmetric 3x3 matrix (xx yy zz xy xz yz), by
 /// cyclic Jacobi rotations: robust when eigenvalues are close.

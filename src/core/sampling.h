@@ -16,6 +16,13 @@ enum class Reduce { Mean, Max };
 
 inline const char* toString(Reduce r) { return r == Reduce::Mean ? "mean" : "max"; }
 
+/// What a mean voxel reads where yarns interpenetrate: Clamp keeps the fibre
+/// volume fraction at or below 1 (a voxel cannot hold more fibre than its
+/// volume); Sum keeps the plain sum of every yarn's share.
+enum class Overlap { Clamp, Sum };
+
+inline const char* toString(Overlap o) { return o == Overlap::Clamp ? "clamp" : "sum"; }
+
 /// Fixed-point scale of accumulated volume fractions: 2^24 units per 1.0.
 /// Integer sums make results identical for any order and thread count.
 constexpr double kFixedScale = 16777216.0;
@@ -27,10 +34,20 @@ constexpr int kMeanWords = 7;
 constexpr int kMaxWords = 2;
 inline int wordsPerVoxel(Reduce r) { return r == Reduce::Mean ? kMeanWords : kMaxWords; }
 
-/// Projection axis of a slice: the dominant axis of its normal (lowest index on ties).
+/// Relative margin within which two components of a slice normal count as a
+/// tie. The GL backend computes normals in float, the CPU in double: at exactly
+/// 45 degrees they differ in the last bits, and a plain comparison would send
+/// the same slice along different axes. With the margin both take the lower
+/// index; they can only disagree for a normal within float rounding of
+/// |n[i]| = |n[j]| (1 - kAxisTieMargin), which no common geometry produces.
+constexpr double kAxisTieMargin = 1.0 / 1024.0;
+
+/// Projection axis of a slice: the dominant axis of its normal; components
+/// within kAxisTieMargin of the largest go to the lowest index.
 inline int dominantAxis(const glm::dvec3& n) {
     const glm::dvec3 a = glm::abs(n);
-    return a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    const double floor = std::max({a.x, a.y, a.z}) * (1.0 - kAxisTieMargin);
+    return a.x >= floor ? 0 : (a.y >= floor ? 1 : 2);
 }
 
 /// Rounds a non-negative volume fraction to fixed point.

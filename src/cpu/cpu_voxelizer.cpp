@@ -70,7 +70,7 @@ BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const Vox
                           for (std::size_t s = range.begin(); s != range.end(); ++s) {
                               const SegmentRecord& seg = plan.segments[s];
                               for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
-                                  const Slice slice = placeSlice(seg, k, plan.options);
+                                  const Slice slice = placeSlice(seg, k);
                                   sampleSlice(slice, radius, xs, grid, settings.supersample,
                                               [&](const SliceSample& smp) {
                                                   const glm::ivec3 v = smp.voxel;
@@ -123,7 +123,7 @@ BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const Vox
     });
     perThread.clear();
     if (counters) counters->samples = samples;
-    return resolveVolume(grid, reduce, merged);
+    return resolveVolume(grid, reduce, settings.overlap, merged);
 }
 
 } // namespace yv

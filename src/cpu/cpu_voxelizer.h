@@ -15,6 +15,7 @@ struct VoxelizeSettings {
     Reduce reduce = Reduce::Mean;
     int supersample = 1; ///< samples per voxel face along each axis
     bool quiet = true;   ///< no progress output
+    Overlap overlap = Overlap::Clamp; ///< mean: clamp interpenetrating yarns' sum at 1, or keep it
 };
 
 struct CpuVoxelizeCounters {

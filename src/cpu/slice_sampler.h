@@ -12,17 +12,20 @@
 
 namespace yv {
 
-/// One sample of a slice that lands on fibre.
+/// One voxel's share of a sample of a slice that lands on fibre.
 struct SliceSample {
     glm::ivec3 voxel;
-    double volumeFraction; ///< fibre volume the sample stands for / voxel volume
+    double volumeFraction; ///< fibre volume this share stands for / voxel volume
     float density;         ///< cross-section density at the sample, in [0, 1]
     glm::dvec3 direction;  ///< fibre direction, unit
 };
 
-/// Calls `emit(const SliceSample&)` for every sample of `slice`: pixel centres
-/// of the grid's face along the slice's dominant axis, `supersample`^2 per
-/// voxel face, that fall inside the slice square and on non-zero density.
+/// Calls `emit(const SliceSample&)` for every voxel share of every sample of
+/// `slice`: pixel centres of the grid's face along the slice's dominant axis,
+/// `supersample`^2 per voxel face, that fall inside the slice square and on
+/// non-zero density. A sample stands for its pixel's column through the
+/// slice's slab; the column is split among the voxels it crosses (a box
+/// filter in depth), one share per voxel.
 template <class Emit>
 void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, const VoxelGrid& grid, int supersample,
                  Emit&& emit) {
@@ -43,7 +46,9 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, cons
     }
     const long i0 = static_cast<long>(std::ceil(lo[0] - 0.5)), i1 = static_cast<long>(std::floor(hi[0] - 0.5));
     const long j0 = static_cast<long>(std::ceil(lo[1] - 0.5)), j1 = static_cast<long>(std::floor(hi[1] - 0.5));
-    const double weightScale = slice.thickness / (h * supersample * supersample * std::abs(det));
+    // Depth of the slab along the column, in voxels, before the bend's scale.
+    const double depthScale = slice.thickness / (h * std::abs(det));
+    const double pixelShare = 1.0 / (supersample * supersample);
     const double invRadius = 1.0 / radius;
 
     for (long j = j0; j <= j1; ++j) {
@@ -57,14 +62,22 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, cons
             const std::uint8_t texel = xs.lookup(x * invRadius, y * invRadius);
             if (texel == 0) continue;
             const double pa = slice.center[a] + x * slice.right[a] + y * slice.up[a];
+            const double depth = slabScale(slice, x, y) * depthScale;
+            if (!(depth > 0.0)) continue;
+            const double z0 = (pa - grid.origin[a]) / h - 0.5 * depth, z1 = z0 + depth;
             SliceSample s;
-            s.voxel[a] = static_cast<int>(std::floor((pa - grid.origin[a]) / h));
             s.voxel[b] = static_cast<int>(i / supersample);
             s.voxel[c] = static_cast<int>(j / supersample);
             s.density = texel / 255.0f;
-            s.volumeFraction = s.density * weightScale;
             s.direction = fiberDirection(slice, x, y);
-            emit(s);
+            const double weight = s.density * pixelShare;
+            for (double v = std::floor(z0); v < z1; v += 1.0) {
+                const double share = std::min(z1, v + 1.0) - std::max(z0, v);
+                if (!(share > 0.0)) continue;
+                s.voxel[a] = static_cast<int>(v);
+                s.volumeFraction = weight * share;
+                emit(s);
+            }
         }
     }
 }

@@ -2,6 +2,10 @@
 
 #include "core/error.h"
 
+#include <glm/common.hpp>
+
+#include <cmath>
+
 namespace yv {
 
 SegmentPoints segmentPoints(const Yarn& yarn, std::size_t segment, CurveType type) {
@@ -41,6 +45,43 @@ glm::dvec3 evalCatmullRomDerivative(const SegmentPoints& p, double t) {
     const double w2 = 1.0 + 8.0 * t - 9.0 * t2;
     const double w3 = -2.0 * t + 3.0 * t2;
     return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
+}
+
+glm::dvec3 evalCatmullRomSecondDerivative(const SegmentPoints& p, double t) {
+    const double w0 = 4.0 - 6.0 * t;
+    const double w1 = -10.0 + 18.0 * t;
+    const double w2 = 8.0 - 18.0 * t;
+    const double w3 = -2.0 + 6.0 * t;
+    return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
+}
+
+void catmullRomBounds(const SegmentPoints& p, glm::dvec3& lo, glm::dvec3& hi) {
+    lo = glm::min(p[1], p[2]);
+    hi = glm::max(p[1], p[2]);
+    for (int a = 0; a < 3; ++a) {
+        // Derivative 0.5 (A t^2 + B t + C) from evalCatmullRomDerivative's weights.
+        const double A = -3.0 * p[0][a] + 9.0 * p[1][a] - 9.0 * p[2][a] + 3.0 * p[3][a];
+        const double B = 4.0 * p[0][a] - 10.0 * p[1][a] + 8.0 * p[2][a] - 2.0 * p[3][a];
+        const double C = -p[0][a] + p[2][a];
+        double roots[2];
+        int n = 0;
+        if (std::abs(A) < 1e-300) {
+            if (B != 0.0) roots[n++] = -C / B;
+        } else {
+            const double disc = B * B - 4.0 * A * C;
+            if (disc >= 0.0) {
+                const double sq = std::sqrt(disc);
+                roots[n++] = (-B - sq) / (2.0 * A);
+                roots[n++] = (-B + sq) / (2.0 * A);
+            }
+        }
+        for (int i = 0; i < n; ++i)
+            if (roots[i] > 0.0 && roots[i] < 1.0) {
+                const double v = evalCatmullRom(p, roots[i])[a];
+                lo[a] = std::min(lo[a], v);
+                hi[a] = std::max(hi[a], v);
+            }
+    }
 }
 
 } // namespace yv

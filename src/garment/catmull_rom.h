@@ -28,4 +28,11 @@ glm::dvec3 evalCatmullRom(const SegmentPoints& p, double t);
 /// Derivative with respect to t.
 glm::dvec3 evalCatmullRomDerivative(const SegmentPoints& p, double t);
 
+/// Second derivative with respect to t.
+glm::dvec3 evalCatmullRomSecondDerivative(const SegmentPoints& p, double t);
+
+/// Exact bounding box of the segment for t in [0, 1]: the end points and, per
+/// axis, the cubic's extrema (roots of its quadratic derivative) inside (0, 1).
+void catmullRomBounds(const SegmentPoints& p, glm::dvec3& lo, glm::dvec3& hi);
+
 } // namespace yv

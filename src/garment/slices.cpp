@@ -112,29 +112,89 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
     }
     plan.sliceCount = firstSlice;
 
-    // Bounds of slice centres, per segment (for culling) and overall.
+    // Twist phase per yarn. An open yarn turns at the requested rate. A closed
+    // yarn must come back to its first frame: transport brings the frame back
+    // turned by the holonomy angle, so the rate becomes the one nearest the
+    // requested rate whose turn over the loop cancels it, in whole turns.
+    for (std::size_t first = 0; first < plan.segments.size();) {
+        std::size_t end = first;
+        while (end < plan.segments.size() && plan.segments[end].yarn == plan.segments[first].yarn) ++end;
+        const SegmentRecord& head = plan.segments[first];
+        const SegmentRecord& tail = plan.segments[end - 1];
+        const double loopLength = tail.arcStart + tail.length;
+        double rate = options.twist;
+        if (garment.yarns[head.yarn].closed && loopLength > 0.0) {
+            glm::dvec3 back = rotateMinimal(tail.knotUp, tail.knotTangent, head.knotTangent);
+            back = glm::normalize(back - glm::dot(back, head.knotTangent) * head.knotTangent);
+            const double holonomy = std::atan2(glm::dot(head.knotTangent, glm::cross(head.knotUp, back)),
+                                               glm::dot(head.knotUp, back));
+            const double turns = std::round((options.twist * loopLength + holonomy) / (2.0 * M_PI));
+            rate = (2.0 * M_PI * turns - holonomy) / loopLength;
+        }
+        for (std::size_t i = first; i < end; ++i) {
+            SegmentRecord& rec = plan.segments[i];
+            rec.twistRate = rate;
+            // Kept in [0, 2 pi) so that float shaders lose no precision on long yarns.
+            const double phase = std::fmod(rate * rec.arcStart, 2.0 * M_PI);
+            rec.phaseStart = phase < 0.0 ? phase + 2.0 * M_PI : phase;
+        }
+        first = end;
+    }
+
+    // Per segment: bounds of slice centres (for culling), and how far from its
+    // centre a slice's samples reach: the square's half-diagonal in its plane,
+    // plus half the slab's depth along the projection axis, which a bend
+    // thickens on its outer side by up to kappa r sqrt(2).
+    const double halfDiagonal = options.radius * std::sqrt(2.0);
+    std::vector<double> spacingOf(plan.segments.size(), 0.0);
     tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t i) {
         SegmentRecord& rec = plan.segments[i];
         glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
+        double reach = halfDiagonal, spacing = 0.0;
         for (std::uint32_t k = 0; k < rec.sliceCount; ++k) {
-            const glm::dvec3 c = evalCatmullRom(rec.points, (k + 0.5) / rec.sliceCount);
-            lo = glm::min(lo, c);
-            hi = glm::max(hi, c);
+            const Slice s = placeSlice(rec, k);
+            lo = glm::min(lo, s.center);
+            hi = glm::max(hi, s.center);
+            const glm::dvec3 t = glm::abs(s.tangent);
+            const double dominant = std::max({t.x, t.y, t.z});
+            const double depth = (1.0 + glm::length(s.curvature) * halfDiagonal) * s.thickness / dominant;
+            reach = std::max(reach, halfDiagonal + 0.5 * depth);
+            spacing = std::max(spacing, s.thickness);
         }
         rec.centerMin = lo;
         rec.centerMax = hi;
+        rec.reach = reach;
+        spacingOf[i] = spacing;
     });
     glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
     for (const SegmentRecord& rec : plan.segments) {
         lo = glm::min(lo, rec.centerMin);
         hi = glm::max(hi, rec.centerMax);
+        plan.maxReach = std::max(plan.maxReach, rec.reach);
     }
+    for (double d : spacingOf) plan.maxSpacing = std::max(plan.maxSpacing, d);
     plan.centerMin = lo;
     plan.centerMax = hi;
+    curveBounds(garment, plan.curveMin, plan.curveMax);
     return plan;
 }
 
-Slice placeSlice(const SegmentRecord& segment, std::uint32_t k, const SliceOptions& options) {
+void curveBounds(const Garment& garment, glm::dvec3& lo, glm::dvec3& hi) {
+    lo = glm::dvec3(HUGE_VAL);
+    hi = glm::dvec3(-HUGE_VAL);
+    for (const Yarn& yarn : garment.yarns) {
+        if (yarn.points.size() < 2) continue;
+        const std::size_t segCount = yarn.closed ? yarn.points.size() : yarn.points.size() - 1;
+        for (std::size_t s = 0; s < segCount; ++s) {
+            glm::dvec3 a, b;
+            catmullRomBounds(segmentPoints(yarn, s, garment.curveType), a, b);
+            lo = glm::min(lo, a);
+            hi = glm::max(hi, b);
+        }
+    }
+}
+
+Slice placeSlice(const SegmentRecord& segment, std::uint32_t k) {
     const double invK = 1.0 / segment.sliceCount;
     const double t = (k + 0.5) * invK;
     Slice s;
@@ -143,13 +203,15 @@ Slice placeSlice(const SegmentRecord& segment, std::uint32_t k, const SliceOptio
     s.tangent = unitTangent(segment.points, t, segment.yarn);
     s.thickness = glm::length(evalCatmullRom(segment.points, (k + 1) * invK) -
                               evalCatmullRom(segment.points, k * invK));
-    s.twistStep = options.twist * s.thickness;
+    s.twistStep = segment.twistRate * s.thickness;
+    const glm::dvec3 d1 = evalCatmullRomDerivative(segment.points, t), d2 = evalCatmullRomSecondDerivative(segment.points, t);
+    s.curvature = (d2 - glm::dot(d2, s.tangent) * s.tangent) / glm::dot(d1, d1);
 
     glm::dvec3 up = rotateMinimal(segment.knotUp, segment.knotTangent, s.tangent);
     up = glm::normalize(up - glm::dot(up, s.tangent) * s.tangent);
     // Twist phase grows with arc length; within a segment arc length is taken
     // as linear in t, the same rule the vertex shader uses.
-    const double phase = options.twist * (segment.arcStart + t * segment.length);
+    const double phase = segment.phaseStart + segment.twistRate * t * segment.length;
     const glm::dvec3 side = glm::cross(s.tangent, up);
     s.right = std::cos(phase) * up + std::sin(phase) * side;
     s.up = glm::cross(s.tangent, s.right);

@@ -2,14 +2,15 @@
 //
 // Slices are never stored as matrices. A SlicePlan keeps, per curve segment,
 // what any backend needs to place that segment's slices itself: the four
-// control points, the slice count, the arc length so far (for the twist) and
-// the parallel-transported frame at the segment's first knot. The CPU backend
+// control points, the slice count, the twist phase and rate, and the
+// parallel-transported frame at the segment's first knot. The CPU backend
 // evaluates slices from it; the GL vertex shader does the same per instance.
 #pragma once
 
 #include "garment/catmull_rom.h"
 #include "garment/garment.h"
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -20,7 +21,8 @@ namespace yv {
 struct SliceOptions {
     /// Slices per curve segment (the paper uses 25 and 50). Ignored when spacing > 0.
     int slicesPerSegment = 25;
-    /// Target distance between slices along the yarn (world units); 0: use slicesPerSegment.
+    /// Target distance between slices along the yarn (world units); 0: use
+    /// slicesPerSegment. The command line's default is defaultSliceSpacing().
     double spacing = 0.0;
     /// Yarn twist: rotation of the cross-section about the yarn, radians per world unit.
     double twist = 0.0;
@@ -35,6 +37,9 @@ struct SegmentRecord {
     glm::dvec3 knotUp;        ///< frame "up" at t = 0, perpendicular to knotTangent
     double arcStart = 0.0;    ///< arc length of the yarn before this segment (sum of slice chords)
     double length = 0.0;      ///< sum of this segment's slice chords
+    double phaseStart = 0.0;  ///< twist phase at t = 0, radians in [0, 2 pi)
+    double twistRate = 0.0;   ///< twist, radians per world unit (closed yarns: adjusted so the loop closes)
+    double reach = 0.0;       ///< farthest any sample of a slice of this segment lies from its slice centre
     std::uint64_t firstSlice = 0;
     std::uint32_t sliceCount = 0;
     std::uint32_t yarn = 0;
@@ -46,26 +51,50 @@ struct SlicePlan {
     std::vector<SegmentRecord> segments;
     std::uint64_t sliceCount = 0;
     glm::dvec3 centerMin{0.0}, centerMax{0.0}; ///< bounds of all slice centres
+    glm::dvec3 curveMin{0.0}, curveMax{0.0};   ///< exact bounds of the curves (see curveBounds)
+    double maxReach = 0.0;                     ///< largest SegmentRecord::reach
+    double maxSpacing = 0.0;                   ///< largest slice thickness (distance between slices)
 };
 
 /// A placed slice: a square of side 2 radius centred at `center`, spanned by
 /// `right` and `up`, with normal `tangent`; `thickness` is the length of yarn
-/// it stands for; the cross-section is turned by `twistStep` radians at the next slice.
+/// it stands for; the cross-section is turned by `twistStep` radians at the
+/// next slice. `curvature` is the curve's curvature vector (kappa times the
+/// unit normal, 1 / world units): the slab is thinner on its inner side.
 struct Slice {
     glm::dvec3 center, tangent, right, up;
     double thickness = 0.0;
     double twistStep = 0.0;
     std::uint32_t yarn = 0;
+    glm::dvec3 curvature{0.0};
 };
 
+/// The command line's slice spacing: one slice per (supersampled) voxel along
+/// the yarn, whatever the spacing of the garment's control points.
+inline double defaultSliceSpacing(double voxelSize, int supersample) { return voxelSize / supersample; }
+
+/// Exact bounds of every yarn's curve (the slice centres lie on it).
+void curveBounds(const Garment& garment, glm::dvec3& lo, glm::dvec3& hi);
+
+/// Relative thickness of the slab at slice-local (x, y): the tube's Jacobian
+/// 1 - kappa rho cos(theta), i.e. 1 - curvature . (x right + y up), at least 0
+/// (a bend tighter than the offset folds the tube onto itself).
+inline double slabScale(const Slice& slice, double x, double y) {
+    const double j = 1.0 - glm::dot(slice.curvature, x * slice.right + y * slice.up);
+    return j > 0.0 ? j : 0.0;
+}
+
 /// Plans the slices of a garment: slice counts, arc lengths and knot frames,
-/// transported from knot to knot without flips. Throws yv::Error on a yarn
-/// with fewer than 2 points or with repeated points that leave no tangent.
+/// transported from knot to knot without flips. On a closed yarn the frame's
+/// holonomy (the angle it comes back turned by) and the twist are spread
+/// evenly over the loop, so the cross-section turns by the same angle per
+/// unit length across the closing point as anywhere else. Throws yv::Error on
+/// a yarn with fewer than 2 points or with repeated points that leave no tangent.
 SlicePlan planSlices(const Garment& garment, const SliceOptions& options);
 
 /// Slice `k` (0 <= k < sliceCount) of a segment. Slice k sits at the middle of
 /// parameter interval [k/K, (k+1)/K]; its thickness is that interval's chord.
-Slice placeSlice(const SegmentRecord& segment, std::uint32_t k, const SliceOptions& options);
+Slice placeSlice(const SegmentRecord& segment, std::uint32_t k);
 
 /// Rotates v by the smallest rotation that takes unit vector `from` to unit vector `to`.
 glm::dvec3 rotateMinimal(const glm::dvec3& v, const glm::dvec3& from, const glm::dvec3& to);

@@ -192,7 +192,6 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     }
     glUniform1ui(program.uniform("uUniformSlices"), minSlices == maxSlices ? maxSlices : 0u);
     glUniform1f(program.uniform("uRadius"), float(plan.options.radius / grid.voxelSize));
-    glUniform1f(program.uniform("uTwist"), float(plan.options.twist * grid.voxelSize));
     glUniform1i(program.uniform("uSupersample"), S);
     glUniform3i(program.uniform("uRegionMin"), 0, 0, 0);
     glUniform3i(program.uniform("uDims"), dims.x, dims.y, dims.z);
@@ -237,6 +236,13 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     }
     std::sort(volume.bricks.begin(), volume.bricks.end(),
               [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });
+    for (const VoxelBrick& b : volume.bricks)
+        for (int v = 0; v < kBrickVoxels; ++v)
+            if (b.isActive(v)) {
+                ++volume.tally.activeVoxels;
+                volume.tally.densitySum += b.density[v];
+            }
+    volume.tally.rawDensitySum = volume.tally.densitySum;
     c.readbackSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - readStart).count();
     return volume;
 }

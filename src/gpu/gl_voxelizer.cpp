@@ -236,10 +236,15 @@ class GlBackend::Impl {
             minSlices = std::min(minSlices, s.sliceCount);
         }
         uniformSlices_ = minSlices == maxSlices ? maxSlices : 0;
-        const std::uint64_t worst = std::uint64_t(maxSlices) * 64 * settings_.base.supersample * settings_.base.supersample;
+        // Each sample's slab column is split over at most this many voxels
+        // (and over at most 8 of one brick).
+        const double slabDepth = 2.0 * std::max(0.0, plan_.maxReach - plan_.options.radius * std::sqrt(2.0)) / grid_.voxelSize;
+        const std::uint64_t pieces = std::min<std::uint64_t>(8, 2 + static_cast<std::uint64_t>(slabDepth));
+        const std::uint64_t worst =
+            std::uint64_t(maxSlices) * 64 * settings_.base.supersample * settings_.base.supersample * pieces;
         if (capacity_ < worst)
-            throw Error("fragment capacity " + std::to_string(capacity_) + " is below the " + std::to_string(worst) +
-                        " fragments one segment can put into one brick; raise --fragment-capacity");
+            throw Error("fragment budget " + std::to_string(capacity_) + " is below the " + std::to_string(worst) +
+                        " fragments one segment can put into one brick; raise --fragment-budget");
         if (settings_.verbose)
             std::fprintf(stderr, "gl: %s, %s; ssbo block %lld MiB, free %lld MiB; capacity %llu fragments, %llu bricks, regions <= %d\n",
                          info.renderer.c_str(), info.version.c_str(), info.maxSsboBlockSize >> 20,
@@ -320,7 +325,6 @@ class GlBackend::Impl {
         glUniform1i(raster_.uniform("uDrawCount"), static_cast<GLint>(item.segments.size()));
         glUniform1ui(raster_.uniform("uUniformSlices"), uniformSlices_);
         glUniform1f(raster_.uniform("uRadius"), float(plan_.options.radius / grid_.voxelSize));
-        glUniform1f(raster_.uniform("uTwist"), float(plan_.options.twist * grid_.voxelSize));
         glUniform1i(raster_.uniform("uSupersample"), S);
         glUniform3i(raster_.uniform("uRegionMin"), item.min.x, item.min.y, item.min.z);
         glUniform3i(raster_.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
@@ -482,7 +486,7 @@ BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const Voxe
     c.plannedRegions = zoom.regions.size();
     CollectingSink sink;
     backend.run(zoom.regions, sink);
-    return resolveVolume(grid, settings.base.reduce, sink.all);
+    return resolveVolume(grid, settings.base.reduce, settings.base.overlap, sink.all);
 }
 
 } // namespace yv

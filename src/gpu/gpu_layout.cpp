@@ -14,8 +14,9 @@ std::vector<GpuSegment> packSegments(const SlicePlan& plan, const VoxelGrid& gri
             const glm::dvec3 p = (s.points[j] - grid.origin) * invH;
             g.p[j][0] = float(p.x), g.p[j][1] = float(p.y), g.p[j][2] = float(p.z), g.p[j][3] = 0.0f;
         }
+        g.p[0][3] = float(s.twistRate * grid.voxelSize);
         g.up[0] = float(s.knotUp.x), g.up[1] = float(s.knotUp.y), g.up[2] = float(s.knotUp.z);
-        g.up[3] = float(s.arcStart * invH);
+        g.up[3] = float(s.phaseStart);
         const float length = float(s.length * invH);
         g.info[0] = static_cast<std::uint32_t>(s.firstSlice);
         g.info[1] = s.sliceCount;

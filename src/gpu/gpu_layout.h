@@ -11,8 +11,8 @@ namespace yv {
 
 /// shaders/common.glsl: GpuSegment.
 struct GpuSegment {
-    float p[4][4];      ///< control points, voxel units from the grid origin (w unused)
-    float up[4];        ///< knot frame up; w = arc length before the segment (voxel units)
+    float p[4][4];      ///< control points, voxel units from the grid origin; p[0].w = twist rate (radians per voxel unit)
+    float up[4];        ///< knot frame up; w = twist phase at the segment's start (radians, in [0, 2 pi))
     std::uint32_t info[4]; ///< first slice, slice count, float bits of the length (voxel units), yarn
 };
 static_assert(sizeof(GpuSegment) == 96, "GpuSegment must match shaders/common.glsl");

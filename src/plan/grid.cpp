@@ -6,21 +6,47 @@
 #include <string>
 
 namespace yv {
+namespace {
 
-VoxelGrid makeGrid(const SlicePlan& plan, int resolution, double voxelSize) {
+/// The garment box: the curves grown by the slice half-diagonal.
+void garmentBox(glm::dvec3 curveMin, glm::dvec3 curveMax, double radius, glm::dvec3& lo, glm::dvec3& hi) {
+    const double reach = radius * std::sqrt(2.0);
+    lo = curveMin - reach;
+    hi = curveMax + reach;
+}
+
+double voxelSizeForBox(glm::dvec3 lo, glm::dvec3 hi, int resolution, double voxelSize) {
     if ((resolution > 0) == (voxelSize > 0.0))
         throw Error("give exactly one of --resolution (voxels on the longest axis) and --voxel-size");
-    if (plan.sliceCount == 0) throw Error("the garment has no slices: nothing to voxelize");
-
-    const double reach = plan.options.radius * std::sqrt(2.0);
-    const glm::dvec3 lo = plan.centerMin - reach, hi = plan.centerMax + reach;
+    if (voxelSize > 0.0) return voxelSize;
     const glm::dvec3 extent = hi - lo;
-    const double longest = std::max({extent.x, extent.y, extent.z});
+    return std::max({extent.x, extent.y, extent.z}) / resolution;
+}
+
+} // namespace
+
+double voxelSizeFor(const Garment& garment, double radius, int resolution, double voxelSize) {
+    glm::dvec3 curveMin, curveMax, lo, hi;
+    curveBounds(garment, curveMin, curveMax);
+    if (!(curveMin.x <= curveMax.x)) throw Error("the garment has no curves: nothing to voxelize");
+    garmentBox(curveMin, curveMax, radius, lo, hi);
+    return voxelSizeForBox(lo, hi, resolution, voxelSize);
+}
+
+VoxelGrid makeGrid(const SlicePlan& plan, int resolution, double voxelSize) {
+    if (plan.sliceCount == 0) throw Error("the garment has no slices: nothing to voxelize");
+    glm::dvec3 lo, hi;
+    garmentBox(plan.curveMin, plan.curveMax, plan.options.radius, lo, hi);
+    const glm::dvec3 extent = hi - lo;
 
     VoxelGrid grid;
-    grid.voxelSize = voxelSize > 0.0 ? voxelSize : longest / resolution;
+    grid.voxelSize = voxelSizeForBox(lo, hi, resolution, voxelSize);
     const double h = grid.voxelSize;
-    glm::dvec3 size = extent / h + 2.0; // one voxel of padding on each side
+    // One voxel of padding on each side, plus what slabs reach past the
+    // slice squares (half a slab's depth along the projection axis).
+    const double slabReach = std::max(0.0, plan.maxReach - plan.options.radius * std::sqrt(2.0));
+    const double padding = 1.0 + std::ceil(slabReach / h);
+    const glm::dvec3 size = extent / h + 2.0 * padding;
     for (int a = 0; a < 3; ++a) {
         const double n = std::ceil(size[a] / 8.0) * 8.0;
         if (n > double(1 << 24))

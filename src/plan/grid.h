@@ -22,10 +22,16 @@ struct VoxelGrid {
     glm::ivec3 brickDims() const { return dims / 8; }
 };
 
-/// Grid around every slice of a plan, padded so that no slice square (whose
-/// corners reach radius * sqrt(2) from its centre) comes within one voxel of
-/// the border. Exactly one of `resolution` (voxels along the longest axis of
-/// the padded garment box) and `voxelSize` must be positive.
+/// Grid around every slice of a plan: the garment box is the curves' bounds
+/// grown by the slice half-diagonal radius * sqrt(2); it is padded by one
+/// voxel and by how far slabs reach along their projection axis. Exactly one
+/// of `resolution` (voxels along the longest axis of the garment box) and
+/// `voxelSize` must be positive.
 VoxelGrid makeGrid(const SlicePlan& plan, int resolution, double voxelSize);
+
+/// The voxel size makeGrid will choose for any plan of this garment with this
+/// radius: known before the slices are planned, so that the slice spacing can
+/// follow it (defaultSliceSpacing).
+double voxelSizeFor(const Garment& garment, double radius, int resolution, double voxelSize);
 
 } // namespace yv

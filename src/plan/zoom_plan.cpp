@@ -17,7 +17,7 @@ void segmentVoxelBounds(const SlicePlan& plan, const VoxelGrid& grid, std::uint3
                         glm::dvec3& hi) {
     const SegmentRecord& seg = plan.segments[segment];
     const double invH = 1.0 / grid.voxelSize;
-    const double reach = plan.options.radius * std::sqrt(2.0) * invH + 1.0;
+    const double reach = seg.reach * invH + 1.0;
     lo = (seg.centerMin - grid.origin) * invH - reach;
     hi = (seg.centerMax - grid.origin) * invH + reach;
 }
@@ -95,7 +95,9 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     HeatMap heat(grid, zp.heatCell);
 
     // Expected fragments of a slice: its square, projected on the face of its
-    // dominant axis, in supersampled pixels, times the filled fraction.
+    // dominant axis, in supersampled pixels, times the filled fraction, times
+    // the voxels each sample's slab is split over (1 + its depth in voxels, on
+    // average over where it starts).
     double filled = 0.0;
     for (std::uint8_t d : xs.density) filled += d != 0;
     filled /= double(xs.density.size());
@@ -103,12 +105,13 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     const double perSlice = side * side * filled;
     tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t s) {
         const SegmentRecord& seg = plan.segments[s];
+        const double depth = seg.length / seg.sliceCount / grid.voxelSize;
         for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
             const double t = (k + 0.5) / seg.sliceCount;
             const glm::dvec3 c = evalCatmullRom(seg.points, t);
             const glm::dvec3 d = glm::abs(glm::normalize(evalCatmullRomDerivative(seg.points, t)));
             const double dominant = std::max({d.x, d.y, d.z});
-            heat.add(glm::ivec3(glm::floor((c - grid.origin) / grid.voxelSize)), perSlice * dominant);
+            heat.add(glm::ivec3(glm::floor((c - grid.origin) / grid.voxelSize)), perSlice * (dominant + depth));
         }
     });
     zp.heatCellsTouched = heat.touched();

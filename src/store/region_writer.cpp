@@ -22,8 +22,9 @@ std::size_t heldBytes(const std::vector<BrickAccumulator>& accumulators) {
 
 } // namespace
 
-RegionWriter::RegionWriter(BrickStore& store, Reduce reduce, std::size_t maxQueuedBytes, unsigned workers)
-    : store_(store), reduce_(reduce), maxQueuedBytes_(maxQueuedBytes) {
+RegionWriter::RegionWriter(BrickStore& store, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes,
+                           unsigned workers)
+    : store_(store), reduce_(reduce), overlap_(overlap), maxQueuedBytes_(maxQueuedBytes) {
     if (store.manifest().reduce != reduce)
         throw Error(store.dir() + ": the work dir holds " + toString(store.manifest().reduce) +
                     " bricks, the writer was asked for " + toString(reduce));
@@ -115,8 +116,12 @@ void RegionWriter::process(Job& job) {
     auto t = Clock::now();
     std::vector<VoxelBrick> bricks(job.accumulators.size());
     std::vector<std::uint8_t> keep(job.accumulators.size());
-    tbb::parallel_for(std::size_t(0), bricks.size(),
-                      [&](std::size_t i) { keep[i] = resolveBrick(reduce_, job.accumulators[i], bricks[i]); });
+    std::vector<ResolveTally> tallies(job.accumulators.size());
+    tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t i) {
+        keep[i] = resolveBrick(reduce_, overlap_, job.accumulators[i], bricks[i], &tallies[i]);
+    });
+    ResolveTally tally;
+    for (const ResolveTally& t : tallies) tally += t;
     job.accumulators = {};
     std::size_t kept = 0;
     for (std::size_t i = 0; i < bricks.size(); ++i)
@@ -138,6 +143,7 @@ void RegionWriter::process(Job& job) {
     stats_.regionsWritten += 1;
     stats_.bricksWritten += info.brickCount;
     stats_.bytesWritten += info.bytesOnDisk;
+    stats_.tally += tally;
 }
 
 std::vector<RegionInfo> RegionWriter::finish() {

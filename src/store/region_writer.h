@@ -24,15 +24,17 @@ struct RegionWriterStats {
     double submitWaitSeconds = 0.0; ///< time submit() blocked on a full queue (the producer stalled on disk)
     std::uint64_t regionsWritten = 0, bricksWritten = 0, bytesWritten = 0;
     std::uint64_t peakQueuedBytes = 0; ///< most accumulator bytes held at once, queued or in a worker
+    ResolveTally tally;                ///< over the regions written (summed in completion order)
 };
 
 class RegionWriter {
   public:
     /// Starts `workers` threads (0: two, so one region's disk write overlaps
     /// the next one's compression) writing into `store`, whose reduce mode must
-    /// be `reduce`. At most `maxQueuedBytes` of accumulators are held at once,
-    /// counting regions queued and regions being worked on.
-    RegionWriter(BrickStore& store, Reduce reduce, std::size_t maxQueuedBytes, unsigned workers = 0);
+    /// be `reduce`; bricks resolve with `overlap`. At most `maxQueuedBytes` of
+    /// accumulators are held at once, counting regions queued and regions being
+    /// worked on.
+    RegionWriter(BrickStore& store, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes, unsigned workers = 0);
     /// Stops the workers after the regions they hold; regions still queued are
     /// dropped (call finish() to write everything).
     ~RegionWriter();
@@ -63,6 +65,7 @@ class RegionWriter {
 
     BrickStore& store_;
     Reduce reduce_;
+    Overlap overlap_;
     std::size_t maxQueuedBytes_;
 
     mutable std::mutex mutex_;

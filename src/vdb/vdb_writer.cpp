@@ -133,6 +133,8 @@ void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata
     meta.insertMeta("yarn_radius", openvdb::DoubleMetadata(metadata.yarnRadius));
     meta.insertMeta("twist", openvdb::DoubleMetadata(metadata.twist));
     meta.insertMeta("supersample", openvdb::Int32Metadata(metadata.supersample));
+    meta.insertMeta("overlap", openvdb::StringMetadata(metadata.overlap));
+    meta.insertMeta("slice_spacing", openvdb::DoubleMetadata(metadata.sliceSpacing));
     meta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
 
     const std::string tmp = path + ".partial";

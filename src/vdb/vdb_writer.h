@@ -21,6 +21,8 @@ struct VolumeMetadata {
     double yarnRadius = 0.0;
     double twist = 0.0;
     int supersample = 1;
+    std::string overlap = "clamp"; ///< how interpenetrating yarns add up (mean reduction)
+    double sliceSpacing = 0.0;     ///< largest distance between slices along a yarn, world units
 };
 
 /// Writes `volume` to `path` through a temporary file and a rename, so a
