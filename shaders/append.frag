@@ -10,6 +10,7 @@ layout(std430, binding = 2) writeonly buffer Fragments { Fragment fragments[]; }
 
 uniform uint uCapacity;       // fragments the list holds; the counter goes on past it
 uniform float uRadius;        // yarn radius, voxel units
+uniform int uDisk;            // 1: the uniform disk, coverage computed exactly
 uniform int uSupersample;
 uniform ivec3 uRegionMin;
 uniform ivec3 uRegionBricks;  // region size in bricks
@@ -36,17 +37,16 @@ void main() {
     float det = vTangent[a];
     float x = (db * vUp[c] - dc * vUp[b]) / det;
     float y = (vRight[b] * dc - vRight[c] * db) / det;
-    if (x < -uRadius || x >= uRadius || y < -uRadius || y >= uRadius) return;
 
     ivec2 face = ivec2(pixel.x / uSupersample, pixel.y / uSupersample) - ivec2(uRegionMin[b], uRegionMin[c]);
     ivec3 regionSize = uRegionBricks * 8;
     if (face.x < 0 || face.y < 0 || face.x >= regionSize[b] || face.y >= regionSize[c]) return;
 
-    int size = textureSize(uCrossSection, 0).x;
-    ivec2 texel = clamp(ivec2(floor((vec2(x, y) / uRadius + 1.0) * 0.5 * float(size))), ivec2(0), ivec2(size - 1));
-    uint value = texelFetch(uCrossSection, texel, 0).r;
-    if (value == 0u) return;
-    float density = float(value) / 255.0;
+    // The pixel's square seen on the slice plane, and the fibre it covers.
+    vec2 edgeB = vec2(vUp[c], -vRight[c]) / (det * S * uRadius);
+    vec2 edgeC = vec2(-vUp[b], vRight[b]) / (det * S * uRadius);
+    float density = footprintDensity(uCrossSection, uDisk != 0, vec2(x, y) / uRadius, edgeB, edgeC);
+    if (!(density > 0.0)) return;
 
     // The pixel's column through the slab: its depth follows the bend (the
     // tube's Jacobian), centred where the column meets the slice.

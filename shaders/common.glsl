@@ -69,3 +69,78 @@ vec3 decodeAxis(uint code) {
     vec2 uw = vec2(float(code >> 16), float(code & 0xffffu)) / 65535.0 * 2.0 - 1.0;
     return normalize(vec3(uw, max(0.0, 1.0 - abs(uw.x) - abs(uw.y))));
 }
+
+// Area of (disk of radius r about the origin) ∩ (parallelogram centred at c
+// with edges u, v) over the parallelogram's area (src/core/footprint.h:
+// diskCoverage): shoelace about c, plus a circular cap for every arc.
+float diskCoverage(vec2 c, vec2 u, vec2 v, float r) {
+    float area = abs(u.x * v.y - u.y * v.x);
+    if (!(area > 0.0)) return 0.0;
+    float reach = 0.5 * (length(u) + length(v)), dist = length(c);
+    if (dist - reach >= r) return 0.0;
+    if (dist + reach <= r) return 1.0;
+    if (u.x * v.y - u.y * v.x < 0.0) { vec2 t = u; u = v; v = t; }
+    vec2 corner[4] = vec2[4](c - 0.5 * u - 0.5 * v, c + 0.5 * u - 0.5 * v, c + 0.5 * u + 0.5 * v, c - 0.5 * u + 0.5 * v);
+    float r2 = r * r;
+    float tIn[4], tOut[4];
+    bool inside[4];
+    for (int i = 0; i < 4; ++i) {
+        vec2 a = corner[i], d = corner[(i + 1) & 3] - a;
+        float qa = dot(d, d), qb = dot(a, d), qc = dot(a, a) - r2;
+        float disc = qb * qb - qa * qc;
+        float s = sqrt(max(disc, 0.0));
+        tIn[i] = max(0.0, (-qb - s) / qa);
+        tOut[i] = min(1.0, (-qb + s) / qa);
+        inside[i] = disc > 0.0 && tOut[i] > tIn[i];
+    }
+    vec2 point[8];
+    bool exits[8];
+    int n = 0;
+    for (int i = 0; i < 4; ++i) {
+        if (!inside[i]) continue;
+        vec2 a = corner[i], d = corner[(i + 1) & 3] - a;
+        int next = (i + 1) & 3;
+        point[n] = a + tIn[i] * d; exits[n] = false; ++n;
+        if (tOut[i] < 1.0 || !inside[next] || tIn[next] > 0.0) { point[n] = a + tOut[i] * d; exits[n] = true; ++n; }
+    }
+    if (n == 0) {
+        for (int i = 0; i < 4; ++i) {
+            vec2 e = corner[(i + 1) & 3] - corner[i];
+            if (e.x * -corner[i].y - e.y * -corner[i].x < 0.0) return 0.0;
+        }
+        return min(1.0, 3.14159265358979 * r2 / area);
+    }
+    float twice = 0.0, caps = 0.0;
+    for (int k = 0; k < n; ++k) {
+        int next = k + 1 == n ? 0 : k + 1;
+        vec2 p = point[k] - c, q = point[next] - c;
+        twice += p.x * q.y - p.y * q.x;
+        if (exits[k]) {
+            vec2 e = point[k], f = point[next];
+            float theta = atan(e.x * f.y - e.y * f.x, dot(e, f));
+            if (theta < 0.0) theta = theta > -1e-4 ? 0.0 : theta + 6.28318530717959;
+            float t2 = theta * theta;
+            float excess = theta < 1e-2 ? theta * t2 / 6.0 * (1.0 - t2 / 20.0) : theta - sin(theta);
+            caps += 0.5 * r2 * excess;
+        }
+    }
+    return clamp((0.5 * twice + caps) / area, 0.0, 1.0);
+}
+
+// Mean density over a sample's footprint, slice-local units of the radius
+// (src/garment/cross_section.h: CrossSection::footprintDensity): exact for
+// the disk, else the mean of 4 x 4 texels over the footprint, 0 outside the
+// slice square.
+float footprintDensity(usampler2D crossSection, bool disk, vec2 c, vec2 e0, vec2 e1) {
+    if (disk) return diskCoverage(c, e0, e1, 1.0);
+    int size = textureSize(crossSection, 0).x;
+    uint sum = 0u;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            vec2 p = c + ((float(i) + 0.5) / 4.0 - 0.5) * e0 + ((float(j) + 0.5) / 4.0 - 0.5) * e1;
+            if (p.x < -1.0 || p.x >= 1.0 || p.y < -1.0 || p.y >= 1.0) continue;
+            ivec2 texel = clamp(ivec2(floor((p + 1.0) * 0.5 * float(size))), ivec2(0), ivec2(size - 1));
+            sum += texelFetch(crossSection, texel, 0).r;
+        }
+    return float(sum) / (255.0 * 16.0);
+}

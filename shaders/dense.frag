@@ -1,9 +1,9 @@
 // The paper's dense method (Appendix A): every sample on fibre is written
-// straight into dense 3D textures, into the one voxel that holds it (no split
-// of the slab in depth: the paper's rule, kept as the baseline), density as a max and the fibre direction as
-// two 8-bit angles. The sample itself is computed exactly as append.frag does
-// (global pixel index, slice plane, half-open square, level-0 texel), so the
-// baseline differs from the sparse backend only in how samples are stored.
+// straight into dense 3D textures, density as a max and the fibre direction as
+// two 8-bit angles. The sample itself, and the voxels its slab column crosses,
+// are computed exactly as append.frag does (global pixel index, slice plane,
+// half-open square, level-0 texel, box filter in depth), so the baseline
+// differs from the sparse backend only in how samples are stored.
 //
 // The imageLoad / imageStore pairs below are a read-modify-write without
 // atomics, as in the paper: two fragments of the same voxel may interleave, a
@@ -17,6 +17,7 @@ layout(binding = 1, r8) uniform writeonly image3D uTheta;
 layout(binding = 2, r8) uniform writeonly image3D uPhi;
 
 uniform float uRadius;        // yarn radius, voxel units
+uniform int uDisk;            // 1: the uniform disk, coverage computed exactly
 uniform int uSupersample;
 uniform ivec3 uDims;          // grid size in voxels (the textures' size)
 
@@ -42,34 +43,41 @@ void main() {
     float det = vTangent[a];
     float x = (db * vUp[c] - dc * vUp[b]) / det;
     float y = (vRight[b] * dc - vRight[c] * db) / det;
-    if (x < -uRadius || x >= uRadius || y < -uRadius || y >= uRadius) return;
 
-    ivec3 voxel;
-    voxel[a] = int(floor(vCenter[a] + x * vRight[a] + y * vUp[a]));
-    voxel[b] = pixel.x / uSupersample;
-    voxel[c] = pixel.y / uSupersample;
-    if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, uDims))) return;
+    ivec2 face = ivec2(pixel.x / uSupersample, pixel.y / uSupersample);
+    if (face.x >= uDims[b] || face.y >= uDims[c]) return;
 
-    int size = textureSize(uCrossSection, 0).x;
-    ivec2 texel = clamp(ivec2(floor((vec2(x, y) / uRadius + 1.0) * 0.5 * float(size))), ivec2(0), ivec2(size - 1));
-    uint value = texelFetch(uCrossSection, texel, 0).r;
-    if (value == 0u) return;
-    // value / 255 stored as unorm8 gives back exactly `value`.
-    float density = float(value) / 255.0;
+    vec2 edgeB = vec2(vUp[c], -vRight[c]) / (det * S * uRadius);
+    vec2 edgeC = vec2(-vUp[b], vRight[b]) / (det * S * uRadius);
+    float density = footprintDensity(uCrossSection, uDisk != 0, vec2(x, y) / uRadius, edgeB, edgeC);
+    if (!(density > 0.0)) return;
+
+    float depth = max(0.0, 1.0 - dot(vCurvature, x * vRight + y * vUp)) * vDepthScale;
+    if (!(depth > 0.0)) return;
+    float z0 = vCenter[a] + x * vRight[a] + y * vUp[a] - 0.5 * depth, z1 = z0 + depth;
 
     // Eq. 1 of the paper: where the fibre at (x, y) sits on the next slice.
     float cs = cos(vTwistStep), sn = sin(vTwistStep);
     vec3 dir = normalize((x * cs - y * sn - x) * vRight + (x * sn + y * cs - y) * vUp + vThickness * vTangent);
 
+    float theta = acos(clamp(dir.z, -1.0, 1.0)) / kPi;
+    float phi = (atan(dir.y, dir.x) + kPi) / (2.0 * kPi);
+
     // Racy max, as the paper (see the top of the file). Unlike the paper, the
     // angles are written only by a sample that is not below the stored
     // density, so where no race hits, orientation follows the densest sample
     // as the max reduction of the other backends does.
-    float stored = imageLoad(uDensity, voxel).x;
-    if (density < stored) return;
-    imageStore(uDensity, voxel, vec4(density));
-    float theta = acos(clamp(dir.z, -1.0, 1.0)) / kPi;
-    float phi = (atan(dir.y, dir.x) + kPi) / (2.0 * kPi);
-    imageStore(uTheta, voxel, vec4(theta));
-    imageStore(uPhi, voxel, vec4(phi));
+    ivec3 voxel;
+    voxel[b] = face.x;
+    voxel[c] = face.y;
+    for (float v = floor(z0); v < z1; v += 1.0) {
+        if (!(min(z1, v + 1.0) - max(z0, v) > 0.0)) continue;
+        voxel[a] = int(v);
+        if (voxel[a] < 0 || voxel[a] >= uDims[a]) continue;
+        float stored = imageLoad(uDensity, voxel).x;
+        if (density < stored) continue;
+        imageStore(uDensity, voxel, vec4(density));
+        imageStore(uTheta, voxel, vec4(theta));
+        imageStore(uPhi, voxel, vec4(phi));
+    }
 }

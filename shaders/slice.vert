@@ -72,7 +72,8 @@ void main() {
     int b = (a + 1) % 3, c = (a + 2) % 3;
 
     // Two pixels of margin in the plane are at least one pixel on the face,
-    // since the face foreshortens the plane by |tangent[a]| >= 1/sqrt(3).
+    // since the face foreshortens the plane by |tangent[a]| >= 1/sqrt(3): every
+    // pixel whose square meets the slice square has its centre in the quad.
     vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
     float extent = uRadius + 2.0 / float(uSupersample);
     vec3 p = center + extent * (corner.x * right + corner.y * sliceUp);

@@ -137,7 +137,9 @@ TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses no
     for (Reduce r : {Reduce::Mean, Reduce::Max}) {
         GlVoxelizeCounters ample, tiny;
         const BrickVolume a = voxelizeGl(plan, xs, grid, glSettings(r), &ample);
-        const BrickVolume b = voxelizeGl(plan, xs, grid, glSettings(r, 8 * 64), &tiny);
+        // The smallest budget the backend accepts here: 8 slices a segment, 64
+        // pixels of a brick face, each column split over up to 5 voxels.
+        const BrickVolume b = voxelizeGl(plan, xs, grid, glSettings(r, 8 * 64 * 5), &tiny);
         CHECK(ample.overflows == 0);
         CHECK(tiny.overflows >= 1); // the heat map underestimates some regions: they split
         CHECK(tiny.passes > ample.passes + 4);
@@ -154,7 +156,7 @@ TEST_CASE("GL: a capacity below one segment's worth is refused with a clear erro
     const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {1, 0, 0}, 3), opt);
     const VoxelGrid grid = makeGrid(plan, 32, 0.0);
     CHECK_THROWS_WITH(voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings(Reduce::Mean, 100)),
-                      Catch::Contains("fragment capacity 100"));
+                      Catch::Contains("fragment budget 100"));
 }
 
 TEST_CASE("GL agrees with the CPU when slice counts vary per segment (--slice-spacing)", "[gl][agreement]") {

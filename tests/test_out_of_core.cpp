@@ -54,9 +54,11 @@ TEST_CASE("Past the 2 GB texture limit, 64+ zoom regions give exactly the tree o
     g.crossings = 64;
     const Garment garment = generateGarment(g);
     SliceOptions opt;
-    opt.radius = garment.yarnRadius;
+    // Thin yarns in a big grid: every voxel a yarn crosses is filled, so the
+    // yarn volume (not the grid) sets the work llvmpipe has to get through.
+    opt.radius = garment.yarnRadius / 4;
     opt.twist = 2.0;
-    opt.slicesPerSegment = 2; // few slices, so llvmpipe gets through quickly
+    opt.slicesPerSegment = 2; // few slices, each slab split over the voxels it spans
     const SlicePlan plan = planSlices(garment, opt);
     const VoxelGrid grid = makeGrid(plan, 2048, 0.0);
     // One byte per voxel would already be past a 2 GB 3D texture.

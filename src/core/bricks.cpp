@@ -92,9 +92,9 @@ bool resolveBrick(Reduce reduce, Overlap overlap, const BrickAccumulator& acc, V
         if (reduce == Reduce::Mean) {
             const double raw = w[v] / kFixedScale;
             local.rawDensitySum += raw;
-            if (w[v] > std::uint32_t(kFixedScale)) {
-                ++local.voxelsOverOne;
+            if (raw > 1.0) {
                 local.excessOverOne += raw - 1.0;
+                local.voxelsOverOne += raw > 1.0 + kOverOneMargin;
             }
             density = static_cast<float>(overlap == Overlap::Clamp ? std::min(raw, 1.0) : raw);
             if (w[v] != 0) {

@@ -53,11 +53,15 @@ struct VoxelBrick {
     int activeCount() const;
 };
 
+/// Sums of slab shares that tile a voxel exactly still differ from 1 by a few
+/// fixed-point units; a voxel counts as over one only past this margin.
+constexpr double kOverOneMargin = 1.0 / 1024.0;
+
 /// What resolving found, summed over voxels: how much density the overlap
 /// rule clamped away, for --stats and the summary line.
 struct ResolveTally {
     std::uint64_t activeVoxels = 0;
-    std::uint64_t voxelsOverOne = 0; ///< voxels whose summed fraction exceeded 1 (before clamping)
+    std::uint64_t voxelsOverOne = 0; ///< voxels whose summed fraction exceeded 1 by more than kOverOneMargin
     double densitySum = 0.0;         ///< output densities
     double rawDensitySum = 0.0;      ///< densities before clamping
     double excessOverOne = 0.0;      ///< sum of (d - 1) over voxels with d > 1, before clamping

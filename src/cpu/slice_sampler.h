@@ -21,11 +21,12 @@ struct SliceSample {
 };
 
 /// Calls `emit(const SliceSample&)` for every voxel share of every sample of
-/// `slice`: pixel centres of the grid's face along the slice's dominant axis,
-/// `supersample`^2 per voxel face, that fall inside the slice square and on
-/// non-zero density. A sample stands for its pixel's column through the
-/// slice's slab; the column is split among the voxels it crosses (a box
-/// filter in depth), one share per voxel.
+/// `slice`: pixels of the grid's face along the slice's dominant axis,
+/// `supersample`^2 per voxel face, whose square, seen on the slice plane,
+/// covers some fibre (the sample's density is the footprint's mean density).
+/// A sample stands for its pixel's column through the slice's slab; the
+/// column is split among the voxels it crosses (a box filter in depth), one
+/// share per voxel.
 template <class Emit>
 void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, const VoxelGrid& grid, int supersample,
                  Emit&& emit) {
@@ -44,8 +45,12 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, cons
         lo[0] = std::min(lo[0], pb), hi[0] = std::max(hi[0], pb);
         lo[1] = std::min(lo[1], pc), hi[1] = std::max(hi[1], pc);
     }
-    const long i0 = static_cast<long>(std::ceil(lo[0] - 0.5)), i1 = static_cast<long>(std::floor(hi[0] - 0.5));
-    const long j0 = static_cast<long>(std::ceil(lo[1] - 0.5)), j1 = static_cast<long>(std::floor(hi[1] - 0.5));
+    // Every pixel whose square meets the projected slice square.
+    const long i0 = static_cast<long>(std::floor(lo[0])), i1 = static_cast<long>(std::ceil(hi[0])) - 1;
+    const long j0 = static_cast<long>(std::floor(lo[1])), j1 = static_cast<long>(std::ceil(hi[1])) - 1;
+    // The pixel's edges on the slice plane, in units of the radius.
+    const glm::dvec2 edgeB = pixel / (det * radius) * glm::dvec2(Uc, -Rc);
+    const glm::dvec2 edgeC = pixel / (det * radius) * glm::dvec2(-Ub, Rb);
     // Depth of the slab along the column, in voxels, before the bend's scale.
     const double depthScale = slice.thickness / (h * std::abs(det));
     const double pixelShare = 1.0 / (supersample * supersample);
@@ -57,10 +62,8 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, cons
             const double db = grid.origin[b] + (i + 0.5) * pixel - slice.center[b];
             const double x = (db * Uc - dc * Ub) / det;
             const double y = (Rb * dc - Rc * db) / det;
-            // Half-open square, like the rasteriser's fill rule on shared edges.
-            if (x < -radius || x >= radius || y < -radius || y >= radius) continue;
-            const std::uint8_t texel = xs.lookup(x * invRadius, y * invRadius);
-            if (texel == 0) continue;
+            const double coverage = xs.footprintDensity(glm::dvec2(x, y) * invRadius, edgeB, edgeC);
+            if (!(coverage > 0.0)) continue;
             const double pa = slice.center[a] + x * slice.right[a] + y * slice.up[a];
             const double depth = slabScale(slice, x, y) * depthScale;
             if (!(depth > 0.0)) continue;
@@ -68,9 +71,9 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, cons
             SliceSample s;
             s.voxel[b] = static_cast<int>(i / supersample);
             s.voxel[c] = static_cast<int>(j / supersample);
-            s.density = texel / 255.0f;
+            s.density = static_cast<float>(coverage);
             s.direction = fiberDirection(slice, x, y);
-            const double weight = s.density * pixelShare;
+            const double weight = coverage * pixelShare;
             for (double v = std::floor(z0); v < z1; v += 1.0) {
                 const double share = std::min(z1, v + 1.0) - std::max(z0, v);
                 if (!(share > 0.0)) continue;

@@ -23,6 +23,7 @@ CrossSection makeDiskCrossSection(int size) {
     CrossSection xs;
     xs.size = size;
     xs.name = "disk";
+    xs.analyticDisk = true;
     xs.density.resize(static_cast<std::size_t>(size) * size);
     // 8x8 samples per texel give each edge texel its covered fraction, so the
     // texture integrates to pi within 8-bit quantisation.

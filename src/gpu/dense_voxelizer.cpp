@@ -193,6 +193,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     glUniform1ui(program.uniform("uUniformSlices"), minSlices == maxSlices ? maxSlices : 0u);
     glUniform1f(program.uniform("uRadius"), float(plan.options.radius / grid.voxelSize));
     glUniform1i(program.uniform("uSupersample"), S);
+    glUniform1i(program.uniform("uDisk"), xs.analyticDisk ? 1 : 0);
     glUniform3i(program.uniform("uRegionMin"), 0, 0, 0);
     glUniform3i(program.uniform("uDims"), dims.x, dims.y, dims.z);
     glUniform2f(program.uniform("uViewport"), float(viewport), float(viewport));

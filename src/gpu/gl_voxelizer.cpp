@@ -259,6 +259,7 @@ class GlBackend::Impl {
     }
 
     void uploadCrossSection(const CrossSection& xs) {
+        disk_ = xs.analyticDisk;
         glCreateTextures(GL_TEXTURE_2D, 1, &texture_);
         glTextureStorage2D(texture_, 1, GL_R8UI, xs.size, xs.size);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -326,6 +327,7 @@ class GlBackend::Impl {
         glUniform1ui(raster_.uniform("uUniformSlices"), uniformSlices_);
         glUniform1f(raster_.uniform("uRadius"), float(plan_.options.radius / grid_.voxelSize));
         glUniform1i(raster_.uniform("uSupersample"), S);
+        glUniform1i(raster_.uniform("uDisk"), disk_ ? 1 : 0);
         glUniform3i(raster_.uniform("uRegionMin"), item.min.x, item.min.y, item.min.z);
         glUniform3i(raster_.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
         glUniform2f(raster_.uniform("uViewport"), float(viewport), float(viewport));
@@ -448,6 +450,7 @@ class GlBackend::Impl {
     ReadbackBuffer small_, readback_;
     GlBuffer segments_, drawList_, fragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
     GLuint texture_ = 0, vao_ = 0, fbo_ = 0;
+    bool disk_ = false; ///< the cross-section is the uniform disk
     GlProgram raster_, flag_, scan_, scatter_, maxOrient_;
     std::vector<BrickAccumulator> accumulators_;
     std::unordered_map<std::uint64_t, std::size_t> slotOfKey_;

@@ -1,0 +1,82 @@
+// A sample's footprint: the pixel square of the face, seen on the slice plane
+// (a parallelogram), and how much of it the cross-section covers. Coverage
+// rather than a point sample is what makes a boundary voxel read its true
+// volume fraction and the mass exact for thin yarns. shaders/common.glsl
+// mirrors these functions.
+#pragma once
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace yv {
+
+/// Area of (disk of radius r about the origin) ∩ (parallelogram centred at
+/// `c` with edge vectors `u`, `v`), divided by the parallelogram's area.
+/// Exact: the clipped polygon's area by the shoelace formula about `c` (no
+/// cancellation however far the disk's centre is), plus a circular cap for
+/// every arc of the boundary, r^2 / 2 (theta - sin theta), by its series when
+/// theta is small.
+inline double diskCoverage(glm::dvec2 c, glm::dvec2 u, glm::dvec2 v, double r) {
+    const double area = std::abs(u.x * v.y - u.y * v.x);
+    if (!(area > 0.0)) return 0.0;
+    const double reach = 0.5 * (glm::length(u) + glm::length(v)), dist = glm::length(c);
+    if (dist - reach >= r) return 0.0;
+    if (dist + reach <= r) return 1.0;
+    if (u.x * v.y - u.y * v.x < 0.0) std::swap(u, v); // counter-clockwise corners
+    const glm::dvec2 corner[4] = {c - 0.5 * u - 0.5 * v, c + 0.5 * u - 0.5 * v, c + 0.5 * u + 0.5 * v,
+                                  c - 0.5 * u + 0.5 * v};
+    const double r2 = r * r;
+    // Per edge, the part inside the disk: parameters [tIn, tOut] of [0, 1].
+    double tIn[4], tOut[4];
+    bool inside[4];
+    for (int i = 0; i < 4; ++i) {
+        const glm::dvec2 a = corner[i], d = corner[(i + 1) & 3] - a;
+        const double qa = glm::dot(d, d), qb = glm::dot(a, d), qc = glm::dot(a, a) - r2;
+        const double disc = qb * qb - qa * qc;
+        const double s = std::sqrt(std::max(disc, 0.0));
+        tIn[i] = std::max(0.0, (-qb - s) / qa);
+        tOut[i] = std::min(1.0, (-qb + s) / qa);
+        inside[i] = disc > 0.0 && tOut[i] > tIn[i];
+    }
+    // Boundary of the clipped region: where each edge's inside part starts,
+    // and where it leaves the disk (an exit, followed by an arc) unless the
+    // next edge goes on inside from the shared corner (which may lie on the circle).
+    glm::dvec2 point[8];
+    bool exits[8];
+    int n = 0;
+    for (int i = 0; i < 4; ++i) {
+        if (!inside[i]) continue;
+        const glm::dvec2 a = corner[i], d = corner[(i + 1) & 3] - a;
+        const int next = (i + 1) & 3;
+        point[n] = a + tIn[i] * d, exits[n++] = false;
+        if (tOut[i] < 1.0 || !inside[next] || tIn[next] > 0.0) point[n] = a + tOut[i] * d, exits[n++] = true;
+    }
+    if (n == 0) {
+        // No corner inside and no crossing: the disk lies inside or outside.
+        for (int i = 0; i < 4; ++i) {
+            const glm::dvec2 e = corner[(i + 1) & 3] - corner[i];
+            if (e.x * -corner[i].y - e.y * -corner[i].x < 0.0) return 0.0;
+        }
+        return std::min(1.0, M_PI * r2 / area);
+    }
+    double twice = 0.0, caps = 0.0;
+    for (int k = 0; k < n; ++k) {
+        const glm::dvec2 p = point[k] - c, q = point[(k + 1) % n] - c;
+        twice += p.x * q.y - p.y * q.x;
+        if (exits[k]) {
+            const glm::dvec2 e = point[k], f = point[(k + 1) % n];
+            double theta = std::atan2(e.x * f.y - e.y * f.x, glm::dot(e, f));
+            // An exit and entry at one corner on the circle: no arc, whatever the rounding.
+            if (theta < 0.0) theta = theta > -1e-9 ? 0.0 : theta + 2.0 * M_PI;
+            const double t2 = theta * theta;
+            const double excess = theta < 1e-2 ? theta * t2 / 6.0 * (1.0 - t2 / 20.0) : theta - std::sin(theta);
+            caps += 0.5 * r2 * excess;
+        }
+    }
+    return std::clamp((0.5 * twice + caps) / area, 0.0, 1.0);
+}
+
+} // namespace yv
