@@ -42,30 +42,26 @@ void main() {
     ivec3 regionSize = uRegionBricks * 8;
     if (face.x < 0 || face.y < 0 || face.x >= regionSize[b] || face.y >= regionSize[c]) return;
 
-    // The pixel's square seen on the slice plane, and the fibre it covers.
-    vec2 edgeB = vec2(vUp[c], -vRight[c]) / (det * S * uRadius);
-    vec2 edgeC = vec2(-vUp[b], vRight[b]) / (det * S * uRadius);
-    float density = footprintDensity(uCrossSection, uDisk != 0, vec2(x, y) / uRadius, edgeB, edgeC);
-    if (!(density > 0.0)) return;
-
-    // The pixel's column through the slab: its depth follows the bend (the
-    // tube's Jacobian), centred where the column meets the slice.
-    float depth = max(0.0, 1.0 - dot(vCurvature, x * vRight + y * vUp)) * vDepthScale;
-    if (!(depth > 0.0)) return;
-    float z0 = vCenter[a] + x * vRight[a] + y * vUp[a] - 0.5 * depth, z1 = z0 + depth;
+    // The pixel's prism through the slab, in cells with their own coverage
+    // and depth (the CPU reference's rule).
+    float cellDensity[kCells], cellZ0[kCells], cellZ1[kCells], zMin, zMax;
+    float cellSum = footprintCells(uCrossSection, uDisk != 0, a, b, c, S, uRadius, vCenter, vRight, vUp, vTangent,
+                                   vCurvature, vDepthScale, x, y, cellDensity, cellZ0, cellZ1, zMin, zMax);
+    if (!(cellSum > 0.0)) return;
+    float density = cellSum / float(kCells);
 
     // Eq. 1 of the paper: where the fibre at (x, y) sits on the next slice.
     float cs = cos(vTwistStep), sn = sin(vTwistStep);
     uint axis = encodeAxis(normalize((x * cs - y * sn - x) * vRight + (x * sn + y * cs - y) * vUp + vThickness * vTangent));
-    float weight = density / (S * S);
+    float weight = 1.0 / (S * S * float(kCells));
 
-    // One fragment per voxel the column crosses (a box filter in depth).
+    // One fragment per voxel the cells' columns cross (a box filter in depth).
     ivec3 voxel;
     voxel[b] = face.x;
     voxel[c] = face.y;
-    for (float v = floor(z0); v < z1; v += 1.0) {
-        float share = min(z1, v + 1.0) - max(z0, v);
-        if (!(share > 0.0)) continue;
+    for (float v = floor(zMin); v < zMax; v += 1.0) {
+        float share = layerShare(v, cellDensity, cellZ0, cellZ1);
+        if (!(weight * share >= kMinVoxelShare)) continue;
         voxel[a] = int(v) - uRegionMin[a];
         if (voxel[a] < 0 || voxel[a] >= regionSize[a]) continue;
         ivec3 brick = voxel >> 3;

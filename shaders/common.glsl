@@ -4,6 +4,8 @@
 // Fixed-point scale of volume fractions (src/core/sampling.h: kFixedScale).
 const float kFixedScale = 16777216.0;
 const int kBrickVoxels = 512;
+// Smallest share of a voxel a sample gives it (src/core/sampling.h: kMinVoxelShare).
+const float kMinVoxelShare = 1.0 / 65536.0;
 
 // One curve segment (96 bytes): control points in voxel units relative to
 // the grid origin; p[0].w = twist rate (radians per voxel unit of length);
@@ -127,20 +129,69 @@ float diskCoverage(vec2 c, vec2 u, vec2 v, float r) {
     return clamp((0.5 * twice + caps) / area, 0.0, 1.0);
 }
 
-// Mean density over a sample's footprint, slice-local units of the radius
-// (src/garment/cross_section.h: CrossSection::footprintDensity): exact for
-// the disk, else the mean of 4 x 4 texels over the footprint, 0 outside the
-// slice square.
+// Mean density over a footprint cell, slice-local units of the radius
+// (src/garment/cross_section.h: CrossSection::footprintDensity): exact
+// coverage for the disk, else the texture, bilinear, at the cell's centre (0
+// outside the slice square).
 float footprintDensity(usampler2D crossSection, bool disk, vec2 c, vec2 e0, vec2 e1) {
     if (disk) return diskCoverage(c, e0, e1, 1.0);
+    if (!(c.x >= -1.0 && c.x < 1.0 && c.y >= -1.0 && c.y < 1.0)) return 0.0;
+    // Bilinear between texel centres (CrossSection::bilinear).
     int size = textureSize(crossSection, 0).x;
-    uint sum = 0u;
-    for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) {
-            vec2 p = c + ((float(i) + 0.5) / 4.0 - 0.5) * e0 + ((float(j) + 0.5) / 4.0 - 0.5) * e1;
-            if (p.x < -1.0 || p.x >= 1.0 || p.y < -1.0 || p.y >= 1.0) continue;
-            ivec2 texel = clamp(ivec2(floor((p + 1.0) * 0.5 * float(size))), ivec2(0), ivec2(size - 1));
-            sum += texelFetch(crossSection, texel, 0).r;
+    vec2 f = (c + 1.0) * 0.5 * float(size) - 0.5;
+    vec2 f0 = floor(f), t = f - f0;
+    ivec2 i0 = clamp(ivec2(f0), ivec2(0), ivec2(size - 1)), i1 = clamp(ivec2(f0) + 1, ivec2(0), ivec2(size - 1));
+    float top = float(texelFetch(crossSection, ivec2(i0.x, i0.y), 0).r) * (1.0 - t.x) +
+                float(texelFetch(crossSection, ivec2(i1.x, i0.y), 0).r) * t.x;
+    float bottom = float(texelFetch(crossSection, ivec2(i0.x, i1.y), 0).r) * (1.0 - t.x) +
+                   float(texelFetch(crossSection, ivec2(i1.x, i1.y), 0).r) * t.x;
+    return (top * (1.0 - t.y) + bottom * t.y) / 255.0;
+}
+
+// Cells per side of a sample's footprint (CrossSection::kFootprintCells).
+const int kFootprintCells = 4;
+const int kCells = kFootprintCells * kFootprintCells;
+
+// A sample's footprint on the slice in kFootprintCells^2 cells, each with
+// its fibre density and its column's depth interval [z0, z1) through the
+// slab, in voxels along axis a (src/cpu/slice_sampler.h: sampleSlice).
+// Returns the sum of the cells' densities (0: no fibre).
+float footprintCells(usampler2D crossSection, bool disk, int a, int b, int c, float S, float radius, vec3 center,
+                     vec3 right, vec3 up, vec3 tangent, vec3 curvature, float depthScale, float x, float y,
+                     out float cellDensity[kCells], out float cellZ0[kCells], out float cellZ1[kCells],
+                     out float zMin, out float zMax) {
+    float det = tangent[a];
+    vec2 edgeB = vec2(up[c], -right[c]) / (det * S * radius);
+    vec2 edgeC = vec2(-up[b], right[b]) / (det * S * radius);
+    float coverage = footprintDensity(crossSection, disk, vec2(x, y) / radius, edgeB, edgeC);
+    zMin = 1e30;
+    zMax = -1e30;
+    if (disk && !(coverage > 0.0)) return 0.0;
+    float m = float(kFootprintCells), density = 0.0;
+    for (int q = 0; q < kFootprintCells; ++q)
+        for (int p = 0; p < kFootprintCells; ++p) {
+            int k = q * kFootprintCells + p;
+            float ob = ((float(p) + 0.5) / m - 0.5) / S, oc = ((float(q) + 0.5) / m - 0.5) / S;
+            float cx = x + (ob * up[c] - oc * up[b]) / det, cy = y + (right[b] * oc - right[c] * ob) / det;
+            float d = disk && coverage >= 1.0 ? 1.0
+                                              : footprintDensity(crossSection, disk, vec2(cx, cy) / radius, edgeB / m, edgeC / m);
+            float depth = max(0.0, 1.0 - dot(curvature, cx * right + cy * up)) * depthScale;
+            cellZ0[k] = center[a] + cx * right[a] + cy * up[a] - 0.5 * depth;
+            cellZ1[k] = cellZ0[k] + depth;
+            cellDensity[k] = d > 0.0 && depth > 0.0 ? d : 0.0;
+            if (cellDensity[k] > 0.0) {
+                density += d;
+                zMin = min(zMin, cellZ0[k]);
+                zMax = max(zMax, cellZ1[k]);
+            }
         }
-    return float(sum) / (255.0 * 16.0);
+    return density;
+}
+
+// What the cells put into voxel layer [v, v + 1): density times depth.
+float layerShare(float v, float cellDensity[kCells], float cellZ0[kCells], float cellZ1[kCells]) {
+    float share = 0.0;
+    for (int k = 0; k < kCells; ++k)
+        if (cellDensity[k] > 0.0) share += cellDensity[k] * max(0.0, min(cellZ1[k], v + 1.0) - max(cellZ0[k], v));
+    return share;
 }

@@ -47,14 +47,11 @@ void main() {
     ivec2 face = ivec2(pixel.x / uSupersample, pixel.y / uSupersample);
     if (face.x >= uDims[b] || face.y >= uDims[c]) return;
 
-    vec2 edgeB = vec2(vUp[c], -vRight[c]) / (det * S * uRadius);
-    vec2 edgeC = vec2(-vUp[b], vRight[b]) / (det * S * uRadius);
-    float density = footprintDensity(uCrossSection, uDisk != 0, vec2(x, y) / uRadius, edgeB, edgeC);
-    if (!(density > 0.0)) return;
-
-    float depth = max(0.0, 1.0 - dot(vCurvature, x * vRight + y * vUp)) * vDepthScale;
-    if (!(depth > 0.0)) return;
-    float z0 = vCenter[a] + x * vRight[a] + y * vUp[a] - 0.5 * depth, z1 = z0 + depth;
+    float cellDensity[kCells], cellZ0[kCells], cellZ1[kCells], zMin, zMax;
+    float cellSum = footprintCells(uCrossSection, uDisk != 0, a, b, c, S, uRadius, vCenter, vRight, vUp, vTangent,
+                                   vCurvature, vDepthScale, x, y, cellDensity, cellZ0, cellZ1, zMin, zMax);
+    if (!(cellSum > 0.0)) return;
+    float density = cellSum / float(kCells);
 
     // Eq. 1 of the paper: where the fibre at (x, y) sits on the next slice.
     float cs = cos(vTwistStep), sn = sin(vTwistStep);
@@ -70,8 +67,8 @@ void main() {
     ivec3 voxel;
     voxel[b] = face.x;
     voxel[c] = face.y;
-    for (float v = floor(z0); v < z1; v += 1.0) {
-        if (!(min(z1, v + 1.0) - max(z0, v) > 0.0)) continue;
+    for (float v = floor(zMin); v < zMax; v += 1.0) {
+        if (!(layerShare(v, cellDensity, cellZ0, cellZ1) / (S * S * float(kCells)) >= kMinVoxelShare)) continue;
         voxel[a] = int(v);
         if (voxel[a] < 0 || voxel[a] >= uDims[a]) continue;
         float stored = imageLoad(uDensity, voxel).x;

@@ -202,7 +202,10 @@ void checkStraightYarns(Backend backend, std::initializer_list<int> radiiVoxels)
                 INFO(st.text());
                 INFO("mass " << vol.totalMass() << " expected " << expected << " ratio " << vol.totalMass() / expected);
                 CHECK(double(st.count) >= std::max(20.0, 0.5 * interiorEstimate(rv, c.length / c.h - 2 * kSqrt3)));
-                CHECK(st.fraction() >= 0.98);
+                // An explicit coarse spacing (the CLI warns about it) treats each
+                // slab as flat across several voxels: on a steep diagonal the
+                // surface layer of the interior shifts by up to half a slab.
+                CHECK(st.fraction() >= (mode == Spacing::Default ? 0.98 : 0.95));
                 CHECK(std::abs(vol.totalMass() / expected - 1.0) <= 0.005);
             }
 }

@@ -27,6 +27,13 @@ inline const char* toString(Overlap o) { return o == Overlap::Clamp ? "clamp" : 
 /// Integer sums make results identical for any order and thread count.
 constexpr double kFixedScale = 16777216.0;
 
+/// Smallest share of a voxel's volume a sample gives it: below this (a sliver
+/// of a column that rounding alone can create or remove) the share is
+/// dropped by both reductions, so that float and double backends agree on
+/// which voxels are active. The volume lost is at most this per voxel a
+/// column's end grazes.
+constexpr double kMinVoxelShare = 1.0 / 65536.0;
+
 /// Words of accumulator state per voxel. Mean: density, then the six terms of
 /// the density-weighted structure tensor (xx yy zz xy xz yz). Max: density
 /// (float bits), then the orientation code of the densest sample.

@@ -23,10 +23,10 @@ struct SliceSample {
 /// Calls `emit(const SliceSample&)` for every voxel share of every sample of
 /// `slice`: pixels of the grid's face along the slice's dominant axis,
 /// `supersample`^2 per voxel face, whose square, seen on the slice plane,
-/// covers some fibre (the sample's density is the footprint's mean density).
-/// A sample stands for its pixel's column through the slice's slab; the
-/// column is split among the voxels it crosses (a box filter in depth), one
-/// share per voxel.
+/// covers some fibre. A sample stands for its pixel's prism through the
+/// slice's slab: its footprint on the slice is cut into cells, each with its
+/// fibre coverage and its column through the slab, and every column is split
+/// among the voxels it crosses (a box filter in depth); one share per voxel.
 template <class Emit>
 void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, const VoxelGrid& grid, int supersample,
                  Emit&& emit) {
@@ -53,9 +53,15 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, cons
     const glm::dvec2 edgeC = pixel / (det * radius) * glm::dvec2(-Ub, Rb);
     // Depth of the slab along the column, in voxels, before the bend's scale.
     const double depthScale = slice.thickness / (h * std::abs(det));
-    const double pixelShare = 1.0 / (supersample * supersample);
+    constexpr int m = CrossSection::kFootprintCells;
+    const double cellShare = 1.0 / (double(supersample) * supersample * m * m);
     const double invRadius = 1.0 / radius;
+    const glm::dvec2 cellB = edgeB / double(m), cellC = edgeC / double(m);
 
+    struct Cell {
+        double density, z0, z1;
+    };
+    Cell cells[m * m];
     for (long j = j0; j <= j1; ++j) {
         const double dc = grid.origin[c] + (j + 0.5) * pixel - slice.center[c];
         for (long i = i0; i <= i1; ++i) {
@@ -63,22 +69,43 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, cons
             const double x = (db * Uc - dc * Ub) / det;
             const double y = (Rb * dc - Rc * db) / det;
             const double coverage = xs.footprintDensity(glm::dvec2(x, y) * invRadius, edgeB, edgeC);
-            if (!(coverage > 0.0)) continue;
-            const double pa = slice.center[a] + x * slice.right[a] + y * slice.up[a];
-            const double depth = slabScale(slice, x, y) * depthScale;
-            if (!(depth > 0.0)) continue;
-            const double z0 = (pa - grid.origin[a]) / h - 0.5 * depth, z1 = z0 + depth;
+            if (xs.analyticDisk && !(coverage > 0.0)) continue;
+            // The footprint in m x m cells, each with its own density and its
+            // own column through the slab: the sample's volume is split in
+            // depth where it actually lies, not only where its centre does.
+            double zMin = HUGE_VAL, zMax = -HUGE_VAL, density = 0.0;
+            for (int q = 0; q < m; ++q)
+                for (int p = 0; p < m; ++p) {
+                    const double ob = ((p + 0.5) / m - 0.5) * pixel, oc = ((q + 0.5) / m - 0.5) * pixel;
+                    const double cx = x + (ob * Uc - oc * Ub) / det, cy = y + (Rb * oc - Rc * ob) / det;
+                    Cell& cell = cells[q * m + p];
+                    cell.density = xs.analyticDisk && coverage >= 1.0 ? 1.0 : xs.footprintDensity(glm::dvec2(cx, cy) * invRadius, cellB, cellC);
+                    const double depth = slabScale(slice, cx, cy) * depthScale;
+                    const double pa = slice.center[a] + cx * slice.right[a] + cy * slice.up[a];
+                    cell.z0 = (pa - grid.origin[a]) / h - 0.5 * depth;
+                    cell.z1 = cell.z0 + depth;
+                    if (!(cell.density > 0.0) || !(depth > 0.0)) {
+                        cell.density = 0.0;
+                        continue;
+                    }
+                    density += cell.density;
+                    zMin = std::min(zMin, cell.z0);
+                    zMax = std::max(zMax, cell.z1);
+                }
+            if (!(density > 0.0)) continue;
             SliceSample s;
             s.voxel[b] = static_cast<int>(i / supersample);
             s.voxel[c] = static_cast<int>(j / supersample);
-            s.density = static_cast<float>(coverage);
+            s.density = static_cast<float>(density / (m * m));
             s.direction = fiberDirection(slice, x, y);
-            const double weight = coverage * pixelShare;
-            for (double v = std::floor(z0); v < z1; v += 1.0) {
-                const double share = std::min(z1, v + 1.0) - std::max(z0, v);
-                if (!(share > 0.0)) continue;
+            // One share per voxel the cells' columns cross (a box filter in depth).
+            for (double v = std::floor(zMin); v < zMax; v += 1.0) {
+                double share = 0.0;
+                for (const Cell& cell : cells)
+                    if (cell.density > 0.0) share += cell.density * std::max(0.0, std::min(cell.z1, v + 1.0) - std::max(cell.z0, v));
+                if (!(share * cellShare >= kMinVoxelShare)) continue;
                 s.voxel[a] = static_cast<int>(v);
-                s.volumeFraction = weight * share;
+                s.volumeFraction = share * cellShare;
                 emit(s);
             }
         }

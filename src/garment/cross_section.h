@@ -22,36 +22,31 @@ struct CrossSection {
     /// from the texture (which stays for the heat map and for pictures).
     bool analyticDisk = false;
 
-    /// Sub-samples per footprint side for texture cross-sections.
-    static constexpr int kFootprintSamples = 4;
+    /// Sub-cells per side of a sample's footprint (see footprintDensity).
+    static constexpr int kFootprintCells = 4;
 
-    /// Texel for slice-local (u, v) in [-1, 1]^2 (local coordinate / radius),
-    /// nearest texel at level 0, clamped at the border. Shaders use the same rule.
-    std::uint8_t lookup(double u, double v) const {
-        int ix = static_cast<int>(std::floor((u + 1.0) * 0.5 * size));
-        int iy = static_cast<int>(std::floor((v + 1.0) * 0.5 * size));
-        ix = ix < 0 ? 0 : (ix >= size ? size - 1 : ix);
-        iy = iy < 0 ? 0 : (iy >= size ? size - 1 : iy);
-        return density[static_cast<std::size_t>(iy) * size + ix];
+    /// Density at (u, v) in [-1, 1)^2 by bilinear interpolation of the texel
+    /// centres (clamped at the border), 0 outside the square. Continuous, so
+    /// that float shaders and this double code differ by rounding only.
+    double bilinear(double u, double v) const {
+        if (!(u >= -1.0 && u < 1.0 && v >= -1.0 && v < 1.0)) return 0.0;
+        const double fx = (u + 1.0) * 0.5 * size - 0.5, fy = (v + 1.0) * 0.5 * size - 0.5;
+        const double x0 = std::floor(fx), y0 = std::floor(fy), tx = fx - x0, ty = fy - y0;
+        auto texel = [&](double x, double y) {
+            const int ix = x < 0 ? 0 : (x >= size ? size - 1 : int(x));
+            const int iy = y < 0 ? 0 : (y >= size ? size - 1 : int(y));
+            return double(density[static_cast<std::size_t>(iy) * size + ix]);
+        };
+        const double top = texel(x0, y0) * (1.0 - tx) + texel(x0 + 1.0, y0) * tx;
+        const double bottom = texel(x0, y0 + 1.0) * (1.0 - tx) + texel(x0 + 1.0, y0 + 1.0) * tx;
+        return (top * (1.0 - ty) + bottom * ty) / 255.0;
     }
-    /// Texel for (u, v), and 0 outside the square [-1, 1)^2.
-    std::uint8_t lookupInside(double u, double v) const {
-        return u >= -1.0 && u < 1.0 && v >= -1.0 && v < 1.0 ? lookup(u, v) : 0;
-    }
-    /// Mean density over a sample's footprint: the parallelogram centred at
+    /// Mean density over a footprint cell: the parallelogram centred at
     /// slice-local `c` with edges `e0`, `e1`, all in units of the yarn radius.
-    /// The disk: exact coverage. A texture: the mean of kFootprintSamples^2
-    /// texels at the centres of a regular grid over the footprint.
+    /// The disk: exact coverage. A texture: bilinear at the centre.
     double footprintDensity(glm::dvec2 c, glm::dvec2 e0, glm::dvec2 e1) const {
         if (analyticDisk) return diskCoverage(c, e0, e1, 1.0);
-        constexpr int n = kFootprintSamples;
-        int sum = 0;
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const glm::dvec2 p = c + ((i + 0.5) / n - 0.5) * e0 + ((j + 0.5) / n - 0.5) * e1;
-                sum += lookupInside(p.x, p.y);
-            }
-        return sum / (255.0 * n * n);
+        return bilinear(c.x, c.y);
     }
     /// Mean density over the square (fraction of the square filled by fibre).
     double meanDensity() const;

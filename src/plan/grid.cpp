@@ -42,10 +42,11 @@ VoxelGrid makeGrid(const SlicePlan& plan, int resolution, double voxelSize) {
     VoxelGrid grid;
     grid.voxelSize = voxelSizeForBox(lo, hi, resolution, voxelSize);
     const double h = grid.voxelSize;
-    // One voxel of padding on each side, plus what slabs reach past the
-    // slice squares (half a slab's depth along the projection axis).
+    // Padding on each side: what slabs reach past the slice squares (half a
+    // slab's depth along the projection axis), plus kSampleReachVoxels for the
+    // pixel footprints around the squares, plus one voxel.
     const double slabReach = std::max(0.0, plan.maxReach - plan.options.radius * std::sqrt(2.0));
-    const double padding = 1.0 + std::ceil(slabReach / h);
+    const double padding = 1.0 + kSampleReachVoxels + std::ceil(slabReach / h);
     const glm::dvec3 size = extent / h + 2.0 * padding;
     for (int a = 0; a < 3; ++a) {
         const double n = std::ceil(size[a] / 8.0) * 8.0;

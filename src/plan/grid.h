@@ -22,6 +22,11 @@ struct VoxelGrid {
     glm::ivec3 brickDims() const { return dims / 8; }
 };
 
+/// How far (voxels) a sample's footprint cells reach beyond its slice's
+/// square and slab: a pixel beyond the square's projection, and its cells'
+/// columns meet the tilted slice up to a voxel deeper.
+constexpr double kSampleReachVoxels = 2.0;
+
 /// Grid around every slice of a plan: the garment box is the curves' bounds
 /// grown by the slice half-diagonal radius * sqrt(2); it is padded by one
 /// voxel and by how far slabs reach along their projection axis. Exactly one

@@ -17,7 +17,7 @@ void segmentVoxelBounds(const SlicePlan& plan, const VoxelGrid& grid, std::uint3
                         glm::dvec3& hi) {
     const SegmentRecord& seg = plan.segments[segment];
     const double invH = 1.0 / grid.voxelSize;
-    const double reach = seg.reach * invH + 1.0;
+    const double reach = seg.reach * invH + kSampleReachVoxels + 1.0;
     lo = (seg.centerMin - grid.origin) * invH - reach;
     hi = (seg.centerMax - grid.origin) * invH + reach;
 }

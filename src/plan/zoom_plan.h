@@ -37,8 +37,8 @@ struct ZoomPlan {
 };
 
 /// Voxels of the grid that slices of `segment` can reach: slice centres grown
-/// by the segment's reach (slice half-diagonal plus half a slab's depth) and one
-/// voxel. Used to bin segments into regions.
+/// by the segment's reach (slice half-diagonal plus half a slab's depth), the
+/// footprints' reach (kSampleReachVoxels) and one voxel. Used to bin segments into regions.
 void segmentVoxelBounds(const SlicePlan& plan, const VoxelGrid& grid, std::uint32_t segment, glm::dvec3& lo,
                         glm::dvec3& hi);
 
