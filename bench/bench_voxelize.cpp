@@ -1,14 +1,18 @@
-// Throughput of the voxelizers on generated garments: slices/s and active
+// Throughput of the voxelizers on generated garments (or a BCC file with
+// --input): slices/s and active
 // voxels/s end to end; for GL also fragments/s of the raster+append pass and
 // of the brick passes (GPU timer queries). Repeats each run and keeps the
 // fastest; prints one JSON object per run (JSON lines) on stdout.
 //
 // --backend compare instead runs both once and prints their agreement (IoU of
-// active voxels, mass ratio, mean axis angle), the numbers the GL tests check.
+// active voxels, mass ratio, per-voxel density difference, mean axis angle),
+// the numbers the GL tests check.
 //
 //   yv_bench_voxelize [--backend cpu|gl|both|compare] [--pattern knit] [--shape flat]
-//                     [--crossings 1000,10000] [--resolution 512] [--slices-per-segment 25]
-//                     [--supersample 1] [--repeat 3] [--device -1]
+//                     [--crossings 1000,10000] [--input FILE.bcc --yarn-radius R]
+//                     [--resolution 512] [--slices-per-segment K (default: one slice per voxel)]
+//                     [--cross-section fibers|disk] [--supersample 1] [--repeat 3] [--device -1]
+#include "bcc.h"
 #include "core/error.h"
 #include "core/process_memory.h"
 #include "core/stats.h"
@@ -31,10 +35,10 @@ using namespace yv;
 namespace {
 
 struct Args {
-    std::string backend = "both", pattern = "knit", shape = "flat";
+    std::string backend = "both", pattern = "knit", shape = "flat", input, crossSection = "fibers";
     std::vector<std::uint64_t> crossings = {1000};
-    int resolution = 512, slicesPerSegment = 25, supersample = 1, repeat = 3, device = -1;
-    double twist = 1.0;
+    int resolution = 512, slicesPerSegment = 0, supersample = 1, repeat = 3, device = -1;
+    double twist = 1.0, yarnRadius = 0.0;
 };
 
 Args parse(int argc, char** argv) {
@@ -54,6 +58,9 @@ Args parse(int argc, char** argv) {
         else if (k == "--repeat") a.repeat = std::stoi(value());
         else if (k == "--device") a.device = std::stoi(value());
         else if (k == "--twist") a.twist = std::stod(value());
+        else if (k == "--input") a.input = value();
+        else if (k == "--yarn-radius") a.yarnRadius = std::stod(value());
+        else if (k == "--cross-section") a.crossSection = value();
         else if (k == "--crossings") {
             a.crossings.clear();
             std::stringstream ss(value());
@@ -71,17 +78,27 @@ double seconds(std::chrono::steady_clock::time_point since) {
 
 int main(int argc, char** argv) try {
     const Args args = parse(argc, argv);
-    const CrossSection xs = makeFiberCrossSection();
-    for (std::uint64_t crossings : args.crossings) {
-        GenerateOptions g;
-        g.pattern = parseWeavePattern(args.pattern);
-        g.shape = parseGarmentShape(args.shape);
-        g.crossings = crossings;
-        const Garment garment = generateGarment(g);
+    const CrossSection xs = makeCrossSection(args.crossSection);
+    // One run per garment: the generated sizes, or the one input file.
+    const std::vector<std::uint64_t> sizes = args.input.empty() ? args.crossings : std::vector<std::uint64_t>{0};
+    for (std::uint64_t crossings : sizes) {
+        Garment garment;
+        if (args.input.empty()) {
+            GenerateOptions g;
+            g.pattern = parseWeavePattern(args.pattern);
+            g.shape = parseGarmentShape(args.shape);
+            g.crossings = crossings;
+            garment = generateGarment(g);
+        } else {
+            garment = readBcc(args.input);
+        }
         SliceOptions opt;
-        opt.radius = garment.yarnRadius;
+        opt.radius = args.yarnRadius > 0.0 ? args.yarnRadius : garment.yarnRadius;
+        if (!(opt.radius > 0.0)) throw Error(args.input + ": no yarn radius in the file: pass --yarn-radius");
         opt.twist = args.twist;
         opt.slicesPerSegment = args.slicesPerSegment;
+        if (args.slicesPerSegment == 0)
+            opt.spacing = defaultSliceSpacing(voxelSizeFor(garment, opt.radius, args.resolution, 0.0), args.supersample);
         auto t0 = std::chrono::steady_clock::now();
         const SlicePlan plan = planSlices(garment, opt);
         const double planSeconds = seconds(t0);
@@ -97,13 +114,15 @@ int main(int argc, char** argv) try {
             const BrickVolume cpu = voxelizeCpu(plan, xs, grid, s);
             const BrickVolume gl = voxelizeGl(plan, xs, grid, gs, &glc);
             const VolumeComparison c = compareVolumes(cpu, gl);
-            std::printf("{ \"compare\": \"gl vs cpu\", \"renderer\": %s, \"pattern\": \"%s\", \"shape\": \"%s\", "
-                        "\"crossings\": %llu, \"slices\": %llu, \"resolution\": %d, \"twist\": %g, \"active_cpu\": %llu, "
-                        "\"iou\": %.6f, \"mass_ratio\": %.6f, \"mean_angle_deg\": %.4f }\n",
-                        jsonQuote(glc.renderer).c_str(), args.pattern.c_str(), args.shape.c_str(),
-                        static_cast<unsigned long long>(crossings), static_cast<unsigned long long>(plan.sliceCount),
-                        args.resolution, args.twist, static_cast<unsigned long long>(c.both + c.onlyA), c.iou,
-                        c.massRatio, c.meanAngleDeg);
+            std::printf("{ \"compare\": \"gl vs cpu\", \"renderer\": %s, \"input\": %s, \"pattern\": \"%s\", "
+                        "\"shape\": \"%s\", \"crossings\": %llu, \"slices\": %llu, \"resolution\": %d, \"twist\": %g, "
+                        "\"active_cpu\": %llu, \"iou\": %.6f, \"mass_ratio\": %.7f, \"density_max_diff\": %.3g, "
+                        "\"density_mean_diff\": %.3g, \"density_within_1e-4\": %.6f, \"mean_angle_deg\": %.4f }\n",
+                        jsonQuote(glc.renderer).c_str(), jsonQuote(args.input).c_str(), args.pattern.c_str(),
+                        args.shape.c_str(), static_cast<unsigned long long>(crossings),
+                        static_cast<unsigned long long>(plan.sliceCount), args.resolution, args.twist,
+                        static_cast<unsigned long long>(c.both + c.onlyA), c.iou, c.massRatio, c.maxDensityDiff,
+                        c.meanDensityDiff, c.densityWithinShare(), c.meanAngleDeg);
             std::fflush(stdout);
             continue;
         }

@@ -16,6 +16,7 @@ uniform ivec3 uRegionMin;
 uniform ivec3 uRegionBricks;  // region size in bricks
 
 flat in int vAxis;
+flat in ivec3 vAnchor;
 flat in vec3 vCenter;
 flat in vec3 vRight;
 flat in vec3 vUp;
@@ -28,10 +29,12 @@ flat in float vDepthScale;
 void main() {
     int a = vAxis, b = (a + 1) % 3, c = (a + 2) % 3;
     float S = float(uSupersample);
-    // Global pixel of this fragment on the (b, c) face, and its centre in voxel units.
+    // Global pixel of this fragment on the (b, c) face, and its centre
+    // relative to the slice centre (integers first: exact, then small floats).
     ivec2 pixel = ivec2(gl_FragCoord.xy) + ivec2(uRegionMin[b], uRegionMin[c]) * uSupersample;
-    float db = (float(pixel.x) + 0.5) / S - vCenter[b];
-    float dc = (float(pixel.y) + 0.5) / S - vCenter[c];
+    ivec2 fromAnchor = pixel - ivec2(vAnchor[b], vAnchor[c]) * uSupersample;
+    float db = (float(fromAnchor.x) + 0.5) / S - vCenter[b];
+    float dc = (float(fromAnchor.y) + 0.5) / S - vCenter[c];
     // Where the column through the pixel centre meets the slice: right x up =
     // tangent, so the 2x2 system has determinant tangent[a].
     float det = vTangent[a];
@@ -62,7 +65,7 @@ void main() {
     for (float v = floor(zMin); v < zMax; v += 1.0) {
         float share = layerShare(v, cellDensity, cellZ0, cellZ1);
         if (!(weight * share >= kMinVoxelShare)) continue;
-        voxel[a] = int(v) - uRegionMin[a];
+        voxel[a] = int(v) + vAnchor[a] - uRegionMin[a];
         if (voxel[a] < 0 || voxel[a] >= regionSize[a]) continue;
         ivec3 brick = voxel >> 3;
         uint brickIndex = uint(brick.x + uRegionBricks.x * (brick.y + uRegionBricks.y * brick.z));

@@ -8,7 +8,9 @@ const int kBrickVoxels = 512;
 const float kMinVoxelShare = 1.0 / 65536.0;
 
 // One curve segment (96 bytes): control points in voxel units relative to
-// the grid origin; p[0].w = twist rate (radians per voxel unit of length);
+// the segment's anchor, an integer voxel (p[1].w, p[2].w, p[3].w), so that
+// floats keep their precision anywhere in the grid; p[0].w = twist rate
+// (radians per voxel unit of length);
 // up.w = twist phase at the segment's start; info = first slice within the
 // draw's list, slice count, float bits of the segment length, yarn.
 struct GpuSegment {

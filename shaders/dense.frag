@@ -22,6 +22,7 @@ uniform int uSupersample;
 uniform ivec3 uDims;          // grid size in voxels (the textures' size)
 
 flat in int vAxis;
+flat in ivec3 vAnchor;
 flat in vec3 vCenter;
 flat in vec3 vRight;
 flat in vec3 vUp;
@@ -38,8 +39,9 @@ void main() {
     float S = float(uSupersample);
     // The viewport covers the whole grid from its origin: the pixel is global.
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    float db = (float(pixel.x) + 0.5) / S - vCenter[b];
-    float dc = (float(pixel.y) + 0.5) / S - vCenter[c];
+    ivec2 fromAnchor = pixel - ivec2(vAnchor[b], vAnchor[c]) * uSupersample;
+    float db = (float(fromAnchor.x) + 0.5) / S - vCenter[b];
+    float dc = (float(fromAnchor.y) + 0.5) / S - vCenter[c];
     float det = vTangent[a];
     float x = (db * vUp[c] - dc * vUp[b]) / det;
     float y = (vRight[b] * dc - vRight[c] * db) / det;
@@ -69,7 +71,7 @@ void main() {
     voxel[c] = face.y;
     for (float v = floor(zMin); v < zMax; v += 1.0) {
         if (!(layerShare(v, cellDensity, cellZ0, cellZ1) / (S * S * float(kCells)) >= kMinVoxelShare)) continue;
-        voxel[a] = int(v);
+        voxel[a] = int(v) + vAnchor[a];
         if (voxel[a] < 0 || voxel[a] >= uDims[a]) continue;
         float stored = imageLoad(uDensity, voxel).x;
         if (density < stored) continue;

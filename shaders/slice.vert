@@ -17,7 +17,8 @@ uniform ivec3 uRegionMin;      // region box in voxels
 uniform vec2 uViewport;        // viewport size in pixels (covers every axis' face)
 
 flat out int vAxis;
-flat out vec3 vCenter;     // voxel units from the grid origin
+flat out ivec3 vAnchor;    // integer voxel the slice's coordinates are relative to
+flat out vec3 vCenter;     // voxel units from vAnchor
 flat out vec3 vRight;
 flat out vec3 vUp;
 flat out vec3 vTangent;
@@ -77,10 +78,13 @@ void main() {
     vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
     float extent = uRadius + 2.0 / float(uSupersample);
     vec3 p = center + extent * (corner.x * right + corner.y * sliceUp);
-    vec2 pixel = vec2(p[b] - float(uRegionMin[b]), p[c] - float(uRegionMin[c])) * float(uSupersample);
+    ivec3 anchor = ivec3(seg.p[1].w, seg.p[2].w, seg.p[3].w);
+    vec3 fromRegion = vec3(anchor - uRegionMin) + p;
+    vec2 pixel = vec2(fromRegion[b], fromRegion[c]) * float(uSupersample);
     gl_Position = vec4(pixel / uViewport * 2.0 - 1.0, 0.0, 1.0);
 
     vAxis = a;
+    vAnchor = anchor;
     vCenter = center;
     vRight = right;
     vUp = sliceUp;

@@ -8,11 +8,11 @@
 
 namespace yv {
 
-VolumeComparison compareVolumes(const BrickVolume& a, const BrickVolume& b) {
+VolumeComparison compareVolumes(const BrickVolume& a, const BrickVolume& b, double densityTolerance) {
     std::unordered_map<std::uint64_t, const VoxelBrick*> inB;
     for (const VoxelBrick& brick : b.bricks) inB[brick.key] = &brick;
     VolumeComparison c;
-    double angleSum = 0.0, weightSum = 0.0;
+    double angleSum = 0.0, weightSum = 0.0, diffSum = 0.0;
     for (const VoxelBrick& ba : a.bricks) {
         auto it = inB.find(ba.key);
         const VoxelBrick* bb = it == inB.end() ? nullptr : it->second;
@@ -20,6 +20,10 @@ VolumeComparison compareVolumes(const BrickVolume& a, const BrickVolume& b) {
             const bool hasA = ba.isActive(v), hasB = bb && bb->isActive(v);
             if (hasA && hasB) {
                 ++c.both;
+                const double diff = std::abs(double(bb->density[v]) - double(ba.density[v]));
+                c.maxDensityDiff = std::max(c.maxDensityDiff, diff);
+                diffSum += diff;
+                c.densityWithin += diff <= densityTolerance;
                 const double cosang = std::min(1.0, std::abs(double(glm::dot(ba.orientation[v], bb->orientation[v]))));
                 angleSum += ba.density[v] * std::acos(cosang);
                 weightSum += ba.density[v];
@@ -33,6 +37,7 @@ VolumeComparison compareVolumes(const BrickVolume& a, const BrickVolume& b) {
     c.iou = either ? double(c.both) / double(either) : 1.0;
     c.massRatio = a.totalMass() > 0 ? b.totalMass() / a.totalMass() : 0.0;
     c.meanAngleDeg = weightSum > 0 ? angleSum / weightSum * 180.0 / M_PI : 0.0;
+    c.meanDensityDiff = c.both ? diffSum / double(c.both) : 0.0;
     return c;
 }
 

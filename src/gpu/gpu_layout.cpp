@@ -10,11 +10,13 @@ std::vector<GpuSegment> packSegments(const SlicePlan& plan, const VoxelGrid& gri
     for (std::size_t i = 0; i < gpu.size(); ++i) {
         const SegmentRecord& s = plan.segments[i];
         GpuSegment& g = gpu[i];
+        const glm::dvec3 anchor = glm::floor((s.points[1] - grid.origin) * invH);
         for (int j = 0; j < 4; ++j) {
-            const glm::dvec3 p = (s.points[j] - grid.origin) * invH;
-            g.p[j][0] = float(p.x), g.p[j][1] = float(p.y), g.p[j][2] = float(p.z), g.p[j][3] = 0.0f;
+            const glm::dvec3 p = (s.points[j] - grid.origin) * invH - anchor;
+            g.p[j][0] = float(p.x), g.p[j][1] = float(p.y), g.p[j][2] = float(p.z);
         }
         g.p[0][3] = float(s.twistRate * grid.voxelSize);
+        g.p[1][3] = float(anchor.x), g.p[2][3] = float(anchor.y), g.p[3][3] = float(anchor.z);
         g.up[0] = float(s.knotUp.x), g.up[1] = float(s.knotUp.y), g.up[2] = float(s.knotUp.z);
         g.up[3] = float(s.phaseStart);
         const float length = float(s.length * invH);

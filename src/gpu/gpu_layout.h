@@ -11,7 +11,10 @@ namespace yv {
 
 /// shaders/common.glsl: GpuSegment.
 struct GpuSegment {
-    float p[4][4];      ///< control points, voxel units from the grid origin; p[0].w = twist rate (radians per voxel unit)
+    /// Control points, voxel units from the segment's anchor (an integer voxel
+    /// near P[i], in p[1..3].w), so that floats keep their precision however
+    /// large the grid; p[0].w = twist rate (radians per voxel unit).
+    float p[4][4];
     float up[4];        ///< knot frame up; w = twist phase at the segment's start (radians, in [0, 2 pi))
     std::uint32_t info[4]; ///< first slice, slice count, float bits of the length (voxel units), yarn
 };
