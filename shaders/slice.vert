@@ -59,7 +59,7 @@ void main() {
     vec3 d1 = catmullRomDerivative(p0, p1, p2, p3, t);
     vec3 d2 = catmullRomSecondDerivative(p0, p1, p2, p3, t);
     vec3 tangent = normalize(d1);
-    float thickness = length(catmullRom(p0, p1, p2, p3, float(k + 1u) / K) - catmullRom(p0, p1, p2, p3, float(k) / K));
+    float thickness = catmullRomArcLength(p0, p1, p2, p3, float(k) / K, float(k + 1u) / K);
 
     vec3 t0 = normalize(catmullRomDerivative(p0, p1, p2, p3, 0.0));
     vec3 up = rotateMinimal(seg.up.xyz, t0, tangent);

@@ -3,6 +3,7 @@
 #include "core/error.h"
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include <cmath>
 
@@ -45,6 +46,13 @@ glm::dvec3 evalCatmullRomDerivative(const SegmentPoints& p, double t) {
     const double w2 = 1.0 + 8.0 * t - 9.0 * t2;
     const double w3 = -2.0 * t + 3.0 * t2;
     return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
+}
+
+double catmullRomArcLength(const SegmentPoints& p, double t0, double t1) {
+    const double mid = 0.5 * (t0 + t1), half = 0.5 * (t1 - t0), node = std::sqrt(0.6) * half;
+    return half * (5.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid - node)) +
+                   8.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid)) +
+                   5.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid + node)));
 }
 
 glm::dvec3 evalCatmullRomSecondDerivative(const SegmentPoints& p, double t) {

@@ -28,6 +28,10 @@ glm::dvec3 evalCatmullRom(const SegmentPoints& p, double t);
 /// Derivative with respect to t.
 glm::dvec3 evalCatmullRomDerivative(const SegmentPoints& p, double t);
 
+/// Arc length of the curve for t in [t0, t1]: three-point Gauss-Legendre
+/// quadrature of the speed (shaders/common.glsl: catmullRomArcLength).
+double catmullRomArcLength(const SegmentPoints& p, double t0, double t1);
+
 /// Second derivative with respect to t.
 glm::dvec3 evalCatmullRomSecondDerivative(const SegmentPoints& p, double t);
 

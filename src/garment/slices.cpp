@@ -64,29 +64,18 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
         }
     }
 
-    // Slice counts and chord lengths are independent per segment.
+    // Slice counts and lengths are independent per segment.
     tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t i) {
         SegmentRecord& rec = plan.segments[i];
         std::uint32_t k = static_cast<std::uint32_t>(options.slicesPerSegment);
         if (options.spacing > 0.0) {
-            // Estimate the length from a fine chord sum, then choose K.
             double approx = 0.0;
-            glm::dvec3 prev = evalCatmullRom(rec.points, 0.0);
-            for (int j = 1; j <= 16; ++j) {
-                const glm::dvec3 q = evalCatmullRom(rec.points, j / 16.0);
-                approx += glm::length(q - prev);
-                prev = q;
-            }
+            for (int j = 0; j < 4; ++j) approx += catmullRomArcLength(rec.points, j / 4.0, (j + 1) / 4.0);
             k = static_cast<std::uint32_t>(std::clamp(std::ceil(approx / options.spacing), 1.0, 1.0e6));
         }
         rec.sliceCount = k;
         double len = 0.0;
-        glm::dvec3 prev = evalCatmullRom(rec.points, 0.0);
-        for (std::uint32_t j = 1; j <= k; ++j) {
-            const glm::dvec3 q = evalCatmullRom(rec.points, double(j) / k);
-            len += glm::length(q - prev);
-            prev = q;
-        }
+        for (std::uint32_t j = 0; j < k; ++j) len += catmullRomArcLength(rec.points, double(j) / k, double(j + 1) / k);
         rec.length = len;
     });
 
@@ -201,8 +190,7 @@ Slice placeSlice(const SegmentRecord& segment, std::uint32_t k) {
     s.yarn = segment.yarn;
     s.center = evalCatmullRom(segment.points, t);
     s.tangent = unitTangent(segment.points, t, segment.yarn);
-    s.thickness = glm::length(evalCatmullRom(segment.points, (k + 1) * invK) -
-                              evalCatmullRom(segment.points, k * invK));
+    s.thickness = catmullRomArcLength(segment.points, k * invK, (k + 1) * invK);
     s.twistStep = segment.twistRate * s.thickness;
     const glm::dvec3 d1 = evalCatmullRomDerivative(segment.points, t), d2 = evalCatmullRomSecondDerivative(segment.points, t);
     s.curvature = (d2 - glm::dot(d2, s.tangent) * s.tangent) / glm::dot(d1, d1);

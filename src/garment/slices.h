@@ -35,8 +35,8 @@ struct SegmentRecord {
     SegmentPoints points;     ///< P[i-1], P[i], P[i+1], P[i+2]
     glm::dvec3 knotTangent;   ///< unit tangent at t = 0
     glm::dvec3 knotUp;        ///< frame "up" at t = 0, perpendicular to knotTangent
-    double arcStart = 0.0;    ///< arc length of the yarn before this segment (sum of slice chords)
-    double length = 0.0;      ///< sum of this segment's slice chords
+    double arcStart = 0.0;    ///< arc length of the yarn before this segment
+    double length = 0.0;      ///< arc length of this segment (sum of its slices' thicknesses)
     double phaseStart = 0.0;  ///< twist phase at t = 0, radians in [0, 2 pi)
     double twistRate = 0.0;   ///< twist, radians per world unit (closed yarns: adjusted so the loop closes)
     double reach = 0.0;       ///< farthest any sample of a slice of this segment lies from its slice centre
@@ -93,7 +93,7 @@ inline double slabScale(const Slice& slice, double x, double y) {
 SlicePlan planSlices(const Garment& garment, const SliceOptions& options);
 
 /// Slice `k` (0 <= k < sliceCount) of a segment. Slice k sits at the middle of
-/// parameter interval [k/K, (k+1)/K]; its thickness is that interval's chord.
+/// parameter interval [k/K, (k+1)/K]; its thickness is that interval's arc length.
 Slice placeSlice(const SegmentRecord& segment, std::uint32_t k);
 
 /// Rotates v by the smallest rotation that takes unit vector `from` to unit vector `to`.
