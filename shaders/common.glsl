@@ -43,8 +43,8 @@ vec3 catmullRomDerivative(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t) {
 // Arc length for t in [t0, t1]: three-point Gauss-Legendre quadrature of the
 // speed (src/garment/catmull_rom.h: catmullRomArcLength).
 float catmullRomArcLength(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t0, float t1) {
-    float mid = 0.5 * (t0 + t1), half = 0.5 * (t1 - t0), node = 0.7745966692414834 * half;
-    return half * (5.0 / 9.0 * length(catmullRomDerivative(p0, p1, p2, p3, mid - node)) +
+    float mid = 0.5 * (t0 + t1), halfWidth = 0.5 * (t1 - t0), node = 0.7745966692414834 * halfWidth;
+    return halfWidth * (5.0 / 9.0 * length(catmullRomDerivative(p0, p1, p2, p3, mid - node)) +
                    8.0 / 9.0 * length(catmullRomDerivative(p0, p1, p2, p3, mid)) +
                    5.0 / 9.0 * length(catmullRomDerivative(p0, p1, p2, p3, mid + node)));
 }
