@@ -5,7 +5,8 @@
 # at each resolution: slices, fragments, seconds (from --stats) and the
 # per-voxel density statistics of each output (yv_density_stats, through
 # OpenVDB). Then GL against the CPU reference on the same garment.
-# Prints JSON lines; the first one says where and when it ran.
+# Prints JSON lines; the first one says where and when it ran (YV_COMMIT names
+# the commit where the working tree's git history is not the one built).
 #
 #   bench/fidelity_cost.sh BEFORE_YARNVOX GARMENT.bcc YARN_RADIUS "2048 4096" [COMPARE_RESOLUTION]
 set -euo pipefail
@@ -19,7 +20,7 @@ trap 'rm -rf "$scratch"' EXIT
 gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 || true)
 printf '{ "bench": "fidelity_cost", "date": "%s", "host_cores": %s, "gpu": "%s", "commit": "%s", "command": "%s" }\n' \
     "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$(nproc)" "${gpu:-none}" \
-    "$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)" "$0 $*"
+    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" "$0 $*"
 
 for res in $resolutions; do
     for which in before after; do
