@@ -356,7 +356,7 @@ TEST_CASE("A directory holding files the store did not write is never cleared", 
     CHECK(fs::exists(dir + "/holiday.jpg"));
 }
 
-TEST_CASE("A work dir is used by one writer at a time; read-only stores do not write", "[store]") {
+TEST_CASE("A work dir is used by one writer at a time, and read-only stores do not write", "[store]") {
     ScratchDir scratch;
     const std::string dir = scratch.sub("w");
     {

@@ -96,3 +96,99 @@ TEST_CASE("CLI: --help of every subcommand names units and defaults", "[cli]") {
     CHECK(g.exitCode == 0);
     CHECK(g.output.find("--crossings") != std::string::npos);
 }
+
+namespace {
+
+struct DensityRange {
+    double max = 0.0, mass = 0.0;
+    std::string overlap;
+};
+
+DensityRange readDensity(const fs::path& vdb) {
+    openvdb::initialize();
+    openvdb::io::File file(vdb.string());
+    file.open();
+    auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("density"));
+    const auto meta = file.getMetadata();
+    file.close();
+    REQUIRE(grid);
+    DensityRange r;
+    r.overlap = meta->metaValue<std::string>("overlap");
+    for (auto it = grid->cbeginValueOn(); it; ++it) {
+        r.max = std::max(r.max, double(*it));
+        r.mass += *it;
+    }
+    const double h = grid->voxelSize()[0];
+    r.mass *= h * h * h;
+    return r;
+}
+
+double jsonNumber(const std::string& json, const std::string& key) {
+    const std::size_t at = json.find("\"" + key + "\"");
+    REQUIRE(at != std::string::npos);
+    return std::stod(json.substr(json.find(':', at) + 1));
+}
+
+std::string readText(const fs::path& p) {
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+} // namespace
+
+TEST_CASE("CLI: --overlap clamp keeps voxels at 1, sum keeps the sums, --stats says how much was above", "[cli]") {
+    // A twill cylinder of thick yarns: warp and weft interpenetrate at crossings.
+    const fs::path bcc = scratch("twill.bcc");
+    REQUIRE(run("gen --pattern twill --shape cylinder --crossings 64 --yarn-radius 0.45 -o " + bcc.string()).exitCode == 0);
+    DensityRange range[2];
+    std::string stats[2];
+    const char* modes[2] = {"clamp", "sum"};
+    for (int i = 0; i < 2; ++i) {
+        const fs::path vdb = scratch(std::string("twill-") + modes[i] + ".vdb"), json = scratch("twill.json");
+        const RunResult r = run("voxelize " + bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution 96 " +
+                                "--cross-section disk --overlap " + modes[i] + " --stats " + json.string());
+        INFO(r.output);
+        REQUIRE(r.exitCode == 0);
+        // More than a trace of the fibre overlaps: the summary line says so.
+        CHECK(r.output.find("overlap:") != std::string::npos);
+        range[i] = readDensity(vdb);
+        stats[i] = readText(json);
+    }
+    CHECK(range[0].overlap == "clamp");
+    CHECK(range[1].overlap == "sum");
+    CHECK(range[0].max <= 1.0);
+    CHECK(range[1].max > 1.2);
+    const double over = jsonNumber(stats[0], "voxels_over_one"), share = jsonNumber(stats[0], "mass_share_over_one");
+    CHECK(over > 0);
+    CHECK(over == jsonNumber(stats[1], "voxels_over_one"));
+    // What clamping removed is the excess the stats report.
+    CHECK(range[1].mass - range[0].mass == Approx(share * range[1].mass).epsilon(1e-3));
+    CHECK(jsonNumber(stats[0], "fiber_volume") == Approx(range[0].mass).epsilon(1e-6));
+}
+
+TEST_CASE("CLI: slices follow the voxel size by default, and a coarse explicit spacing warns", "[cli]") {
+    const fs::path bcc = scratch("plain.bcc"), vdb = scratch("plain.vdb"), json = scratch("plain.json");
+    REQUIRE(run("gen --pattern plain --crossings 16 -o " + bcc.string()).exitCode == 0);
+    std::uint64_t slices[2] = {0, 0};
+    const int resolutions[2] = {64, 256};
+    for (int i = 0; i < 2; ++i) {
+        const RunResult r = run("voxelize " + bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution " +
+                                std::to_string(resolutions[i]) + " --stats " + json.string());
+        INFO(r.output);
+        REQUIRE(r.exitCode == 0);
+        CHECK(r.output.find("warning") == std::string::npos);
+        const std::string s = readText(json);
+        slices[i] = static_cast<std::uint64_t>(jsonNumber(s, "slices"));
+        // One slice per voxel along the yarn: the spacing is the voxel size.
+        CHECK(jsonNumber(s, "slice_spacing") <= jsonNumber(s, "voxel_size") * 1.0001);
+    }
+    CHECK(slices[1] > 3 * slices[0]);
+
+    const RunResult coarse = run("voxelize " + bcc.string() + " -o " + vdb.string() +
+                                 " --backend cpu --resolution 256 --slices-per-segment 2");
+    INFO(coarse.output);
+    REQUIRE(coarse.exitCode == 0);
+    CHECK(coarse.output.find("warning: --slices-per-segment 2 places slices up to") != std::string::npos);
+    CHECK(run("voxelize " + bcc.string() + " -o " + vdb.string() + " --slices-per-segment 2 --slice-spacing 0.1 --resolution 32")
+              .exitCode != 0);
+}

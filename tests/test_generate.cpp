@@ -57,7 +57,7 @@ double norm(const glm::dvec3& p) { return std::sqrt(p.x * p.x + p.y * p.y + p.z 
 
 } // namespace
 
-TEST_CASE("pattern and shape names round-trip; unknown names list the valid ones", "[generate]") {
+TEST_CASE("pattern and shape names round-trip, and unknown names list the valid ones", "[generate]") {
     for (WeavePattern p : {WeavePattern::Plain, WeavePattern::Twill, WeavePattern::Satin, WeavePattern::Knit})
         CHECK(parseWeavePattern(toString(p)) == p);
     for (GarmentShape s : {GarmentShape::Flat, GarmentShape::Cylinder, GarmentShape::Sphere})

@@ -105,7 +105,7 @@ void runVoxelize(const VoxelizeArgs& a) {
     const SlicePlan plan = planSlices(garment, sliceOptions);
     stages.set("slices", timer.lap());
     const VoxelGrid grid = makeGrid(plan, a.resolution, a.voxelSize);
-    if (explicitSpacing && !a.quiet && plan.maxSpacing > 1.01 * grid.voxelSize)
+    if (explicitSpacing && !a.quiet && plan.maxSpacing > 1.05 * grid.voxelSize)
         std::fprintf(stderr,
                      "warning: %s places slices up to %.3g voxels apart: each slab is split over the voxels it "
                      "spans and treated as flat across them, so bends are coarsened (leave it out for one slice "
