@@ -70,12 +70,12 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
         std::uint32_t k = static_cast<std::uint32_t>(options.slicesPerSegment);
         if (options.spacing > 0.0) {
             // Slices sit at uniform t, and the curve's speed varies along a
-            // segment: K from the fastest part keeps every slice's thickness
-            // within the spacing (the 2 % covers speeds between the samples).
+            // segment: K from the fastest part (sampled at 17 points) keeps
+            // every slice's thickness within the spacing.
             double fastest = 0.0;
             for (int j = 0; j <= 16; ++j)
                 fastest = std::max(fastest, glm::length(evalCatmullRomDerivative(rec.points, j / 16.0)));
-            k = static_cast<std::uint32_t>(std::clamp(std::ceil(1.02 * fastest / options.spacing), 1.0, 1.0e6));
+            k = static_cast<std::uint32_t>(std::clamp(std::ceil(fastest / options.spacing * (1.0 - 1e-12)), 1.0, 1.0e6));
         }
         rec.sliceCount = k;
         double len = 0.0;
