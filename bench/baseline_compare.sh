@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# yarnvox against the baseline a user already has (OpenVDB's own tools on the
+# CPU, yv_openvdb_baseline: density only, and with an orientation grid), on
+# the same garment and grid, one after the other on this machine. Prints JSON
+# lines: a header (machine, date, commit, command), then for each garment and
+# resolution the yarnvox --stats summary and the two baseline runs.
+#
+#   bench/baseline_compare.sh GARMENT YARN_RADIUS "2048 4096"
+#     GARMENT: a .bcc file, or gen:PATTERN:SHAPE:CROSSINGS (generated first)
+set -euo pipefail
+garment=$1 radius=$2 resolutions=$3
+root=$(cd "$(dirname "$0")/.." && pwd)
+build="${YV_BUILD_DIR:-$root/build}"
+scratch=${YV_SCRATCH:-$(mktemp -d)}
+mkdir -p "$scratch"
+trap 'rm -rf "$scratch"/yv-* "$scratch"/base-*' EXIT
+
+gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 || true)
+printf '{ "bench": "baseline_compare", "date": "%s", "host_cores": %s, "gpu": "%s", "commit": "%s", "command": "%s" }\n' \
+    "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$(nproc)" "${gpu:-none}" \
+    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" "$0 $*"
+
+input=$garment
+if [[ $garment == gen:* ]]; then
+    IFS=: read -r _ pattern shape crossings <<<"$garment"
+    input="$scratch/gen-$pattern-$shape-$crossings.bcc"
+    [ -f "$input" ] || "$build/yarnvox" gen --pattern "$pattern" --shape "$shape" --crossings "$crossings" -o "$input" --quiet
+fi
+
+for res in $resolutions; do
+    start=$(date +%s.%N)
+    "$build/yarnvox" voxelize "$input" -o "$scratch/yv-$res.vdb" --yarn-radius "$radius" --resolution "$res" --quiet \
+        --stats "$scratch/yv-stats.json"
+    end=$(date +%s.%N)
+    python3 - "$garment" "$res" "$scratch/yv-stats.json" "$start" "$end" "$(stat -c %s "$scratch/yv-$res.vdb")" <<'PY'
+import json, sys
+garment, res, path, start, end, size = sys.argv[1], int(sys.argv[2]), sys.argv[3], float(sys.argv[4]), float(sys.argv[5]), int(sys.argv[6])
+s = json.load(open(path))
+print(json.dumps({"tool": "yarnvox", "garment": garment, "resolution": res, "wall_seconds": round(end - start, 3),
+                  "seconds": s["seconds"], "slices": s["slices"], "fragments": s["samples"],
+                  "active_voxels": s["active_voxels"], "file_bytes": size, "peak_host_bytes": s["peak_host_bytes"],
+                  "backend_stats": s["backend_stats"]}))
+PY
+    rm -f "$scratch/yv-$res.vdb"
+    for orientation in "" --orientation; do
+        "$build/bench/yv_openvdb_baseline" --input "$input" --yarn-radius "$radius" --resolution "$res" $orientation \
+            -o "$scratch/base-$res.vdb"
+        rm -f "$scratch/base-$res.vdb"
+    done
+done
