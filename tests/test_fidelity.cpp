@@ -56,16 +56,6 @@ BrickVolume voxelize(Backend backend, const SlicePlan& plan, const CrossSection&
     return voxelizeGl(plan, xs, grid, s);
 }
 
-/// Slice k of a segment. (placeSlice takes the slice options in some
-/// revisions of the API and reads them from the segment in others.)
-template <class Segment>
-Slice slicePlaced(const Segment& seg, std::uint32_t k, const SliceOptions& options) {
-    if constexpr (requires { placeSlice(seg, k, options); })
-        return placeSlice(seg, k, options);
-    else
-        return placeSlice(seg, k);
-}
-
 glm::dvec3 voxelCenter(const VoxelGrid& g, glm::ivec3 v) { return g.origin + (glm::dvec3(v) + 0.5) * g.voxelSize; }
 
 /// Voxel index range whose centres can lie in the world box [lo, hi], clipped to the grid.
@@ -312,7 +302,7 @@ std::vector<Slice> yarnSlices(const SlicePlan& plan) {
     std::vector<Slice> out;
     for (const SegmentRecord& seg : plan.segments)
         if (seg.yarn == 0)
-            for (std::uint32_t k = 0; k < seg.sliceCount; ++k) out.push_back(slicePlaced(seg, k, plan.options));
+            for (std::uint32_t k = 0; k < seg.sliceCount; ++k) out.push_back(placeSlice(seg, k));
     return out;
 }
 
