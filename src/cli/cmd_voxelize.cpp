@@ -32,7 +32,7 @@ namespace {
 
 struct VoxelizeArgs {
     std::string input, output, backend = "gl", method = "sparse", crossSection = "fibers", reduce = "mean",
-        overlap = "clamp", statsPath, workDir;
+        overlap = "clamp", compression = "blosc", statsPath, workDir;
     int resolution = 0, slicesPerSegment = 0, supersample = 1, device = -1;
     double voxelSize = 0.0, yarnRadius = 0.0, spacing = 0.0, twist = 0.0;
     std::uint64_t fragmentCapacity = 0;
@@ -131,6 +131,11 @@ void runVoxelize(const VoxelizeArgs& a) {
     meta.overlap = toString(settings.overlap);
     meta.sliceSpacing = plan.maxSpacing;
 
+    VdbWriteTimings writeTimings;
+    VdbWriteOptions writeOptions;
+    writeOptions.compression = parseVdbCompression(a.compression);
+    writeOptions.timings = &writeTimings;
+
     JsonObject backendStats;
     std::uint64_t samples = 0, active = 0, bricks = 0;
     double voxelizeSeconds = 0.0;
@@ -148,7 +153,7 @@ void runVoxelize(const VoxelizeArgs& a) {
         voxelizeSeconds = timer.lap();
         stages.set("voxelize", voxelizeSeconds);
         meta.backend = "gl-dense";
-        writeVdb(a.output, volume, meta);
+        writeVdb(a.output, volume, meta, writeOptions);
         stages.set("write", timer.lap());
         active = volume.activeVoxelCount();
         bricks = volume.bricks.size();
@@ -169,7 +174,7 @@ void runVoxelize(const VoxelizeArgs& a) {
         backendStats.set("samples", counters.samples);
         voxelizeSeconds = timer.lap();
         stages.set("voxelize", voxelizeSeconds);
-        writeVdb(a.output, volume, meta);
+        writeVdb(a.output, volume, meta, writeOptions);
         stages.set("write", timer.lap());
         active = volume.activeVoxelCount();
         bricks = volume.bricks.size();
@@ -214,7 +219,7 @@ void runVoxelize(const VoxelizeArgs& a) {
             store.markComplete(zoom.regions.size());
             voxelizeSeconds = timer.lap();
             stages.set("voxelize", voxelizeSeconds);
-            mergeStoreToVdb(store, a.output, meta);
+            mergeStoreToVdb(store, a.output, meta, writeOptions);
             stages.set("merge", timer.lap());
             storeBytes = store.bytesOnDisk();
             for (const RegionInfo& r : store.listRegions()) {
@@ -283,6 +288,11 @@ void runVoxelize(const VoxelizeArgs& a) {
             .set("slices_per_second", plan.sliceCount / voxelizeSeconds)
             .set("active_voxels_per_second", active / voxelizeSeconds)
             .set("peak_host_bytes", peakResidentBytes())
+            .set("vdb_compression", toString(writeOptions.compression))
+            .set("vdb_seconds", JsonObject()
+                                    .set("read_regions", writeTimings.readSeconds)
+                                    .set("build_trees", writeTimings.treeSeconds)
+                                    .set("write", writeTimings.writeSeconds))
             .set("seconds", stages)
             .set("backend_stats", backendStats);
         writeTextFileAtomically(a.statsPath, stats.dump() + "\n");
@@ -342,6 +352,11 @@ void addVoxelizeCommand(CLI::App& app) {
                     "sum adds them up")
         ->capture_default_str()
         ->check(CLI::IsMember({"clamp", "sum"}));
+    cmd->add_option("--vdb-compression", a->compression,
+                    "How the .vdb's leaves are compressed: blosc (OpenVDB's default), zip, mask (active values "
+                    "only, no codec) or none")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"blosc", "zip", "mask", "none"}));
     cmd->add_option("--supersample", a->supersample, "Samples per voxel face along each axis")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));

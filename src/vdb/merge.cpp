@@ -6,6 +6,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <chrono>
 #include <functional>
 #include <thread>
 
@@ -39,7 +40,8 @@ std::string regionLabel(const BrickStore& store, std::uint64_t id) { return stor
 
 } // namespace
 
-void mergeStoreToVdb(const BrickStore& store, const std::string& outPath, const VolumeMetadata& metadata) {
+void mergeStoreToVdb(const BrickStore& store, const std::string& outPath, const VolumeMetadata& metadata,
+                     const VdbWriteOptions& options) {
     const StoreManifest& m = store.manifest();
     if (!m.completeRegions)
         throw Error(store.dir() + ": the run that fills this work dir has not finished: run it again with "
@@ -49,16 +51,20 @@ void mergeStoreToVdb(const BrickStore& store, const std::string& outPath, const 
         throw Error(store.dir() + ": the finished run wrote " + std::to_string(*m.completeRegions) +
                     " regions, but " + std::to_string(regions.size()) +
                     " region files are on disk: run it again with --resume");
+    const auto start = std::chrono::steady_clock::now();
     VdbAssembler assembler(m.grid, m.reduce);
     forEachRegion(store, regions, [&](std::size_t i, std::vector<VoxelBrick>& bricks) {
         assembler.add(bricks, regionLabel(store, regions[i].id));
     });
-    assembler.write(outPath, metadata);
+    if (options.timings)
+        options.timings->readSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    assembler.write(outPath, metadata, options);
 }
 
-void mergeStoreToVdb(const std::string& dir, const std::string& outPath, const VolumeMetadata& metadata) {
+void mergeStoreToVdb(const std::string& dir, const std::string& outPath, const VolumeMetadata& metadata,
+                     const VdbWriteOptions& options) {
     const BrickStore store(dir);
-    mergeStoreToVdb(store, outPath, metadata);
+    mergeStoreToVdb(store, outPath, metadata, options);
 }
 
 BrickVolume loadStore(const std::string& dir) {

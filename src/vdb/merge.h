@@ -16,10 +16,12 @@ namespace yv {
 /// at a time, so only the leaves and a few regions' bricks are in memory.
 /// Throws yv::Error when the run is unfinished, a region is damaged or
 /// missing, or two regions hold the same brick.
-void mergeStoreToVdb(const BrickStore& store, const std::string& outPath, const VolumeMetadata& metadata);
+void mergeStoreToVdb(const BrickStore& store, const std::string& outPath, const VolumeMetadata& metadata,
+                     const VdbWriteOptions& options = {});
 
 /// Same, opening the work dir `dir` read-only (`yarnvox merge WORKDIR`).
-void mergeStoreToVdb(const std::string& dir, const std::string& outPath, const VolumeMetadata& metadata);
+void mergeStoreToVdb(const std::string& dir, const std::string& outPath, const VolumeMetadata& metadata,
+                     const VdbWriteOptions& options = {});
 
 /// Every brick of the store in `dir`, sorted by key, from whatever regions are
 /// on disk (finished run or not): for tests and tools. Throws yv::Error on a

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include <chrono>
 #include <cstdio>
 #include <fcntl.h>
 #include <filesystem>
@@ -84,7 +85,24 @@ std::size_t VdbAssembler::brickCount() const {
     return impl_->entries.size();
 }
 
-void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata) {
+const char* toString(VdbCompression c) {
+    switch (c) {
+    case VdbCompression::Blosc: return "blosc";
+    case VdbCompression::Zip: return "zip";
+    case VdbCompression::ActiveMask: return "mask";
+    case VdbCompression::None: return "none";
+    }
+    return "?";
+}
+
+VdbCompression parseVdbCompression(const std::string& name) {
+    for (VdbCompression c : {VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::ActiveMask, VdbCompression::None})
+        if (name == toString(c)) return c;
+    throw Error("unknown .vdb compression '" + name + "': expected blosc, zip, mask or none");
+}
+
+void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata, const VdbWriteOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
     std::lock_guard lock(impl_->mutex);
     YV_CHECK(!impl_->written);
     impl_->written = true;
@@ -137,9 +155,16 @@ void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata
     meta.insertMeta("slice_spacing", openvdb::DoubleMetadata(metadata.sliceSpacing));
     meta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
 
+    const auto written = std::chrono::steady_clock::now();
     const std::string tmp = path + ".partial";
     try {
         openvdb::io::File file(tmp);
+        switch (options.compression) {
+        case VdbCompression::Blosc: file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK); break;
+        case VdbCompression::Zip: file.setCompression(openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK); break;
+        case VdbCompression::ActiveMask: file.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK); break;
+        case VdbCompression::None: file.setCompression(openvdb::io::COMPRESS_NONE); break;
+        }
         file.write({density, orientation}, meta);
         file.close();
     } catch (const openvdb::Exception& e) {
@@ -157,12 +182,18 @@ void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata
     // The rename itself is durable only once the directory is synced.
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     fsyncPath(parent.empty() ? "." : parent.string(), O_RDONLY | O_DIRECTORY);
+    if (options.timings) {
+        const auto end = std::chrono::steady_clock::now();
+        options.timings->treeSeconds += std::chrono::duration<double>(written - start).count();
+        options.timings->writeSeconds += std::chrono::duration<double>(end - written).count();
+    }
 }
 
-void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata) {
+void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata,
+              const VdbWriteOptions& options) {
     VdbAssembler assembler(volume.grid, volume.reduce);
     assembler.add(volume.bricks);
-    assembler.write(path, metadata);
+    assembler.write(path, metadata, options);
 }
 
 } // namespace yv

@@ -25,10 +25,32 @@ struct VolumeMetadata {
     double sliceSpacing = 0.0;     ///< largest distance between slices along a yarn, world units
 };
 
+/// How OpenVDB compresses each leaf's values: blosc (OpenVDB's default),
+/// zip, only the active values (no codec: about the size of blosc for
+/// fractional densities, and about twice as fast to write), or nothing.
+enum class VdbCompression { Blosc, Zip, ActiveMask, None };
+
+const char* toString(VdbCompression c);
+/// "blosc", "zip", "mask" or "none"; throws yv::Error otherwise.
+VdbCompression parseVdbCompression(const std::string& name);
+
+/// Where the time of a write went.
+struct VdbWriteTimings {
+    double readSeconds = 0.0;  ///< merge: regions read, verified and turned into leaves
+    double treeSeconds = 0.0;  ///< leaves into two trees, in key order
+    double writeSeconds = 0.0; ///< OpenVDB's serial write, fsync and rename
+};
+
+struct VdbWriteOptions {
+    VdbCompression compression = VdbCompression::Blosc;
+    VdbWriteTimings* timings = nullptr; ///< filled when given
+};
+
 /// Writes `volume` to `path` through a temporary file and a rename, so a
 /// failed run never leaves a file that looks finished. Voxel (i, j, k) of the
 /// grid has index (i, j, k) and its centre at grid.origin + (i + 0.5) h.
-void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata);
+void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata,
+              const VdbWriteOptions& options = {});
 
 /// What writeVdb and the brick store's merge share: bricks handed over in
 /// batches become OpenVDB leaves at once (so the bricks can be freed), and
@@ -47,7 +69,7 @@ class VdbAssembler {
     std::size_t brickCount() const;
     /// Builds the grids and writes them to `path` as writeVdb does; throws
     /// yv::Error when a brick was added twice. Call once.
-    void write(const std::string& path, const VolumeMetadata& metadata);
+    void write(const std::string& path, const VolumeMetadata& metadata, const VdbWriteOptions& options = {});
 
   private:
     struct Impl;
