@@ -15,18 +15,23 @@ namespace yv {
 
 void addMergeCommand(CLI::App& app) {
     struct Args {
-        std::string workDir, output;
+        std::string workDir, output, compression = "mask";
         bool quiet = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* cmd = app.add_subcommand("merge", "Merge the brick store of a finished voxelize run into one OpenVDB file");
     cmd->add_option("workdir", args->workDir, "Work directory of a voxelize run (--work-dir)")->required()->check(CLI::ExistingDirectory);
     cmd->add_option("-o,--output", args->output, "Output .vdb file")->required();
+    cmd->add_option("--vdb-compression", args->compression, "mask, blosc, zip or none (as voxelize's option)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"blosc", "zip", "mask", "none"}));
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
     cmd->callback([args] {
         const auto start = std::chrono::steady_clock::now();
         const StoreManifest manifest = readManifest(args->workDir);
-        mergeStoreToVdb(args->workDir, args->output, decodeMetadata(manifest.runMetadata));
+        VdbWriteOptions options;
+        options.compression = parseVdbCompression(args->compression);
+        mergeStoreToVdb(args->workDir, args->output, decodeMetadata(manifest.runMetadata), options);
         if (!args->quiet)
             std::printf("merged %s -> %s in %.2f s\n", args->workDir.c_str(), args->output.c_str(),
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

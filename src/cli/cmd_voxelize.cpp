@@ -32,7 +32,7 @@ namespace {
 
 struct VoxelizeArgs {
     std::string input, output, backend = "gl", method = "sparse", crossSection = "fibers", reduce = "mean",
-        overlap = "clamp", compression = "blosc", statsPath, workDir;
+        overlap = "clamp", compression = "mask", statsPath, workDir;
     int resolution = 0, slicesPerSegment = 0, supersample = 1, device = -1;
     double voxelSize = 0.0, yarnRadius = 0.0, spacing = 0.0, twist = 0.0;
     std::uint64_t fragmentCapacity = 0;
@@ -353,8 +353,8 @@ void addVoxelizeCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::IsMember({"clamp", "sum"}));
     cmd->add_option("--vdb-compression", a->compression,
-                    "How the .vdb's leaves are compressed: blosc (OpenVDB's default), zip, mask (active values "
-                    "only, no codec) or none")
+                    "How the .vdb's leaves are compressed: mask (active values only, no codec: about twice as "
+                    "fast to write as blosc, files about 10 % larger), blosc (OpenVDB's default), zip or none")
         ->capture_default_str()
         ->check(CLI::IsMember({"blosc", "zip", "mask", "none"}));
     cmd->add_option("--supersample", a->supersample, "Samples per voxel face along each axis")
