@@ -9,6 +9,7 @@
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "gpu/dense_voxelizer.h"
+#include "gpu/egl_context.h"
 #include "gpu/gl_voxelizer.h"
 #include "plan/grid.h"
 #include "plan/zoom_plan.h"
@@ -31,7 +32,7 @@ namespace yv {
 namespace {
 
 struct VoxelizeArgs {
-    std::string input, output, backend = "gl", method = "sparse", crossSection = "fibers", reduce = "mean",
+    std::string input, output, backend = "auto", method = "sparse", crossSection = "fibers", reduce = "mean",
         overlap = "clamp", compression = "mask", statsPath, workDir;
     int resolution = 0, slicesPerSegment = 0, supersample = 1, device = -1;
     double voxelSize = 0.0, yarnRadius = 0.0, spacing = 0.0, twist = 0.0;
@@ -82,7 +83,26 @@ class StageTimer {
     std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-void runVoxelize(const VoxelizeArgs& a) {
+/// The backend "auto" stands for: the GL backend on a GPU, or wherever only it
+/// can do what was asked (out of core, resume, the dense method); else the CPU
+/// reference, which on a machine without a GPU is far faster than GL through
+/// a software rasteriser.
+std::string resolveBackend(const VoxelizeArgs& a) {
+    if (a.backend != "auto") return a.backend;
+    if (!a.workDir.empty() || a.resume || a.method == "dense") return "gl";
+    try {
+        const GlContext probe(GlContextOptions{a.device, false});
+        if (probe.info().platform == "device") return "gl";
+    } catch (const Error&) {
+    }
+    if (a.verbose && !a.quiet)
+        std::fprintf(stderr, "backend: no GPU found, using the CPU backend (--backend gl forces the software GL path)\n");
+    return "cpu";
+}
+
+void runVoxelize(const VoxelizeArgs& args) {
+    VoxelizeArgs a = args;
+    a.backend = resolveBackend(args);
     StageTimer timer;
     JsonObject stages;
     const Garment garment = readBcc(a.input);
@@ -318,9 +338,11 @@ void addVoxelizeCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("voxelize", "Voxelize a garment (BCC) into an OpenVDB file of fibre density and orientation");
     cmd->add_option("input", a->input, "Garment .bcc file")->required()->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", a->output, "Output .vdb file")->required();
-    cmd->add_option("--backend", a->backend, "gl (OpenGL 4.5 through EGL: GPU, or llvmpipe) or cpu (TBB reference)")
+    cmd->add_option("--backend", a->backend,
+                    "auto (gl on a GPU, else cpu; gl for --work-dir, --resume and --method dense), gl (OpenGL 4.5 "
+                    "through EGL: a GPU, or Mesa's llvmpipe) or cpu (the TBB reference)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"gl", "cpu"}));
+        ->check(CLI::IsMember({"auto", "gl", "cpu"}));
     cmd->add_option("--method", a->method,
                     "sparse: fragment list, bricks, zoom regions; dense: the paper's dense 3D textures "
                     "(a benchmark baseline, limited to one texture, max reduction)")
