@@ -192,3 +192,24 @@ TEST_CASE("A run killed part-way and resumed gives the same .vdb, and damaged re
     CHECK(sameVdbBytes(reference, merged));
     fs::remove_all(dir.parent_path());
 }
+
+TEST_CASE("Without a work dir, regions go straight into the .vdb: the same file as through the store", "[gl][out-of-core][cli]") {
+    YV_REQUIRE_GL();
+    const fs::path dir = scratchDir("in-memory");
+    fs::create_directories(dir);
+    const fs::path bcc = dir / "g.bcc";
+    REQUIRE(runQuiet("gen --pattern knit --shape cylinder --crossings 64 -o " + bcc.string()) == 0);
+    // A small budget, so that many regions make up the volume either way.
+    const std::string common = " --backend gl --resolution 192 --fragment-budget 60000 --quiet ";
+    const fs::path direct = dir / "direct.vdb", stored = dir / "stored.vdb";
+    REQUIRE(runQuiet("voxelize " + bcc.string() + " -o " + direct.string() + common + "--stats " +
+                     (dir / "direct.json").string()) == 0);
+    REQUIRE(runQuiet("voxelize " + bcc.string() + " -o " + stored.string() + common + "--work-dir " +
+                     (dir / "work").string() + " --stats " + (dir / "stored.json").string()) == 0);
+    CHECK(sameVdbBytes(direct, stored));
+    CHECK_FALSE(fs::exists(direct.string() + ".work"));
+    const std::string a = readFile(dir / "direct.json"), b = readFile(dir / "stored.json");
+    CHECK(a.find("\"regions_to\": \"memory\"") != std::string::npos);
+    CHECK(b.find("\"regions_to\": \"work dir\"") != std::string::npos);
+    CHECK(regionFiles(dir / "work") > 4);
+}

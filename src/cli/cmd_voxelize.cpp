@@ -19,6 +19,7 @@
 #include "vdb/vdb_writer.h"
 
 #include <CLI/CLI.hpp>
+#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <cmath>
@@ -61,6 +62,42 @@ class StoreSink : public RegionSink {
     BrickStore& store_;
     RegionWriter& writer_;
     bool resume_;
+};
+
+/// Resolves finished regions straight into the .vdb's leaves: no work
+/// directory, no encode, write and read back. For runs that need no resume
+/// (the merge of a store holds the same leaves in memory anyway).
+class AssemblerSink : public RegionSink {
+  public:
+    AssemblerSink(VdbAssembler& assembler, Reduce reduce, Overlap overlap)
+        : assembler_(assembler), reduce_(reduce), overlap_(overlap) {}
+    void consume(const ZoomRegion& r, std::vector<BrickAccumulator>&& accumulators) override {
+        const auto start = std::chrono::steady_clock::now();
+        std::vector<VoxelBrick> resolved(accumulators.size());
+        std::vector<std::uint8_t> keep(accumulators.size());
+        std::vector<ResolveTally> tallies(accumulators.size());
+        tbb::parallel_for(std::size_t(0), accumulators.size(), [&](std::size_t i) {
+            keep[i] = resolveBrick(reduce_, overlap_, accumulators[i], resolved[i], &tallies[i]);
+        });
+        accumulators = {};
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < resolved.size(); ++i) {
+            tally += tallies[i];
+            if (keep[i]) resolved[kept++] = resolved[i];
+        }
+        resolved.resize(kept);
+        bricks += kept;
+        assembler_.add(resolved, "region " + std::to_string(r.id));
+        resolveSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    ResolveTally tally;
+    std::uint64_t bricks = 0;
+    double resolveSeconds = 0.0; ///< resolve and leaf building, on the GPU's thread
+
+  private:
+    VdbAssembler& assembler_;
+    Reduce reduce_;
+    Overlap overlap_;
 };
 
 /// Host memory the disk queue may hold: an eighth of physical memory, at most 4 GiB.
@@ -214,9 +251,11 @@ void runVoxelize(const VoxelizeArgs& args) {
             std::fprintf(stderr, "plan: %zu zoom regions, %.3g fragments expected, budget %llu per pass\n",
                          zoom.regions.size(), zoom.estimatedFragments, static_cast<unsigned long long>(backend.fragmentBudget()));
 
-        // Regions stream through a bounded queue to the work dir while the GPU
-        // moves on; the merge then builds one OpenVDB tree from the files.
+        // Without a work dir, regions go straight into the .vdb's leaves.
+        // With one, they stream through a bounded queue to it while the GPU
+        // moves on, and the merge then builds one OpenVDB tree from the files.
         const bool ownWorkDir = a.workDir.empty();
+        const bool inMemory = ownWorkDir && !a.keepWorkDir;
         const std::string workDir = ownWorkDir ? a.output + ".work" : a.workDir;
         StoreManifest manifest;
         manifest.fingerprint =
@@ -226,7 +265,20 @@ void runVoxelize(const VoxelizeArgs& args) {
         manifest.runMetadata = encodeMetadata(meta);
         RegionWriterStats writerStats;
         std::uint64_t recomputed = 0, storeBytes = 0;
-        {
+        double memoryResolveSeconds = 0.0;
+        if (inMemory) {
+            VdbAssembler assembler(grid, settings.reduce);
+            AssemblerSink sink(assembler, settings.reduce, settings.overlap);
+            backend.run(zoom.regions, sink);
+            voxelizeSeconds = timer.lap();
+            stages.set("voxelize", voxelizeSeconds);
+            assembler.write(a.output, meta, writeOptions);
+            stages.set("write", timer.lap());
+            tally = sink.tally;
+            active = tally.activeVoxels;
+            bricks = sink.bricks;
+            memoryResolveSeconds = sink.resolveSeconds;
+        } else {
             BrickStore store(workDir, manifest, a.resume);
             // Resolving (an eigenvector per voxel) and compressing keep several cores busy.
             const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
@@ -250,7 +302,6 @@ void runVoxelize(const VoxelizeArgs& args) {
             tally = writerStats.tally;
             tallyComplete = counters.resumedRegions == 0;
         }
-        if (ownWorkDir && !a.keepWorkDir) std::filesystem::remove_all(workDir);
 
         samples = counters.fragments;
         backendStats.set("renderer", counters.renderer)
@@ -274,7 +325,9 @@ void runVoxelize(const VoxelizeArgs& args) {
             .set("store_encode_seconds", writerStats.encodeSeconds)
             .set("store_write_seconds", writerStats.writeSeconds)
             .set("store_wait_seconds", writerStats.submitWaitSeconds)
-            .set("store_peak_queued_bytes", writerStats.peakQueuedBytes);
+            .set("store_peak_queued_bytes", writerStats.peakQueuedBytes)
+            .set("regions_to", inMemory ? "memory" : "work dir")
+            .set("memory_resolve_seconds", memoryResolveSeconds);
         if (a.verbose && !a.quiet)
             std::fprintf(stderr, "renderer: %s (%s); %llu regions (%llu resumed), %llu overflow retries\n",
                          counters.renderer.c_str(), counters.platform.c_str(),
