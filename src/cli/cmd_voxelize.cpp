@@ -64,40 +64,18 @@ class StoreSink : public RegionSink {
     bool resume_;
 };
 
-/// Resolves finished regions straight into the .vdb's leaves: no work
-/// directory, no encode, write and read back. For runs that need no resume
-/// (the merge of a store holds the same leaves in memory anyway).
-class AssemblerSink : public RegionSink {
+/// Hands finished regions to the resolving pipeline, which puts them
+/// straight into the .vdb's leaves: no work directory, no encode, write and
+/// read back. For runs that need no resume.
+class QueueSink : public RegionSink {
   public:
-    AssemblerSink(VdbAssembler& assembler, Reduce reduce, Overlap overlap)
-        : assembler_(assembler), reduce_(reduce), overlap_(overlap) {}
-    void consume(const ZoomRegion& r, std::vector<BrickAccumulator>&& accumulators) override {
-        const auto start = std::chrono::steady_clock::now();
-        std::vector<VoxelBrick> resolved(accumulators.size());
-        std::vector<std::uint8_t> keep(accumulators.size());
-        std::vector<ResolveTally> tallies(accumulators.size());
-        tbb::parallel_for(std::size_t(0), accumulators.size(), [&](std::size_t i) {
-            keep[i] = resolveBrick(reduce_, overlap_, accumulators[i], resolved[i], &tallies[i]);
-        });
-        accumulators = {};
-        std::size_t kept = 0;
-        for (std::size_t i = 0; i < resolved.size(); ++i) {
-            tally += tallies[i];
-            if (keep[i]) resolved[kept++] = resolved[i];
-        }
-        resolved.resize(kept);
-        bricks += kept;
-        assembler_.add(resolved, "region " + std::to_string(r.id));
-        resolveSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    explicit QueueSink(RegionWriter& writer) : writer_(writer) {}
+    void consume(const ZoomRegion& r, std::vector<BrickAccumulator>&& bricks) override {
+        writer_.submit(r.id, r.min, r.max, std::move(bricks));
     }
-    ResolveTally tally;
-    std::uint64_t bricks = 0;
-    double resolveSeconds = 0.0; ///< resolve and leaf building, on the GPU's thread
 
   private:
-    VdbAssembler& assembler_;
-    Reduce reduce_;
-    Overlap overlap_;
+    RegionWriter& writer_;
 };
 
 /// Host memory the disk queue may hold: an eighth of physical memory, at most 4 GiB.
@@ -265,23 +243,27 @@ void runVoxelize(const VoxelizeArgs& args) {
         manifest.runMetadata = encodeMetadata(meta);
         RegionWriterStats writerStats;
         std::uint64_t recomputed = 0, storeBytes = 0;
-        double memoryResolveSeconds = 0.0;
+        // Resolving (an eigenvector per voxel) and compressing keep several cores busy.
+        const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
         if (inMemory) {
             VdbAssembler assembler(grid, settings.reduce);
-            AssemblerSink sink(assembler, settings.reduce, settings.overlap);
+            RegionWriter writer([&](std::uint64_t id, std::vector<VoxelBrick>&& resolved) {
+                assembler.add(resolved, "region " + std::to_string(id));
+            }, settings.reduce, settings.overlap, writerQueueBytes(), workers);
+            QueueSink sink(writer);
             backend.run(zoom.regions, sink);
+            for (const RegionInfo& r : writer.finish()) {
+                active += r.activeVoxels;
+                bricks += r.brickCount;
+            }
+            writerStats = writer.stats();
+            tally = writerStats.tally;
             voxelizeSeconds = timer.lap();
             stages.set("voxelize", voxelizeSeconds);
             assembler.write(a.output, meta, writeOptions);
             stages.set("write", timer.lap());
-            tally = sink.tally;
-            active = tally.activeVoxels;
-            bricks = sink.bricks;
-            memoryResolveSeconds = sink.resolveSeconds;
         } else {
             BrickStore store(workDir, manifest, a.resume);
-            // Resolving (an eigenvector per voxel) and compressing keep several cores busy.
-            const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
             RegionWriter writer(store, settings.reduce, settings.overlap, writerQueueBytes(), workers);
             StoreSink sink(store, writer, a.resume);
             backend.run(zoom.regions, sink);
@@ -326,8 +308,7 @@ void runVoxelize(const VoxelizeArgs& args) {
             .set("store_write_seconds", writerStats.writeSeconds)
             .set("store_wait_seconds", writerStats.submitWaitSeconds)
             .set("store_peak_queued_bytes", writerStats.peakQueuedBytes)
-            .set("regions_to", inMemory ? "memory" : "work dir")
-            .set("memory_resolve_seconds", memoryResolveSeconds);
+            .set("regions_to", inMemory ? "memory" : "work dir");
         if (a.verbose && !a.quiet)
             std::fprintf(stderr, "renderer: %s (%s); %llu regions (%llu resumed), %llu overflow retries\n",
                          counters.renderer.c_str(), counters.platform.c_str(),

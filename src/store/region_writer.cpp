@@ -24,11 +24,22 @@ std::size_t heldBytes(const std::vector<BrickAccumulator>& accumulators) {
 
 RegionWriter::RegionWriter(BrickStore& store, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes,
                            unsigned workers)
-    : store_(store), reduce_(reduce), overlap_(overlap), maxQueuedBytes_(maxQueuedBytes) {
+    : store_(&store), reduce_(reduce), overlap_(overlap), maxQueuedBytes_(maxQueuedBytes) {
     if (store.manifest().reduce != reduce)
         throw Error(store.dir() + ": the work dir holds " + toString(store.manifest().reduce) +
                     " bricks, the writer was asked for " + toString(reduce));
     if (store.readOnly()) throw Error(store.dir() + ": cannot write regions: the work dir was opened read-only");
+    start(workers);
+}
+
+RegionWriter::RegionWriter(Destination destination, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes,
+                           unsigned workers)
+    : destination_(std::move(destination)), reduce_(reduce), overlap_(overlap), maxQueuedBytes_(maxQueuedBytes) {
+    YV_CHECK(destination_);
+    start(workers);
+}
+
+void RegionWriter::start(unsigned workers) {
     const unsigned n = workers == 0 ? 2 : workers;
     threads_.reserve(n);
     try {
@@ -133,7 +144,17 @@ void RegionWriter::process(Job& job) {
     const double resolveSeconds = secondsSince(t);
 
     RegionWriteTimings timings;
-    const RegionInfo info = store_.writeRegion(job.id, job.min, job.max, std::move(bricks), &timings);
+    RegionInfo info;
+    if (store_) {
+        info = store_->writeRegion(job.id, job.min, job.max, std::move(bricks), &timings);
+    } else {
+        info.id = job.id;
+        info.min = job.min;
+        info.max = job.max;
+        info.brickCount = bricks.size();
+        info.activeVoxels = tally.activeVoxels;
+        destination_(job.id, std::move(bricks));
+    }
 
     std::lock_guard lock(mutex_);
     results_.push_back(info);

@@ -7,6 +7,7 @@
 #include "store/brick_store.h"
 
 #include <condition_variable>
+#include <functional>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -35,6 +36,12 @@ class RegionWriter {
     /// accumulators are held at once, counting regions queued and regions being
     /// worked on.
     RegionWriter(BrickStore& store, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes, unsigned workers = 0);
+    /// Where resolved regions go when there is no store (called on worker threads, concurrently).
+    using Destination = std::function<void(std::uint64_t id, std::vector<VoxelBrick>&& bricks)>;
+    /// The same pipeline, handing each resolved region to `destination`
+    /// instead of writing it (RegionInfo of such regions has no file).
+    RegionWriter(Destination destination, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes,
+                 unsigned workers = 0);
     /// Stops the workers after the regions they hold; regions still queued are
     /// dropped (call finish() to write everything).
     ~RegionWriter();
@@ -59,11 +66,13 @@ class RegionWriter {
         std::vector<BrickAccumulator> accumulators;
         std::size_t bytes = 0;
     };
+    void start(unsigned workers);
     void work();
     void process(Job& job);
     void stop();
 
-    BrickStore& store_;
+    BrickStore* store_ = nullptr;
+    Destination destination_;
     Reduce reduce_;
     Overlap overlap_;
     std::size_t maxQueuedBytes_;
