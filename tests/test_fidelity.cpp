@@ -267,13 +267,7 @@ void checkCircles(Backend backend, std::initializer_list<int> radiiVoxels, std::
                 const glm::dvec3 n = glm::normalize(glm::cross(pl.u, pl.v));
                 const Garment g = circleYarn(centre, pl.u, pl.v, R, 32);
                 const double h = r / rv;
-                SliceOptions opt;
-                opt.radius = r;
-                if (mode == Spacing::Default)
-                    opt.spacing = defaultSliceSpacing(h, 1);
-                else
-                    opt.slicesPerSegment = 25;
-                const SlicePlan plan = planSlices(g, opt);
+                const SlicePlan plan = planSlices(g, sliceOptions(r, mode, h));
                 const VoxelGrid grid = makeGrid(plan, 0, h);
                 const BrickVolume vol = voxelize(backend, plan, xs, grid, Overlap::Sum);
 

@@ -13,7 +13,7 @@
 namespace yv {
 
 /// Hash of everything that decides the bricks: the garment file's bytes, the
-/// slice options, the cross-section texture, the grid, the reduction and
+/// slice options, the cross-section texture, the grid, the reduction, the overlap rule and
 /// supersampling, and the zoom regions (ids and bounds).
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
                              const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,
