@@ -213,3 +213,34 @@ TEST_CASE("Without a work dir, regions go straight into the .vdb: the same file 
     CHECK(b.find("\"regions_to\": \"work dir\"") != std::string::npos);
     CHECK(regionFiles(dir / "work") > 4);
 }
+
+TEST_CASE("A work dir whose run metadata does not parse gives one line and exit 1 from merge, not an abort", "[cli]") {
+    const fs::path dir = scratchDir("bad-metadata");
+    fs::create_directories(dir);
+    const fs::path bcc = dir / "g.bcc", work = dir / "work";
+    REQUIRE(runQuiet("gen --pattern plain --crossings 16 -o " + bcc.string()) == 0);
+    REQUIRE(runQuiet("voxelize " + bcc.string() + " -o " + (dir / "a.vdb").string() +
+                     " --backend gl --resolution 32 --quiet --work-dir " + work.string()) == 0);
+    // Same length, so the manifest's byte count still holds: only the number is wrong.
+    std::string manifest = readFile(work / "manifest");
+    const std::size_t at = manifest.find("resolution=32");
+    REQUIRE(at != std::string::npos);
+    manifest.replace(at, 13, "resolution=x2");
+    {
+        std::ofstream out(work / "manifest", std::ios::binary | std::ios::trunc);
+        out << manifest;
+    }
+    const std::string cmd = yarnvox() + " merge " + work.string() + " -o " + (dir / "b.vdb").string() + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    REQUIRE(pipe);
+    std::string output;
+    char buf[4096];
+    while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
+    const int status = pclose(pipe);
+    INFO(output);
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 1);
+    CHECK(output.find("yarnvox: error:") == 0);
+    CHECK(std::count(output.begin(), output.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(dir / "b.vdb"));
+}

@@ -27,6 +27,11 @@ int main(int argc, char** argv) {
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "yarnvox: error: out of host memory\n");
         return 1;
+    } catch (const std::exception& e) {
+        // Whatever else a library throws (a filesystem or system error, a
+        // number that does not parse) is still one line and exit 1, not an abort.
+        std::fprintf(stderr, "yarnvox: error: %s\n", e.what());
+        return 1;
     }
     return 0;
 }
