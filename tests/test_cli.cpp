@@ -192,3 +192,36 @@ TEST_CASE("CLI: slices follow the voxel size by default, and a coarse explicit s
     CHECK(run("voxelize " + bcc.string() + " -o " + vdb.string() + " --slices-per-segment 2 --slice-spacing 0.1 --resolution 32")
               .exitCode != 0);
 }
+
+TEST_CASE("CLI: -o and --stats must name new or regular files, not the input, a directory or a link", "[cli]") {
+    const fs::path bcc = scratch("guard.bcc"), dir = scratch("guard-dir"), link = scratch("guard-link.vdb");
+    REQUIRE(run("gen --pattern plain --crossings 16 -o " + bcc.string()).exitCode == 0);
+    const std::string before = readText(bcc);
+    fs::create_directories(dir);
+    fs::remove(link);
+    fs::create_symlink(scratch("elsewhere.vdb"), link);
+    const std::string common = " --backend cpu --resolution 32";
+    struct Case {
+        std::string args, says;
+    };
+    const Case cases[] = {
+        {"-o " + bcc.string(), "same file as"},
+        {"-o " + dir.string(), "is a directory"},
+        {"-o " + link.string(), "is a symbolic link"},
+        {"-o /dev/null", "is a device"},
+        {"-o " + scratch("no-such-dir").string() + "/out.vdb", "does not exist"},
+        {"-o " + scratch("guard.vdb").string() + " --stats " + bcc.string(), "same file as"},
+        {"-o " + scratch("guard.vdb").string() + " --stats " + scratch("guard.vdb").string(), "same file as -o"},
+    };
+    for (const Case& c : cases) {
+        const RunResult r = run("voxelize " + bcc.string() + " " + c.args + common);
+        INFO(c.args << "\n" << r.output);
+        CHECK(r.exitCode == 1);
+        CHECK(r.output.find(c.says) != std::string::npos);
+        CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+    }
+    CHECK(readText(bcc) == before);
+    CHECK(fs::is_directory(dir));
+    CHECK(fs::is_symlink(link));
+    CHECK_FALSE(fs::exists(scratch("elsewhere.vdb")));
+}

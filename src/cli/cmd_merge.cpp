@@ -2,6 +2,7 @@
 // itself at its end; this re-runs it, e.g. after a merge failed for disk space).
 #include "cli/commands.h"
 #include "cli/run_fingerprint.h"
+#include "core/output_path.h"
 #include "store/brick_store.h"
 #include "vdb/merge.h"
 
@@ -28,6 +29,7 @@ void addMergeCommand(CLI::App& app) {
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
     cmd->callback([args] {
         const auto start = std::chrono::steady_clock::now();
+        checkOutputPath(args->output, "-o", {});
         const StoreManifest manifest = readManifest(args->workDir);
         VdbWriteOptions options;
         options.compression = parseVdbCompression(args->compression);

@@ -3,6 +3,7 @@
 #include "cli/commands.h"
 #include "cli/run_fingerprint.h"
 #include "core/error.h"
+#include "core/output_path.h"
 #include "core/process_memory.h"
 #include "core/stats.h"
 #include "cpu/cpu_voxelizer.h"
@@ -116,6 +117,11 @@ std::string resolveBackend(const VoxelizeArgs& a) {
 }
 
 void runVoxelize(const VoxelizeArgs& args) {
+    // Where the results go is checked before minutes of work, not after.
+    checkOutputPath(args.output, "-o", {args.input});
+    if (!args.statsPath.empty()) checkOutputPath(args.statsPath, "--stats", {args.input, args.output});
+    if (!args.statsPath.empty() && args.statsPath == args.output)
+        throw Error("--stats " + args.statsPath + ": is the same file as -o: refusing to overwrite it");
     VoxelizeArgs a = args;
     a.backend = resolveBackend(args);
     StageTimer timer;

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <fcntl.h>
@@ -156,7 +157,10 @@ void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata
     meta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
 
     const auto written = std::chrono::steady_clock::now();
-    const std::string tmp = path + ".partial";
+    // A name of this process's own: two runs writing the same output never
+    // share a temporary file.
+    static std::atomic<unsigned> counter{0};
+    const std::string tmp = path + ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
     try {
         openvdb::io::File file(tmp);
         switch (options.compression) {

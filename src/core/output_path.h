@@ -1,0 +1,16 @@
+// Checks on where a run will write, made before the work starts: a run of
+// minutes must not end by replacing something that is not its output.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// Throws yv::Error, naming `path` and `what` ("-o", "--stats"), when `path`
+/// is not a place for a new or replaced regular file: a directory, a device,
+/// a FIFO, a socket or a symbolic link; a directory that does not exist; or
+/// the same file as any of `inputs`.
+void checkOutputPath(const std::string& path, const std::string& what, const std::vector<std::string>& inputs);
+
+} // namespace yv
