@@ -18,8 +18,9 @@ struct RunResult {
     std::string output; // stdout and stderr
 };
 
-RunResult run(const std::string& args) {
-    const std::string cmd = std::string(YV_BINARY_DIR) + "/yarnvox " + args + " 2>&1";
+/// Runs a shell command line, stdout and stderr together.
+RunResult run_shell(const std::string& line) {
+    const std::string cmd = "(" + line + ") 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     REQUIRE(pipe);
     std::string out;
@@ -28,6 +29,8 @@ RunResult run(const std::string& args) {
     const int status = pclose(pipe);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
+
+RunResult run(const std::string& args) { return run_shell(std::string(YV_BINARY_DIR) + "/yarnvox " + args); }
 
 fs::path scratch(const std::string& name) {
     const fs::path dir = fs::temp_directory_path() / "yv_cli_test";
@@ -224,4 +227,28 @@ TEST_CASE("CLI: -o and --stats must name new or regular files, not the input, a 
     CHECK(fs::is_directory(dir));
     CHECK(fs::is_symlink(link));
     CHECK_FALSE(fs::exists(scratch("elsewhere.vdb")));
+}
+
+TEST_CASE("CLI: a .vdb write that fails (the file-size limit, as a full disk) is an error, not a finished file", "[cli]") {
+    const fs::path bcc = scratch("full.bcc"), vdb = scratch("full.vdb");
+    REQUIRE(run("gen --pattern knit --crossings 400 -o " + bcc.string()).exitCode == 0);
+    fs::remove(vdb);
+    // The child runs with a 64 KiB file-size limit (SIGXFSZ ignored, so writes
+    // past it fail with EFBIG, the way they fail with ENOSPC on a full disk).
+    const std::string cmd = "ulimit -f 64; trap '' XFSZ; exec " + std::string(YV_BINARY_DIR) + "/yarnvox voxelize " +
+                            bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution 256";
+    const RunResult r = run_shell(cmd);
+    INFO(r.output);
+    CHECK(r.exitCode == 1);
+    CHECK(r.output.find("cannot write the OpenVDB file") != std::string::npos);
+    CHECK(r.output.find("wrote") == std::string::npos);
+    CHECK_FALSE(fs::exists(vdb));
+    std::size_t leftovers = 0;
+    for (const auto& e : fs::directory_iterator(vdb.parent_path()))
+        leftovers += e.path().filename().string().rfind("full.vdb.partial", 0) == 0;
+    CHECK(leftovers == 0);
+    // Without the limit the same run writes a file OpenVDB reads.
+    REQUIRE(run("voxelize " + bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution 256").exitCode == 0);
+    CHECK(fs::file_size(vdb) > 64 * 1024);
+    CHECK(readDensity(vdb).mass > 0.0);
 }

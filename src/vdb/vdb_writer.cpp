@@ -9,7 +9,10 @@
 
 #include <atomic>
 #include <chrono>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <fcntl.h>
 #include <filesystem>
 #include <mutex>
@@ -26,6 +29,46 @@ void fsyncPath(const std::string& path, int flags) {
         ::fsync(fd);
         ::close(fd);
     }
+}
+
+/// OpenVDB's io::File::write opens its own stream and never looks at it
+/// again: a full disk ends in a truncated file and no error. This archive
+/// writes the same bytes (Archive::write, seekable, as io::File does) into a
+/// stream the caller owns and checks.
+class CheckedArchive : public openvdb::io::Archive {
+  public:
+    openvdb::io::Archive::Ptr copy() const override { return std::make_shared<CheckedArchive>(*this); }
+    void writeTo(std::ostream& os, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& meta) const {
+        openvdb::io::Archive::write(os, grids, /*seekable=*/true, meta);
+    }
+};
+
+/// Writes the grids to `tmp` and makes them durable; throws yv::Error naming
+/// `path` and the system's reason when any write, the close or the fsync fails.
+void writeGridsChecked(const std::string& path, const std::string& tmp, const openvdb::GridCPtrVec& grids,
+                       const openvdb::MetaMap& meta, std::uint32_t compression) {
+    CheckedArchive archive;
+    archive.setCompression(compression);
+    std::ofstream out(tmp, std::ios::out | std::ios::binary | std::ios::trunc);
+    if (!out) throw Error(path + ": cannot create " + tmp + ": " + std::strerror(errno));
+    errno = 0;
+    archive.writeTo(out, grids, meta);
+    out.flush();
+    const int writeErrno = errno;
+    if (!out.good()) {
+        const std::string why = writeErrno ? std::strerror(writeErrno) : "the write failed";
+        throw Error(path + ": cannot write the OpenVDB file (" + why + ")");
+    }
+    out.close();
+    if (out.fail()) throw Error(path + ": cannot close the OpenVDB file (" + std::strerror(errno) + ")");
+    // Data on disk before the name: a crash never leaves a complete-looking file.
+    const int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || ::fsync(fd) != 0) {
+        const std::string why = std::strerror(errno);
+        if (fd >= 0) ::close(fd);
+        throw Error(path + ": cannot make the OpenVDB file durable (" + why + ")");
+    }
+    ::close(fd);
 }
 
 } // namespace
@@ -161,22 +204,22 @@ void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata
     // share a temporary file.
     static std::atomic<unsigned> counter{0};
     const std::string tmp = path + ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    std::uint32_t compression = openvdb::io::COMPRESS_NONE;
+    switch (options.compression) {
+    case VdbCompression::Blosc: compression = openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK; break;
+    case VdbCompression::Zip: compression = openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK; break;
+    case VdbCompression::ActiveMask: compression = openvdb::io::COMPRESS_ACTIVE_MASK; break;
+    case VdbCompression::None: break;
+    }
     try {
-        openvdb::io::File file(tmp);
-        switch (options.compression) {
-        case VdbCompression::Blosc: file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK); break;
-        case VdbCompression::Zip: file.setCompression(openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK); break;
-        case VdbCompression::ActiveMask: file.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK); break;
-        case VdbCompression::None: file.setCompression(openvdb::io::COMPRESS_NONE); break;
-        }
-        file.write({density, orientation}, meta);
-        file.close();
+        writeGridsChecked(path, tmp, {density, orientation}, meta, compression);
     } catch (const openvdb::Exception& e) {
         std::remove(tmp.c_str());
         throw Error(path + ": cannot write OpenVDB file: " + e.what());
+    } catch (...) {
+        std::remove(tmp.c_str());
+        throw;
     }
-    // Data on disk before the name: a crash never leaves a complete-looking file.
-    fsyncPath(tmp, O_RDONLY);
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
     if (ec) {
