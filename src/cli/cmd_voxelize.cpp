@@ -20,12 +20,9 @@
 #include "vdb/vdb_writer.h"
 
 #include <CLI/CLI.hpp>
-#include <tbb/parallel_for.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <thread>
 #include <unistd.h>
@@ -42,32 +39,8 @@ struct VoxelizeArgs {
     bool quiet = false, verbose = false, resume = false, keepWorkDir = false;
 };
 
-/// Feeds finished regions to the disk pipeline; on --resume, skips regions
-/// whose files are complete and verified.
-class StoreSink : public RegionSink {
-  public:
-    StoreSink(BrickStore& store, RegionWriter& writer, bool resume) : store_(store), writer_(writer), resume_(resume) {}
-    bool alreadyDone(const ZoomRegion& r) override {
-        if (!resume_) return false;
-        std::string why;
-        if (store_.hasVerifiedRegion(r.id, r.min, r.max, &why)) return true;
-        if (!why.empty()) ++recomputed;
-        return false;
-    }
-    void consume(const ZoomRegion& r, std::vector<BrickAccumulator>&& bricks) override {
-        writer_.submit(r.id, r.min, r.max, std::move(bricks));
-    }
-    std::uint64_t recomputed = 0; ///< damaged region files found on resume
-
-  private:
-    BrickStore& store_;
-    RegionWriter& writer_;
-    bool resume_;
-};
-
-/// Hands finished regions to the resolving pipeline, which puts them
-/// straight into the .vdb's leaves: no work directory, no encode, write and
-/// read back. For runs that need no resume.
+/// Hands finished regions to the resolving pipeline (RegionWriter), which
+/// writes them to a work dir or puts them straight into the .vdb's leaves.
 class QueueSink : public RegionSink {
   public:
     explicit QueueSink(RegionWriter& writer) : writer_(writer) {}
@@ -77,6 +50,25 @@ class QueueSink : public RegionSink {
 
   private:
     RegionWriter& writer_;
+};
+
+/// Feeds the disk pipeline; on --resume, skips regions whose files are
+/// complete and verified.
+class StoreSink : public QueueSink {
+  public:
+    StoreSink(BrickStore& store, RegionWriter& writer, bool resume) : QueueSink(writer), store_(store), resume_(resume) {}
+    bool alreadyDone(const ZoomRegion& r) override {
+        if (!resume_) return false;
+        std::string why;
+        if (store_.hasVerifiedRegion(r.id, r.min, r.max, &why)) return true;
+        if (!why.empty()) ++recomputed;
+        return false;
+    }
+    std::uint64_t recomputed = 0; ///< damaged region files found on resume
+
+  private:
+    BrickStore& store_;
+    bool resume_;
 };
 
 /// Host memory the disk queue may hold: an eighth of physical memory, at most 4 GiB.

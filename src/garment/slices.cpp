@@ -20,8 +20,8 @@ glm::dvec3 anyPerpendicular(const glm::dvec3& t) {
     return glm::normalize(glm::cross(t, a));
 }
 
-glm::dvec3 unitTangent(const SegmentPoints& p, double t, std::uint32_t yarn) {
-    const glm::dvec3 d = evalCatmullRomDerivative(p, t);
+/// The unit tangent from the curve's derivative `d` at a point of `yarn`.
+glm::dvec3 unitTangent(const glm::dvec3& d, std::uint32_t yarn) {
     const double len = glm::length(d);
     if (!(len > 1e-12))
         throw Error("yarn " + std::to_string(yarn) + ": repeated control points leave the curve without a tangent");
@@ -88,7 +88,7 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
     for (std::size_t i = 0; i < plan.segments.size(); ++i) {
         SegmentRecord& rec = plan.segments[i];
         const bool yarnStart = i == 0 || plan.segments[i - 1].yarn != rec.yarn;
-        const glm::dvec3 t0 = unitTangent(rec.points, 0.0, rec.yarn);
+        const glm::dvec3 t0 = unitTangent(evalCatmullRomDerivative(rec.points, 0.0), rec.yarn);
         rec.knotTangent = t0;
         if (yarnStart) {
             rec.arcStart = 0.0;
@@ -193,10 +193,10 @@ Slice placeSlice(const SegmentRecord& segment, std::uint32_t k) {
     Slice s;
     s.yarn = segment.yarn;
     s.center = evalCatmullRom(segment.points, t);
-    s.tangent = unitTangent(segment.points, t, segment.yarn);
+    const glm::dvec3 d1 = evalCatmullRomDerivative(segment.points, t), d2 = evalCatmullRomSecondDerivative(segment.points, t);
+    s.tangent = unitTangent(d1, segment.yarn);
     s.thickness = catmullRomArcLength(segment.points, k * invK, (k + 1) * invK);
     s.twistStep = segment.twistRate * s.thickness;
-    const glm::dvec3 d1 = evalCatmullRomDerivative(segment.points, t), d2 = evalCatmullRomSecondDerivative(segment.points, t);
     s.curvature = (d2 - glm::dot(d2, s.tangent) * s.tangent) / glm::dot(d1, d1);
 
     glm::dvec3 up = rotateMinimal(segment.knotUp, segment.knotTangent, s.tangent);

@@ -7,11 +7,11 @@
 #include "store/brick_store.h"
 
 #include <condition_variable>
-#include <functional>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <thread>
 #include <vector>

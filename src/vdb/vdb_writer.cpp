@@ -37,7 +37,6 @@ void fsyncPath(const std::string& path, int flags) {
 /// stream the caller owns and checks.
 class CheckedArchive : public openvdb::io::Archive {
   public:
-    openvdb::io::Archive::Ptr copy() const override { return std::make_shared<CheckedArchive>(*this); }
     void writeTo(std::ostream& os, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& meta) const {
         openvdb::io::Archive::write(os, grids, /*seekable=*/true, meta);
     }
