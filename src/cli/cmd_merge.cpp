@@ -16,7 +16,7 @@ namespace yv {
 
 void addMergeCommand(CLI::App& app) {
     struct Args {
-        std::string workDir, output, compression = "mask";
+        std::string workDir, output, compression = "mask", precision = "float";
         bool quiet = false;
     };
     auto args = std::make_shared<Args>();
@@ -26,6 +26,9 @@ void addMergeCommand(CLI::App& app) {
     cmd->add_option("--vdb-compression", args->compression, "mask, blosc, zip or none (as voxelize's option)")
         ->capture_default_str()
         ->check(CLI::IsMember({"blosc", "zip", "mask", "none"}));
+    cmd->add_option("--precision", args->precision, "float or half: how the grids' values are stored (as voxelize's option)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"float", "half"}));
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
     cmd->callback([args] {
         const auto start = std::chrono::steady_clock::now();
@@ -33,6 +36,7 @@ void addMergeCommand(CLI::App& app) {
         const StoreManifest manifest = readManifest(args->workDir);
         VdbWriteOptions options;
         options.compression = parseVdbCompression(args->compression);
+        options.precision = parseVdbPrecision(args->precision);
         mergeStoreToVdb(args->workDir, args->output, decodeMetadata(manifest.runMetadata), options);
         if (!args->quiet)
             std::printf("merged %s -> %s in %.2f s\n", args->workDir.c_str(), args->output.c_str(),

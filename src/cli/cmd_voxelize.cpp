@@ -32,7 +32,7 @@ namespace {
 
 struct VoxelizeArgs {
     std::string input, output, backend = "auto", method = "sparse", crossSection = "fibers", reduce = "mean",
-        overlap = "clamp", compression = "mask", statsPath, workDir;
+        overlap = "clamp", compression = "mask", precision = "float", statsPath, workDir;
     int resolution = 0, slicesPerSegment = 0, supersample = 1, device = -1;
     double voxelSize = 0.0, yarnRadius = 0.0, spacing = 0.0, twist = 0.0;
     std::uint64_t fragmentCapacity = 0;
@@ -167,6 +167,7 @@ void runVoxelize(const VoxelizeArgs& args) {
     VdbWriteTimings writeTimings;
     VdbWriteOptions writeOptions;
     writeOptions.compression = parseVdbCompression(a.compression);
+    writeOptions.precision = parseVdbPrecision(a.precision);
     writeOptions.timings = &writeTimings;
 
     JsonObject backendStats;
@@ -244,7 +245,7 @@ void runVoxelize(const VoxelizeArgs& args) {
         // Resolving (an eigenvector per voxel) and compressing keep several cores busy.
         const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
         if (inMemory) {
-            VdbAssembler assembler(grid, settings.reduce);
+            VdbAssembler assembler(a.output, grid, settings.reduce, writeOptions);
             RegionWriter writer([&](std::uint64_t id, std::vector<VoxelBrick>&& resolved) {
                 assembler.add(resolved, "region " + std::to_string(id));
             }, settings.reduce, settings.overlap, writerQueueBytes(), workers);
@@ -258,7 +259,7 @@ void runVoxelize(const VoxelizeArgs& args) {
             tally = writerStats.tally;
             voxelizeSeconds = timer.lap();
             stages.set("voxelize", voxelizeSeconds);
-            assembler.write(a.output, meta, writeOptions);
+            assembler.write(meta);
             stages.set("write", timer.lap());
         } else {
             BrickStore store(workDir, manifest, a.resume);
@@ -341,9 +342,11 @@ void runVoxelize(const VoxelizeArgs& args) {
             .set("active_voxels_per_second", active / voxelizeSeconds)
             .set("peak_host_bytes", peakResidentBytes())
             .set("vdb_compression", toString(writeOptions.compression))
+            .set("vdb_precision", toString(writeOptions.precision))
             .set("vdb_seconds", JsonObject()
                                     .set("read_regions", writeTimings.readSeconds)
-                                    .set("build_trees", writeTimings.treeSeconds)
+                                    .set("encode_leaves", writeTimings.encodeSeconds)
+                                    .set("topology", writeTimings.topologySeconds)
                                     .set("write", writeTimings.writeSeconds))
             .set("seconds", stages)
             .set("backend_stats", backendStats);
@@ -407,10 +410,15 @@ void addVoxelizeCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::IsMember({"clamp", "sum"}));
     cmd->add_option("--vdb-compression", a->compression,
-                    "How the .vdb's leaves are compressed: mask (active values only, no codec: about twice as "
-                    "fast to write as blosc, files about 10 % larger), blosc (OpenVDB's default), zip or none")
+                    "How the .vdb's leaves are compressed: mask (active values only, no codec: the fastest), "
+                    "blosc (OpenVDB's default: smaller, slower), zip (the orientation grid only) or none")
         ->capture_default_str()
         ->check(CLI::IsMember({"blosc", "zip", "mask", "none"}));
+    cmd->add_option("--precision", a->precision,
+                    "How the .vdb's values are stored: float, or half (16-bit: about half the bytes; density "
+                    "within 2^-11 relative)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"float", "half"}));
     cmd->add_option("--supersample", a->supersample, "Samples per voxel face along each axis")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));

@@ -52,13 +52,13 @@ void mergeStoreToVdb(const BrickStore& store, const std::string& outPath, const 
                     " regions, but " + std::to_string(regions.size()) +
                     " region files are on disk: run it again with --resume");
     const auto start = std::chrono::steady_clock::now();
-    VdbAssembler assembler(m.grid, m.reduce);
+    VdbAssembler assembler(outPath, m.grid, m.reduce, options);
     forEachRegion(store, regions, [&](std::size_t i, std::vector<VoxelBrick>& bricks) {
         assembler.add(bricks, regionLabel(store, regions[i].id));
     });
     if (options.timings)
         options.timings->readSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    assembler.write(outPath, metadata, options);
+    assembler.write(metadata);
 }
 
 void mergeStoreToVdb(const std::string& dir, const std::string& outPath, const VolumeMetadata& metadata,

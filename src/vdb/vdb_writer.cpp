@@ -1,132 +1,160 @@
 #include "vdb/vdb_writer.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "vdb/openvdb_encoding.h"
+#include "vdb/spill_file.h"
+#include "vdb/tree_order.h"
 
 #include <openvdb/openvdb.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
-#include <fcntl.h>
 #include <filesystem>
 #include <mutex>
-#include <unistd.h>
+#include <numeric>
 
 namespace yv {
 namespace {
 
-using DensityLeaf = openvdb::FloatGrid::TreeType::LeafNodeType;
-using OrientationLeaf = openvdb::Vec3SGrid::TreeType::LeafNodeType;
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
 
-void fsyncPath(const std::string& path, int flags) {
-    if (int fd = ::open(path.c_str(), flags | O_CLOEXEC); fd >= 0) {
-        ::fsync(fd);
-        ::close(fd);
+std::uint32_t archiveFlags(VdbCompression c) {
+    switch (c) {
+    case VdbCompression::Blosc: return openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK;
+    case VdbCompression::Zip: return openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK;
+    case VdbCompression::ActiveMask: return openvdb::io::COMPRESS_ACTIVE_MASK;
+    case VdbCompression::None: return openvdb::io::COMPRESS_NONE;
+    }
+    return openvdb::io::COMPRESS_NONE;
+}
+
+/// One leaf in the scratch file: where its two records are, and its value
+/// mask (the topology needs every mask before the first buffer).
+struct LeafRecord {
+    std::uint64_t order = 0; ///< treeOrderKey
+    std::uint64_t densityAt = 0, orientationAt = 0;
+    std::uint32_t densityBytes = 0, orientationBytes = 0;
+    std::uint32_t source = 0;
+    LeafLoadInfo load[2]; ///< per grid, for the delayed-load metadata
+    std::array<std::uint64_t, kBrickVoxels / 64> mask{};
+};
+
+/// Bricks are encoded in pieces of this many, so a large region never holds
+/// all of its encoded bytes at once.
+constexpr std::size_t kEncodePiece = 4096;
+/// Leaves go from the scratch file to the output in pieces of about this size.
+constexpr std::uint64_t kCopyPieceBytes = 32ull << 20;
+
+template <openvdb::Index Log2Dim> void appendMask(ByteVector& out, const openvdb::util::NodeMask<Log2Dim>& mask) {
+    for (openvdb::Index w = 0; w < openvdb::util::NodeMask<Log2Dim>::WORD_COUNT; ++w) {
+        const std::uint64_t word = mask.template getWord<std::uint64_t>(w);
+        const auto* p = reinterpret_cast<const std::uint8_t*>(&word);
+        out.insert(out.end(), p, p + sizeof word);
     }
 }
 
-/// OpenVDB's io::File::write opens its own stream and never looks at it
-/// again: a full disk ends in a truncated file and no error. This archive
-/// writes the same bytes (Archive::write, seekable, as io::File does) into a
-/// stream the caller owns and checks.
-class CheckedArchive : public openvdb::io::Archive {
-  public:
-    void writeTo(std::ostream& os, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& meta) const {
-        openvdb::io::Archive::write(os, grids, /*seekable=*/true, meta);
-    }
-};
+void appendBytes(ByteVector& out, const void* p, std::size_t n) {
+    out.insert(out.end(), static_cast<const std::uint8_t*>(p), static_cast<const std::uint8_t*>(p) + n);
+}
 
-/// Writes the grids to `tmp` and makes them durable; throws yv::Error naming
-/// `path` and the system's reason when any write, the close or the fsync fails.
-void writeGridsChecked(const std::string& path, const std::string& tmp, const openvdb::GridCPtrVec& grids,
-                       const openvdb::MetaMap& meta, std::uint32_t compression) {
-    CheckedArchive archive;
-    archive.setCompression(compression);
-    std::ofstream out(tmp, std::ios::out | std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(path + ": cannot create " + tmp + ": " + std::strerror(errno));
-    errno = 0;
-    archive.writeTo(out, grids, meta);
-    out.flush();
-    const int writeErrno = errno;
-    if (!out.good()) {
-        const std::string why = writeErrno ? std::strerror(writeErrno) : "the write failed";
-        throw Error(path + ": cannot write the OpenVDB file (" + why + ")");
+/// One grid's topology (formats/vdb-subset.md) from records in tree order:
+/// root children, their 32^3 and 16^3 internal nodes (child mask, an empty
+/// value mask, the tile values), and each leaf's value mask.
+ByteVector topologyBytes(const std::vector<LeafRecord>& leaves, const GridEncoding& encoding, const GridStatistics& stats) {
+    const ByteVector upperValues = internalNodeValues(encoding, 5);
+    const ByteVector lowerValues = internalNodeValues(encoding, 4);
+    ByteVector out;
+    out.reserve(64 + stats.upperNodes * (8192 + upperValues.size() + 12) +
+                stats.lowerNodes * (1024 + lowerValues.size()) + stats.leaves * 64);
+    const ByteVector header = treeTopologyHeader(encoding, std::uint32_t(stats.upperNodes));
+    appendBytes(out, header.data(), header.size());
+    const openvdb::util::NodeMask<5> noUpperValues;
+    const openvdb::util::NodeMask<4> noLowerValues;
+    for (std::size_t i = 0; i < leaves.size();) {
+        const std::uint64_t root = rootChildOfOrder(leaves[i].order);
+        std::size_t rootEnd = i;
+        openvdb::util::NodeMask<5> upperChildren;
+        for (; rootEnd < leaves.size() && rootChildOfOrder(leaves[rootEnd].order) == root; ++rootEnd)
+            upperChildren.setOn(upperIndexOfOrder(leaves[rootEnd].order));
+        const glm::ivec3 b = treeOrderCoord(leaves[i].order);
+        const std::int32_t origin[3] = {(b.x >> 9) << 12, (b.y >> 9) << 12, (b.z >> 9) << 12};
+        appendBytes(out, origin, sizeof origin);
+        appendMask(out, upperChildren);
+        appendMask(out, noUpperValues);
+        appendBytes(out, upperValues.data(), upperValues.size());
+        for (std::size_t j = i; j < rootEnd;) {
+            const std::uint64_t lower = lowerNodeOfOrder(leaves[j].order);
+            std::size_t lowerEnd = j;
+            openvdb::util::NodeMask<4> lowerChildren;
+            for (; lowerEnd < rootEnd && lowerNodeOfOrder(leaves[lowerEnd].order) == lower; ++lowerEnd)
+                lowerChildren.setOn(lowerIndexOfOrder(leaves[lowerEnd].order));
+            appendMask(out, lowerChildren);
+            appendMask(out, noLowerValues);
+            appendBytes(out, lowerValues.data(), lowerValues.size());
+            for (std::size_t k = j; k < lowerEnd; ++k) appendBytes(out, leaves[k].mask.data(), sizeof leaves[k].mask);
+            j = lowerEnd;
+        }
+        i = rootEnd;
     }
-    out.close();
-    if (out.fail()) throw Error(path + ": cannot close the OpenVDB file (" + std::strerror(errno) + ")");
-    // Data on disk before the name: a crash never leaves a complete-looking file.
-    const int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0 || ::fsync(fd) != 0) {
-        const std::string why = std::strerror(errno);
-        if (fd >= 0) ::close(fd);
-        throw Error(path + ": cannot make the OpenVDB file durable (" + why + ")");
+    return out;
+}
+
+/// Copies each leaf's record for one grid from the scratch file into the
+/// output at `at`, in tree order, in parallel pieces. Records of leaves that
+/// follow each other in the scratch file are read with one call.
+void copyLeafRecords(const std::vector<LeafRecord>& leaves, GridKind kind, const SpillFile& spill, int fd,
+                     std::uint64_t at, const std::string& what) {
+    const auto place = [kind](const LeafRecord& r) {
+        return kind == GridKind::Density ? std::pair{r.densityAt, r.densityBytes}
+                                         : std::pair{r.orientationAt, std::uint32_t(r.orientationBytes)};
+    };
+    // Pieces of about kCopyPieceBytes: [first leaf, end leaf) and where they go.
+    struct Piece {
+        std::size_t begin, end;
+        std::uint64_t at, bytes;
+    };
+    std::vector<Piece> pieces;
+    for (std::size_t i = 0; i < leaves.size();) {
+        Piece p{i, i, at, 0};
+        while (p.end < leaves.size() && (p.bytes == 0 || p.bytes + place(leaves[p.end]).second <= kCopyPieceBytes))
+            p.bytes += place(leaves[p.end++]).second;
+        at += p.bytes;
+        i = p.end;
+        pieces.push_back(p);
     }
-    ::close(fd);
+    tbb::enumerable_thread_specific<ByteVector> buffers;
+    tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t n) {
+        const Piece& p = pieces[n];
+        ByteVector& buffer = buffers.local();
+        buffer.resize(p.bytes);
+        std::uint64_t filled = 0;
+        for (std::size_t i = p.begin; i < p.end;) {
+            auto [from, bytes] = place(leaves[i]);
+            std::uint64_t run = bytes;
+            std::size_t j = i + 1;
+            for (; j < p.end && place(leaves[j]).first == from + run; ++j) run += place(leaves[j]).second;
+            spill.read(from, std::span(buffer.data() + filled, run));
+            filled += run;
+            i = j;
+        }
+        writeAllAt(fd, std::span<const std::uint8_t>(buffer.data(), p.bytes), p.at, what);
+    });
 }
 
 } // namespace
-
-struct VdbAssembler::Impl {
-    struct Entry {
-        std::uint64_t key = 0;
-        std::uint32_t source = 0;
-        std::unique_ptr<DensityLeaf> density;
-        std::unique_ptr<OrientationLeaf> orientation;
-    };
-
-    VoxelGrid grid;
-    Reduce reduce = Reduce::Mean;
-    mutable std::mutex mutex;
-    std::vector<Entry> entries;
-    std::vector<std::string> sources;
-    bool written = false;
-};
-
-VdbAssembler::VdbAssembler(const VoxelGrid& grid, Reduce reduce) : impl_(std::make_unique<Impl>()) {
-    openvdb::initialize();
-    impl_->grid = grid;
-    impl_->reduce = reduce;
-}
-
-VdbAssembler::~VdbAssembler() = default;
-
-void VdbAssembler::add(std::span<const VoxelBrick> bricks, const std::string& source) {
-    // Leaves are built in parallel, outside the lock; only the hand-over is serial.
-    std::vector<Impl::Entry> local(bricks.size());
-    tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t i) {
-        const VoxelBrick& b = bricks[i];
-        const glm::ivec3 o = brickCoord(b.key) * 8;
-        const openvdb::Coord origin(o.x, o.y, o.z);
-        auto density = std::make_unique<DensityLeaf>(origin, 0.0f, false);
-        auto orientation = std::make_unique<OrientationLeaf>(origin, openvdb::Vec3s(0.0f), false);
-        for (int v = 0; v < kBrickVoxels; ++v)
-            if (b.isActive(v)) {
-                density->setValueOn(v, b.density[v]);
-                const glm::vec3 a = b.orientation[v];
-                orientation->setValueOn(v, openvdb::Vec3s(a.x, a.y, a.z));
-            }
-        local[i] = {b.key, 0, std::move(density), std::move(orientation)};
-    });
-    std::lock_guard lock(impl_->mutex);
-    const auto tag = static_cast<std::uint32_t>(impl_->sources.size());
-    impl_->sources.push_back(source);
-    impl_->entries.reserve(impl_->entries.size() + local.size());
-    for (Impl::Entry& e : local) {
-        e.source = tag;
-        impl_->entries.push_back(std::move(e));
-    }
-}
-
-std::size_t VdbAssembler::brickCount() const {
-    std::lock_guard lock(impl_->mutex);
-    return impl_->entries.size();
-}
 
 const char* toString(VdbCompression c) {
     switch (c) {
@@ -144,102 +172,237 @@ VdbCompression parseVdbCompression(const std::string& name) {
     throw Error("unknown .vdb compression '" + name + "': expected blosc, zip, mask or none");
 }
 
-void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata, const VdbWriteOptions& options) {
-    const auto start = std::chrono::steady_clock::now();
-    std::lock_guard lock(impl_->mutex);
-    YV_CHECK(!impl_->written);
-    impl_->written = true;
-    auto& entries = impl_->entries;
-    tbb::parallel_sort(entries.begin(), entries.end(),
-                       [](const Impl::Entry& a, const Impl::Entry& b) { return a.key < b.key; });
-    for (std::size_t i = 1; i < entries.size(); ++i)
-        if (entries[i].key == entries[i - 1].key) {
-            const std::string& a = impl_->sources[entries[i - 1].source];
-            const std::string& b = impl_->sources[entries[i].source];
-            const std::string from = a.empty() && b.empty() ? "" : " (from " + a + " and " + b + ")";
-            throw Error(path + ": brick at voxel " + coordText(brickCoord(entries[i].key) * 8) + " given twice" +
-                        from + ": cannot build one volume");
-        }
+const char* toString(VdbPrecision p) { return p == VdbPrecision::Half ? "half" : "float"; }
 
-    const VoxelGrid& grid = impl_->grid;
+VdbPrecision parseVdbPrecision(const std::string& name) {
+    if (name == "float") return VdbPrecision::Float;
+    if (name == "half") return VdbPrecision::Half;
+    throw Error("unknown --precision '" + name + "': expected float or half");
+}
+
+struct VdbAssembler::Impl {
+    std::string path;
+    VoxelGrid grid;
+    Reduce reduce = Reduce::Mean;
+    VdbWriteOptions options;
+    openvdb::math::Transform::Ptr transform;
+    openvdb::GridBase::Ptr skeleton[2];
+    GridEncoding encoding[2];
+    std::unique_ptr<LeafEncoder> encoders[2];
+    std::unique_ptr<SpillFile> spill;
+
+    mutable std::mutex mutex;
+    std::vector<LeafRecord> leaves;
+    std::vector<std::string> sources;
+    openvdb::CoordBBox activeBounds;
+    std::uint64_t activeVoxels = 0;
+    double encodeSeconds = 0.0;
+    bool written = false;
+};
+
+VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduce, const VdbWriteOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+    openvdb::initialize();
+    Impl& m = *impl_;
+    m.path = std::move(path);
+    m.grid = grid;
+    m.reduce = reduce;
+    m.options = options;
     const double h = grid.voxelSize;
-    auto transform = openvdb::math::Transform::createLinearTransform(h);
+    m.transform = openvdb::math::Transform::createLinearTransform(h);
     const glm::dvec3 c = grid.origin + 0.5 * h;
-    transform->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
-
-    // addLeaf is not thread-safe, but costs one pointer move per leaf.
-    auto density = openvdb::FloatGrid::create(0.0f);
-    auto orientation = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-    for (Impl::Entry& e : entries) {
-        density->tree().addLeaf(e.density.release());
-        orientation->tree().addLeaf(e.orientation.release());
+    m.transform->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
+    const bool half = options.precision == VdbPrecision::Half;
+    for (GridKind kind : {GridKind::Density, GridKind::Orientation}) {
+        const int g = int(kind);
+        m.skeleton[g] = makeSkeletonGrid(kind, m.transform, half);
+        const std::uint32_t flags = archiveFlags(options.compression);
+        m.encoding[g] = {kind, gridCompression(flags, *m.skeleton[g]), flags, half};
+        m.encoders[g] = std::make_unique<LeafEncoder>(m.encoding[g]);
     }
-    std::vector<Impl::Entry>().swap(entries);
-    density->setName("density");
-    density->setGridClass(openvdb::GRID_FOG_VOLUME);
-    density->setTransform(transform);
-    orientation->setName("orientation");
-    orientation->setVectorType(openvdb::VEC_INVARIANT); // an axis: not transformed like a position
-    orientation->setTransform(transform);
+    const std::filesystem::path dir = std::filesystem::path(m.path).parent_path();
+    m.spill = std::make_unique<SpillFile>(dir.string(), "the OpenVDB file " + m.path + " (its leaves, before they are put in order)");
+}
 
-    openvdb::MetaMap meta;
-    meta.insertMeta("yarnvox_version", openvdb::StringMetadata(YV_VERSION));
-    meta.insertMeta("input", openvdb::StringMetadata(metadata.input));
-    meta.insertMeta("backend", openvdb::StringMetadata(metadata.backend));
-    meta.insertMeta("cross_section", openvdb::StringMetadata(metadata.crossSection));
-    meta.insertMeta("resolution", openvdb::Int32Metadata(metadata.resolution));
-    meta.insertMeta("voxel_size", openvdb::DoubleMetadata(h));
-    meta.insertMeta("reduce", openvdb::StringMetadata(toString(impl_->reduce)));
-    meta.insertMeta("slice_count", openvdb::Int64Metadata(static_cast<std::int64_t>(metadata.sliceCount)));
-    meta.insertMeta("yarn_radius", openvdb::DoubleMetadata(metadata.yarnRadius));
-    meta.insertMeta("twist", openvdb::DoubleMetadata(metadata.twist));
-    meta.insertMeta("supersample", openvdb::Int32Metadata(metadata.supersample));
-    meta.insertMeta("overlap", openvdb::StringMetadata(metadata.overlap));
-    meta.insertMeta("slice_spacing", openvdb::DoubleMetadata(metadata.sliceSpacing));
-    meta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
+VdbAssembler::~VdbAssembler() = default;
 
-    const auto written = std::chrono::steady_clock::now();
+void VdbAssembler::add(std::span<const VoxelBrick> bricks, const std::string& source) {
+    Impl& m = *impl_;
+    const auto start = std::chrono::steady_clock::now();
+    // In tree order within the batch: the write then reads runs of neighbours with one call.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> order(bricks.size());
+    for (std::size_t i = 0; i < bricks.size(); ++i) order[i] = {treeOrderKey(brickCoord(bricks[i].key)), std::uint32_t(i)};
+    std::sort(order.begin(), order.end());
+
+    std::vector<LeafRecord> records(bricks.size());
+    openvdb::CoordBBox bounds;
+    std::uint64_t active = 0;
+    for (std::size_t first = 0; first < bricks.size(); first += kEncodePiece) {
+        const std::size_t count = std::min(kEncodePiece, bricks.size() - first);
+        std::vector<ByteVector> encoded[2];
+        encoded[0].resize(count);
+        encoded[1].resize(count);
+        std::vector<openvdb::CoordBBox> pieceBounds(count);
+        tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+            const VoxelBrick& b = bricks[order[first + i].second];
+            LeafRecord& r = records[first + i];
+            r.load[0] = m.encoders[0]->encode(b, encoded[0][i]);
+            r.load[1] = m.encoders[1]->encode(b, encoded[1][i]);
+            const glm::ivec3 o = brickCoord(b.key) * kBrickSize;
+            for (int v = 0; v < kBrickVoxels; ++v)
+                if (b.isActive(v)) pieceBounds[i].expand(openvdb::Coord(o.x + (v >> 6), o.y + ((v >> 3) & 7), o.z + (v & 7)));
+        });
+        // One write per grid and piece into the scratch file.
+        for (int g = 0; g < 2; ++g) {
+            std::size_t total = 0;
+            for (const ByteVector& e : encoded[g]) total += e.size();
+            ByteVector joined;
+            joined.reserve(total);
+            for (const ByteVector& e : encoded[g]) joined.insert(joined.end(), e.begin(), e.end());
+            std::uint64_t at = m.spill->append(joined);
+            for (std::size_t i = 0; i < count; ++i) {
+                LeafRecord& r = records[first + i];
+                (g == 0 ? r.densityAt : r.orientationAt) = at;
+                (g == 0 ? r.densityBytes : r.orientationBytes) = std::uint32_t(encoded[g][i].size());
+                at += encoded[g][i].size();
+            }
+        }
+        for (std::size_t i = 0; i < count; ++i) {
+            const VoxelBrick& b = bricks[order[first + i].second];
+            LeafRecord& r = records[first + i];
+            r.order = order[first + i].first;
+            std::copy(b.activeMask.begin(), b.activeMask.end(), r.mask.begin());
+            active += std::uint64_t(b.activeCount());
+            if (!pieceBounds[i].empty()) bounds.expand(pieceBounds[i]);
+        }
+    }
+    const double seconds = secondsSince(start);
+    std::lock_guard lock(m.mutex);
+    YV_CHECK(!m.written);
+    const auto tag = static_cast<std::uint32_t>(m.sources.size());
+    m.sources.push_back(source);
+    for (LeafRecord& r : records) r.source = tag;
+    m.leaves.insert(m.leaves.end(), records.begin(), records.end());
+    if (!bounds.empty()) m.activeBounds.expand(bounds);
+    m.activeVoxels += active;
+    m.encodeSeconds += seconds;
+}
+
+std::size_t VdbAssembler::brickCount() const {
+    std::lock_guard lock(impl_->mutex);
+    return impl_->leaves.size();
+}
+
+void VdbAssembler::write(const VolumeMetadata& metadata) {
+    Impl& m = *impl_;
+    const std::string& path = m.path;
+    const auto start = std::chrono::steady_clock::now();
+    std::lock_guard lock(m.mutex);
+    YV_CHECK(!m.written);
+    m.written = true;
+    auto& leaves = m.leaves;
+    tbb::parallel_sort(leaves.begin(), leaves.end(), [](const LeafRecord& a, const LeafRecord& b) {
+        return a.order != b.order ? a.order < b.order : a.source < b.source;
+    });
+    GridStatistics stats;
+    stats.activeBounds = m.activeBounds;
+    stats.activeVoxels = m.activeVoxels;
+    stats.leaves = leaves.size();
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+        if (i > 0 && leaves[i].order == leaves[i - 1].order) {
+            const std::string& a = m.sources[leaves[i - 1].source];
+            const std::string& b = m.sources[leaves[i].source];
+            const std::string from = a.empty() && b.empty() ? "" : " (from " + a + " and " + b + ")";
+            throw Error(path + ": brick at voxel " + coordText(treeOrderCoord(leaves[i].order) * kBrickSize) +
+                        " given twice" + from + ": cannot build one volume");
+        }
+        stats.upperNodes += i == 0 || rootChildOfOrder(leaves[i].order) != rootChildOfOrder(leaves[i - 1].order);
+        stats.lowerNodes += i == 0 || lowerNodeOfOrder(leaves[i].order) != lowerNodeOfOrder(leaves[i - 1].order);
+    }
+
+    const VoxelGrid& grid = m.grid;
+    openvdb::MetaMap fileMeta;
+    fileMeta.insertMeta("yarnvox_version", openvdb::StringMetadata(YV_VERSION));
+    fileMeta.insertMeta("input", openvdb::StringMetadata(metadata.input));
+    fileMeta.insertMeta("backend", openvdb::StringMetadata(metadata.backend));
+    fileMeta.insertMeta("cross_section", openvdb::StringMetadata(metadata.crossSection));
+    fileMeta.insertMeta("resolution", openvdb::Int32Metadata(metadata.resolution));
+    fileMeta.insertMeta("voxel_size", openvdb::DoubleMetadata(grid.voxelSize));
+    fileMeta.insertMeta("reduce", openvdb::StringMetadata(toString(m.reduce)));
+    fileMeta.insertMeta("slice_count", openvdb::Int64Metadata(static_cast<std::int64_t>(metadata.sliceCount)));
+    fileMeta.insertMeta("yarn_radius", openvdb::DoubleMetadata(metadata.yarnRadius));
+    fileMeta.insertMeta("twist", openvdb::DoubleMetadata(metadata.twist));
+    fileMeta.insertMeta("supersample", openvdb::Int32Metadata(metadata.supersample));
+    fileMeta.insertMeta("overlap", openvdb::StringMetadata(metadata.overlap));
+    fileMeta.insertMeta("slice_spacing", openvdb::DoubleMetadata(metadata.sliceSpacing));
+    fileMeta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
+
+    // The layout: header, then per grid its prefix, topology and leaf records.
+    const ByteVector header = fileHeaderBytes(fileMeta, 2);
+    ByteVector prefix[2], topology[2];
+    std::size_t positionsAt[2] = {0, 0};
+    std::uint64_t recordBytes[2] = {0, 0};
+    for (const LeafRecord& r : leaves) {
+        recordBytes[0] += r.densityBytes;
+        recordBytes[1] += r.orientationBytes;
+    }
+    std::uint64_t gridStart[2], recordsAt[2];
+    std::uint64_t at = header.size();
+    for (int g = 0; g < 2; ++g) {
+        std::vector<LeafLoadInfo> load(leaves.size());
+        for (std::size_t i = 0; i < leaves.size(); ++i) load[i] = leaves[i].load[g];
+        prefix[g] = gridPrefixBytes(*m.skeleton[g], m.encoding[g], stats, load, positionsAt[g]);
+        topology[g] = topologyBytes(leaves, m.encoding[g], stats);
+        gridStart[g] = at;
+        recordsAt[g] = at + prefix[g].size() + topology[g].size();
+        at = recordsAt[g] + recordBytes[g];
+        patchStreamPositions(prefix[g], positionsAt[g], *m.skeleton[g], m.encoding[g].half,
+                             std::int64_t(gridStart[g] + positionsAt[g] + 24), std::int64_t(recordsAt[g]),
+                             std::int64_t(at));
+    }
+    const auto laidOut = std::chrono::steady_clock::now();
+
     // A name of this process's own: two runs writing the same output never
     // share a temporary file.
     static std::atomic<unsigned> counter{0};
     const std::string tmp = path + ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    std::uint32_t compression = openvdb::io::COMPRESS_NONE;
-    switch (options.compression) {
-    case VdbCompression::Blosc: compression = openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK; break;
-    case VdbCompression::Zip: compression = openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK; break;
-    case VdbCompression::ActiveMask: compression = openvdb::io::COMPRESS_ACTIVE_MASK; break;
-    case VdbCompression::None: break;
-    }
+    const std::string cannotWrite = path + ": cannot write the OpenVDB file " + tmp;
+    Fd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644));
+    if (fd.get() < 0) throw Error(path + ": cannot create " + tmp + ": " + errnoText(errno));
     try {
-        writeGridsChecked(path, tmp, {density, orientation}, meta, compression);
-    } catch (const openvdb::Exception& e) {
-        std::remove(tmp.c_str());
-        throw Error(path + ": cannot write OpenVDB file: " + e.what());
+        writeAllAt(fd.get(), header, 0, cannotWrite);
+        for (int g = 0; g < 2; ++g) {
+            writeAllAt(fd.get(), prefix[g], gridStart[g], cannotWrite);
+            writeAllAt(fd.get(), topology[g], gridStart[g] + prefix[g].size(), cannotWrite);
+            ByteVector().swap(topology[g]);
+            copyLeafRecords(leaves, GridKind(g), *m.spill, fd.get(), recordsAt[g], cannotWrite);
+        }
+        // Data on disk before the name: a crash never leaves a complete-looking file.
+        if (::fsync(fd.get()) != 0) throw Error(path + ": cannot make the OpenVDB file durable: " + errnoText(errno));
+        if (::close(fd.release()) != 0) throw Error(path + ": cannot close the OpenVDB file: " + errnoText(errno));
+        std::error_code ec;
+        std::filesystem::rename(tmp, path, ec);
+        if (ec) throw Error(path + ": cannot rename the finished file into place: " + ec.message());
     } catch (...) {
         std::remove(tmp.c_str());
         throw;
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::remove(tmp.c_str());
-        throw Error(path + ": cannot rename the finished file into place: " + ec.message());
-    }
     // The rename itself is durable only once the directory is synced.
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-    fsyncPath(parent.empty() ? "." : parent.string(), O_RDONLY | O_DIRECTORY);
-    if (options.timings) {
-        const auto end = std::chrono::steady_clock::now();
-        options.timings->treeSeconds += std::chrono::duration<double>(written - start).count();
-        options.timings->writeSeconds += std::chrono::duration<double>(end - written).count();
+    const std::string dir = parent.empty() ? "." : parent.string();
+    if (Fd dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)); dirFd.get() >= 0) fsyncDir(dirFd.get(), dir);
+    if (m.options.timings) {
+        m.options.timings->encodeSeconds += m.encodeSeconds;
+        m.options.timings->topologySeconds += std::chrono::duration<double>(laidOut - start).count();
+        m.options.timings->writeSeconds += secondsSince(laidOut);
     }
 }
 
 void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata,
               const VdbWriteOptions& options) {
-    VdbAssembler assembler(volume.grid, volume.reduce);
+    VdbAssembler assembler(path, volume.grid, volume.reduce, options);
     assembler.add(volume.bricks);
-    assembler.write(path, metadata, options);
+    assembler.write(metadata);
 }
 
 } // namespace yv

@@ -1,5 +1,5 @@
 // OpenVDB output: a float grid "density" (fog volume, background 0) and a
-// vec3 grid "orientation" sharing one transform, built leaf by leaf.
+// vec3 grid "orientation" sharing one transform, written leaf by leaf.
 #pragma once
 
 #include "core/bricks.h"
@@ -25,26 +25,36 @@ struct VolumeMetadata {
     double sliceSpacing = 0.0;     ///< largest distance between slices along a yarn, world units
 };
 
-/// How OpenVDB compresses each leaf's values: only the active values (no
-/// codec; yarnvox's default: OpenVDB writes serially, and for fractional
-/// densities this is about twice as fast as blosc for 7 to 12 % more bytes),
-/// blosc (OpenVDB's default), zip, or nothing.
+/// How each leaf's values are compressed (OpenVDB's options): only the
+/// active values, no codec (yarnvox's default: for fractional densities about
+/// twice as fast as blosc for 7 to 12 % more bytes), blosc (OpenVDB's
+/// default), zip (OpenVDB skips zip on fog volumes, so it applies to the
+/// orientation grid only), or nothing.
 enum class VdbCompression { Blosc, Zip, ActiveMask, None };
 
 const char* toString(VdbCompression c);
 /// "blosc", "zip", "mask" or "none"; throws yv::Error otherwise.
 VdbCompression parseVdbCompression(const std::string& name);
 
+/// How the grids' floats are stored: 32-bit, or 16-bit halves (OpenVDB's
+/// saveFloatAsHalf; a density step of at most 2^-11 relative).
+enum class VdbPrecision { Float, Half };
+const char* toString(VdbPrecision p);
+/// "float" or "half"; throws yv::Error otherwise.
+VdbPrecision parseVdbPrecision(const std::string& name);
+
 /// Where the time of a write went.
 struct VdbWriteTimings {
-    double readSeconds = 0.0;  ///< merge: regions read, verified and turned into leaves
-    double treeSeconds = 0.0;  ///< leaves into two trees, in key order
-    double writeSeconds = 0.0; ///< OpenVDB's serial write, fsync and rename
+    double readSeconds = 0.0;     ///< merge: regions read, verified and handed to the writer
+    double encodeSeconds = 0.0;   ///< leaves compressed and put in the scratch file, summed over threads
+    double topologySeconds = 0.0; ///< leaves sorted into tree order, topology made
+    double writeSeconds = 0.0;    ///< the file written in parallel, fsync and rename
 };
 
 struct VdbWriteOptions {
     VdbCompression compression = VdbCompression::ActiveMask;
-    VdbWriteTimings* timings = nullptr; ///< filled when given
+    VdbPrecision precision = VdbPrecision::Float;
+    VdbWriteTimings* timings = nullptr; ///< added to when given
 };
 
 /// Writes `volume` to `path` through a temporary file and a rename, so a
@@ -53,24 +63,25 @@ struct VdbWriteOptions {
 void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata,
               const VdbWriteOptions& options = {});
 
-/// What writeVdb and the brick store's merge share: bricks handed over in
-/// batches become OpenVDB leaves at once (so the bricks can be freed), and
-/// write() puts the leaves into the trees in key order, so the file does not
-/// depend on batch order or thread count.
+/// yarnvox's streaming .vdb writer (formats/vdb-subset.md): bricks handed
+/// over in batches, from any thread, are encoded into OpenVDB leaf records at
+/// once (in parallel) and kept in an unnamed scratch file beside the output,
+/// so no tree is ever held; write() puts the topology and then the leaves in
+/// tree order, in parallel. The file has the bytes OpenVDB's own writer gives
+/// for the same grids (but its random UUID), whatever the batch order or thread count.
 class VdbAssembler {
   public:
-    VdbAssembler(const VoxelGrid& grid, Reduce reduce);
+    VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduce, const VdbWriteOptions& options = {});
     ~VdbAssembler();
     VdbAssembler(const VdbAssembler&) = delete;
     VdbAssembler& operator=(const VdbAssembler&) = delete;
 
-    /// Turns `bricks` into leaves, in parallel. Thread-safe; `source` names the batch in errors.
+    /// Encodes `bricks`. Thread-safe; `source` names the batch in errors.
     void add(std::span<const VoxelBrick> bricks, const std::string& source = "");
     /// Bricks added so far.
     std::size_t brickCount() const;
-    /// Builds the grids and writes them to `path` as writeVdb does; throws
-    /// yv::Error when a brick was added twice. Call once.
-    void write(const std::string& path, const VolumeMetadata& metadata, const VdbWriteOptions& options = {});
+    /// Writes the file; throws yv::Error when a brick was added twice. Call once.
+    void write(const VolumeMetadata& metadata);
 
   private:
     struct Impl;

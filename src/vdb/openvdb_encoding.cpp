@@ -1,0 +1,274 @@
+#include "vdb/openvdb_encoding.h"
+
+#include "core/error.h"
+
+#include <openvdb/io/Compression.h>
+#include <openvdb/io/DelayedLoadMetadata.h>
+#include <openvdb/io/GridDescriptor.h>
+#include <openvdb/tools/Count.h>
+#include <tbb/enumerable_thread_specific.h>
+
+#include <cstring>
+#include <ostream>
+#include <sstream>
+#include <streambuf>
+
+namespace yv {
+namespace {
+
+using DensityTree = openvdb::FloatGrid::TreeType;
+using OrientationTree = openvdb::Vec3SGrid::TreeType;
+using LeafMask = openvdb::util::NodeMask<3>;
+
+/// A stream buffer that appends to a byte vector: OpenVDB's writers take an
+/// ostream, and an ostringstream would copy every leaf once more.
+class AppendBuffer : public std::streambuf {
+  public:
+    void target(ByteVector* out) { out_ = out; }
+
+  protected:
+    std::streamsize xsputn(const char* s, std::streamsize n) override {
+        out_->insert(out_->end(), reinterpret_cast<const std::uint8_t*>(s), reinterpret_cast<const std::uint8_t*>(s) + n);
+        return n;
+    }
+    int_type overflow(int_type c) override {
+        if (!traits_type::eq_int_type(c, traits_type::eof())) out_->push_back(std::uint8_t(c));
+        return traits_type::not_eof(c);
+    }
+
+  private:
+    ByteVector* out_ = nullptr;
+};
+
+/// An ostream tagged the way OpenVDB's value writers expect: compression
+/// flags and the grid's background value.
+struct TaggedStream {
+    AppendBuffer buffer;
+    std::ostream os{&buffer};
+    TaggedStream(std::uint32_t compression, const void* background) {
+        openvdb::io::setDataCompression(os, compression);
+        openvdb::io::setGridBackgroundValuePtr(os, background);
+    }
+};
+
+const float kDensityBackground = 0.0f;
+const openvdb::Vec3s kOrientationBackground(0.0f);
+
+const void* backgroundOf(GridKind kind) {
+    return kind == GridKind::Density ? static_cast<const void*>(&kDensityBackground)
+                                     : static_cast<const void*>(&kOrientationBackground);
+}
+
+/// Exposes the protected pieces of OpenVDB's archive writer that yarnvox
+/// reuses as they are: the header with its UUID, and the per-grid choice of compression.
+class ArchivePieces : public openvdb::io::Archive {
+  public:
+    void header(std::ostream& os) const { writeHeader(os, /*seekable=*/true); }
+    void compressionOf(std::ostream& os, const openvdb::GridBase& grid) const { setGridCompression(os, grid); }
+};
+
+/// Bytes of memory OpenVDB reports for a tree (tools::memUsage), per node:
+/// measured on small trees so the numbers are OpenVDB's own.
+template <typename TreeT> struct NodeMemory {
+    std::uint64_t root = 0, upper = 0, lower = 0, leaf = 0;
+    NodeMemory() {
+        const auto usage = [](std::initializer_list<openvdb::Coord> voxels) {
+            TreeT tree;
+            for (const openvdb::Coord& c : voxels) tree.setValueOn(c);
+            return std::uint64_t(openvdb::tools::memUsage(tree, /*threaded=*/false));
+        };
+        const std::uint64_t one = usage({{0, 0, 0}});
+        leaf = usage({{0, 0, 0}, {8, 0, 0}}) - one;
+        lower = usage({{0, 0, 0}, {128, 0, 0}}) - one - leaf;
+        upper = usage({{0, 0, 0}, {4096, 0, 0}}) - one - lower - leaf;
+        root = one - upper - lower - leaf;
+    }
+    std::uint64_t of(const GridStatistics& s) const {
+        return root + s.upperNodes * upper + s.lowerNodes * lower + s.leaves * leaf;
+    }
+};
+
+std::uint64_t memoryOf(GridKind kind, const GridStatistics& stats) {
+    if (kind == GridKind::Density) {
+        static const NodeMemory<DensityTree> m;
+        return m.of(stats);
+    }
+    static const NodeMemory<OrientationTree> m;
+    return m.of(stats);
+}
+
+template <typename T> void appendRaw(ByteVector& out, const T& value) {
+    const auto* p = reinterpret_cast<const std::uint8_t*>(&value);
+    out.insert(out.end(), p, p + sizeof(T));
+}
+
+template <typename ValueT, openvdb::Index Log2Dim>
+ByteVector internalValues(const GridEncoding& encoding) {
+    using Mask = openvdb::util::NodeMask<Log2Dim>;
+    constexpr openvdb::Index kCount = Mask::SIZE;
+    std::vector<ValueT> values(kCount, openvdb::zeroVal<ValueT>());
+    ByteVector out;
+    TaggedStream s(encoding.compression, backgroundOf(encoding.kind));
+    s.buffer.target(&out);
+    openvdb::io::writeCompressedValues(s.os, values.data(), kCount, Mask(), Mask(), encoding.half);
+    return out;
+}
+
+} // namespace
+
+struct LeafEncoder::Impl {
+    GridEncoding encoding;
+    mutable tbb::enumerable_thread_specific<std::unique_ptr<TaggedStream>> streams;
+};
+
+LeafEncoder::LeafEncoder(const GridEncoding& encoding) : impl_(std::make_unique<Impl>()) { impl_->encoding = encoding; }
+LeafEncoder::~LeafEncoder() = default;
+
+namespace {
+
+/// The record of one leaf's values, and what the delayed-load metadata says of it.
+template <typename ValueT>
+LeafLoadInfo encodeValues(std::ostream& os, ValueT* values, const LeafMask& mask, const GridEncoding& encoding) {
+    const ValueT background = openvdb::zeroVal<ValueT>();
+    const openvdb::io::MaskCompress<ValueT, LeafMask> compressed(mask, LeafMask(), values, background);
+    LeafLoadInfo info;
+    info.maskMetadata = std::int8_t(compressed.metadata);
+    if (encoding.archiveCompression & (openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ZIP))
+        info.compressedBytes = std::int64_t(openvdb::io::writeCompressedValuesSize(
+                                   values, kBrickVoxels, mask, std::uint8_t(compressed.metadata), encoding.half,
+                                   encoding.archiveCompression)) +
+                               8;
+    openvdb::io::writeCompressedValues(os, values, kBrickVoxels, mask, LeafMask(), encoding.half);
+    return info;
+}
+
+} // namespace
+
+LeafLoadInfo LeafEncoder::encode(const VoxelBrick& brick, ByteVector& out) const {
+    const GridEncoding& encoding = impl_->encoding;
+    std::unique_ptr<TaggedStream>& s = impl_->streams.local();
+    if (!s) s = std::make_unique<TaggedStream>(encoding.compression, backgroundOf(encoding.kind));
+    s->buffer.target(&out);
+    LeafMask mask;
+    for (int w = 0; w < kBrickVoxels / 64; ++w) mask.getWord<std::uint64_t>(w) = brick.activeMask[w];
+    mask.save(s->os);
+    LeafLoadInfo info;
+    if (encoding.kind == GridKind::Density) {
+        float values[kBrickVoxels];
+        for (int v = 0; v < kBrickVoxels; ++v) values[v] = brick.isActive(v) ? brick.density[v] : 0.0f;
+        info = encodeValues(s->os, values, mask, encoding);
+    } else {
+        openvdb::Vec3s values[kBrickVoxels];
+        for (int v = 0; v < kBrickVoxels; ++v) {
+            const glm::vec3 a = brick.isActive(v) ? brick.orientation[v] : glm::vec3(0.0f);
+            values[v] = openvdb::Vec3s(a.x, a.y, a.z);
+        }
+        info = encodeValues(s->os, values, mask, encoding);
+    }
+    if (!s->os) throw Error("encoding a leaf for the .vdb failed");
+    return info;
+}
+
+openvdb::GridBase::Ptr makeSkeletonGrid(GridKind kind, const openvdb::math::Transform::Ptr& transform, bool half) {
+    openvdb::GridBase::Ptr grid;
+    if (kind == GridKind::Density) {
+        grid = openvdb::FloatGrid::create(0.0f);
+        grid->setName("density");
+        grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    } else {
+        grid = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+        grid->setName("orientation");
+        grid->setVectorType(openvdb::VEC_INVARIANT); // an axis: not transformed like a position
+    }
+    grid->setTransform(transform);
+    grid->setSaveFloatAsHalf(half);
+    return grid;
+}
+
+std::uint32_t gridCompression(std::uint32_t archiveFlags, const openvdb::GridBase& skeleton) {
+    ArchivePieces archive;
+    archive.setCompression(archiveFlags);
+    std::ostringstream scratch(std::ios::binary);
+    archive.compressionOf(scratch, skeleton);
+    return openvdb::io::getDataCompression(scratch);
+}
+
+ByteVector fileHeaderBytes(const openvdb::MetaMap& fileMetadata, std::int32_t gridCount) {
+    std::ostringstream os(std::ios::binary);
+    ArchivePieces().header(os);
+    fileMetadata.writeMeta(os);
+    os.write(reinterpret_cast<const char*>(&gridCount), sizeof gridCount);
+    const std::string s = os.str();
+    return ByteVector(s.begin(), s.end());
+}
+
+ByteVector gridPrefixBytes(const openvdb::GridBase& skeleton, const GridEncoding& encoding,
+                           const GridStatistics& stats, std::span<const LeafLoadInfo> leaves,
+                           std::size_t& positionsAt) {
+    std::ostringstream os(std::ios::binary);
+    const openvdb::io::GridDescriptor descriptor(skeleton.getName(), skeleton.type(), encoding.half);
+    descriptor.writeHeader(os);
+    positionsAt = std::size_t(os.tellp());
+    descriptor.writeStreamPos(os); // placeholders, patched once the layout is known
+    os.write(reinterpret_cast<const char*>(&encoding.compression), sizeof encoding.compression);
+
+    openvdb::MetaMap meta = static_cast<const openvdb::MetaMap&>(skeleton);
+    using openvdb::GridBase;
+    meta.insertMeta(GridBase::META_FILE_BBOX_MIN, openvdb::Vec3IMetadata(stats.activeBounds.min().asVec3i()));
+    meta.insertMeta(GridBase::META_FILE_BBOX_MAX, openvdb::Vec3IMetadata(stats.activeBounds.max().asVec3i()));
+    meta.insertMeta(GridBase::META_FILE_MEM_BYTES,
+                    openvdb::Int64Metadata(static_cast<std::int64_t>(memoryOf(encoding.kind, stats))));
+    meta.insertMeta(GridBase::META_FILE_VOXEL_COUNT,
+                    openvdb::Int64Metadata(static_cast<std::int64_t>(stats.activeVoxels)));
+    meta.insertMeta(GridBase::META_FILE_COMPRESSION,
+                    openvdb::StringMetadata(openvdb::io::compressionToString(encoding.compression)));
+    auto delayedLoad = std::make_shared<openvdb::io::DelayedLoadMetadata>();
+    if (!leaves.empty()) {
+        delayedLoad->resizeMask(leaves.size());
+        const bool sized = encoding.archiveCompression & (openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ZIP);
+        if (sized) delayedLoad->resizeCompressedSize(leaves.size());
+        for (std::size_t i = 0; i < leaves.size(); ++i) {
+            delayedLoad->setMask(i, leaves[i].maskMetadata);
+            if (sized) delayedLoad->setCompressedSize(i, leaves[i].compressedBytes);
+        }
+    }
+    meta.insertMeta(GridBase::META_FILE_DELAYED_LOAD, *delayedLoad);
+    meta.writeMeta(os);
+    skeleton.writeTransform(os);
+    const std::string s = os.str();
+    return ByteVector(s.begin(), s.end());
+}
+
+void patchStreamPositions(ByteVector& prefix, std::size_t positionsAt, const openvdb::GridBase& skeleton,
+                          bool half, std::int64_t gridPos, std::int64_t blockPos, std::int64_t endPos) {
+    openvdb::io::GridDescriptor descriptor(skeleton.getName(), skeleton.type(), half);
+    descriptor.setGridPos(gridPos);
+    descriptor.setBlockPos(blockPos);
+    descriptor.setEndPos(endPos);
+    std::ostringstream os(std::ios::binary);
+    descriptor.writeStreamPos(os);
+    const std::string s = os.str();
+    YV_CHECK(positionsAt + s.size() <= prefix.size());
+    std::memcpy(prefix.data() + positionsAt, s.data(), s.size());
+}
+
+ByteVector treeTopologyHeader(const GridEncoding& encoding, std::uint32_t rootChildren) {
+    ByteVector out;
+    appendRaw(out, std::int32_t(1)); // buffer count
+    if (encoding.kind == GridKind::Density)
+        appendRaw(out, kDensityBackground); // zero: the same as half
+    else
+        appendRaw(out, kOrientationBackground);
+    appendRaw(out, std::uint32_t(0)); // tiles
+    appendRaw(out, rootChildren);
+    return out;
+}
+
+ByteVector internalNodeValues(const GridEncoding& encoding, int log2Dim) {
+    YV_CHECK(log2Dim == 4 || log2Dim == 5);
+    if (encoding.kind == GridKind::Density)
+        return log2Dim == 5 ? internalValues<float, 5>(encoding) : internalValues<float, 4>(encoding);
+    return log2Dim == 5 ? internalValues<openvdb::Vec3s, 5>(encoding) : internalValues<openvdb::Vec3s, 4>(encoding);
+}
+
+} // namespace yv

@@ -1,0 +1,270 @@
+// yarnvox's own .vdb writer against OpenVDB's: for the same grids, the same
+// file bytes (but OpenVDB's random UUID), for every compression and precision.
+#include "core/error.h"
+#include "vdb/tree_order.h"
+#include "vdb/vdb_writer.h"
+
+#include <catch2/catch.hpp>
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <thread>
+
+using namespace yv;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name) { return fs::temp_directory_path() / ("yv_stream_" + name); }
+
+std::vector<std::uint8_t> fileBytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+/// File bytes with the 36-character UUID of the header (after the magic
+/// number, the three version numbers and the offsets flag) blanked out.
+std::vector<std::uint8_t> bytesWithoutUuid(const fs::path& path) {
+    std::vector<std::uint8_t> bytes = fileBytes(path);
+    REQUIRE(bytes.size() > 57);
+    std::fill(bytes.begin() + 21, bytes.begin() + 57, 0);
+    return bytes;
+}
+
+/// Bricks that exercise the tree: several root children (past voxel 4096 on
+/// every axis), internal nodes with one and with many children, full leaves,
+/// single voxels at both ends of a leaf, random masks and values (some of
+/// them round in half precision), axes of any sign.
+BrickVolume treeShapedVolume() {
+    BrickVolume volume;
+    volume.grid.dims = {5000, 4200, 4500};
+    volume.grid.voxelSize = 0.37;
+    volume.grid.origin = {-3.0, 1.5, 0.25};
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), axis(-1.0f, 1.0f);
+    std::vector<glm::ivec3> coords;
+    for (int x = 0; x < 3; ++x)
+        for (int y = 0; y < 3; ++y)
+            for (int z = 0; z < 2; ++z) coords.push_back({10 + x, 20 + y, 30 + z}); // one lower node, many leaves
+    coords.push_back({0, 0, 0});
+    coords.push_back({15, 15, 15});
+    coords.push_back({16, 0, 0});   // next lower node
+    coords.push_back({511, 3, 9});  // last brick of a root child
+    coords.push_back({512, 3, 9});  // first of the next one
+    coords.push_back({600, 520, 540});
+    coords.push_back({3, 515, 1});
+    for (int i = 0; i < 200; ++i)
+        coords.push_back({int(rng() % 620), int(rng() % 520), int(rng() % 560)});
+    std::sort(coords.begin(), coords.end(), [](glm::ivec3 a, glm::ivec3 b) { return brickKey(a) < brickKey(b); });
+    coords.erase(std::unique(coords.begin(), coords.end()), coords.end());
+    for (std::size_t n = 0; n < coords.size(); ++n) {
+        VoxelBrick b;
+        b.key = brickKey(coords[n]);
+        for (int v = 0; v < kBrickVoxels; ++v) {
+            bool on = false;
+            switch (n % 4) {
+            case 0: on = true; break;                            // full
+            case 1: on = v == 0 || v == 511; break;              // both ends
+            case 2: on = (rng() % 3) == 0; break;                // random
+            default: on = v == int(n % kBrickVoxels); break;     // one voxel
+            }
+            if (!on) continue;
+            b.activeMask[v >> 6] |= std::uint64_t(1) << (v & 63);
+            b.density[v] = n % 5 == 0 ? 1.0f : unit(rng) + 1e-6f;
+            b.orientation[v] = glm::vec3(axis(rng), axis(rng), axis(rng));
+        }
+        volume.bricks.push_back(b);
+    }
+    return volume;
+}
+
+openvdb::math::Transform::Ptr transformOf(const VoxelGrid& grid) {
+    auto t = openvdb::math::Transform::createLinearTransform(grid.voxelSize);
+    const glm::dvec3 c = grid.origin + 0.5 * grid.voxelSize;
+    t->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
+    return t;
+}
+
+/// The same grids built as OpenVDB trees and written by OpenVDB's io::File,
+/// with the file metadata of `ours` (whose serialisation is also compared).
+void writeWithOpenVdb(const fs::path& path, const BrickVolume& volume, const fs::path& ours, VdbCompression c,
+                      bool half) {
+    auto density = openvdb::FloatGrid::create(0.0f);
+    auto orientation = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    for (const VoxelBrick& b : volume.bricks) {
+        const glm::ivec3 o = brickCoord(b.key) * 8;
+        for (int v = 0; v < kBrickVoxels; ++v)
+            if (b.isActive(v)) {
+                const openvdb::Coord xyz(o.x + (v >> 6), o.y + ((v >> 3) & 7), o.z + (v & 7));
+                density->tree().setValueOn(xyz, b.density[v]);
+                const glm::vec3 a = b.orientation[v];
+                orientation->tree().setValueOn(xyz, openvdb::Vec3s(a.x, a.y, a.z));
+            }
+    }
+    density->setName("density");
+    density->setGridClass(openvdb::GRID_FOG_VOLUME);
+    orientation->setName("orientation");
+    orientation->setVectorType(openvdb::VEC_INVARIANT);
+    const auto transform = transformOf(volume.grid);
+    density->setTransform(transform);
+    orientation->setTransform(transform);
+    density->setSaveFloatAsHalf(half);
+    orientation->setSaveFloatAsHalf(half);
+
+    openvdb::io::File oursFile(ours.string());
+    oursFile.open();
+    const openvdb::MetaMap::Ptr meta = oursFile.getMetadata();
+    oursFile.close();
+
+    std::uint32_t flags = openvdb::io::COMPRESS_NONE;
+    if (c == VdbCompression::Blosc) flags = openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK;
+    if (c == VdbCompression::Zip) flags = openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK;
+    if (c == VdbCompression::ActiveMask) flags = openvdb::io::COMPRESS_ACTIVE_MASK;
+    openvdb::io::File file(path.string());
+    file.setCompression(flags);
+    file.write({density, orientation}, *meta);
+}
+
+/// Every value of both files' grids, read back through OpenVDB, is the same.
+void checkSameGrids(const fs::path& a, const fs::path& b) {
+    openvdb::io::File fa(a.string()), fb(b.string());
+    fa.open();
+    fb.open();
+    for (const char* name : {"density", "orientation"}) {
+        INFO(name);
+        openvdb::GridBase::Ptr ga = fa.readGrid(name), gb = fb.readGrid(name);
+        CHECK(ga->transform() == gb->transform());
+        CHECK(ga->baseTree().activeVoxelCount() == gb->baseTree().activeVoxelCount());
+        CHECK(ga->str() == gb->str()); // every metadata item, the class and the type
+        CHECK(ga->saveFloatAsHalf() == gb->saveFloatAsHalf());
+        if (auto da = openvdb::gridPtrCast<openvdb::FloatGrid>(ga)) {
+            auto db = openvdb::gridPtrCast<openvdb::FloatGrid>(gb);
+            CHECK(da->tree().hasSameTopology(db->tree()));
+            auto acc = db->getConstAccessor();
+            std::size_t differ = 0;
+            for (auto it = da->cbeginValueOn(); it; ++it) differ += acc.getValue(it.getCoord()) != *it;
+            CHECK(differ == 0);
+        } else {
+            auto oa = openvdb::gridPtrCast<openvdb::Vec3SGrid>(ga);
+            auto ob = openvdb::gridPtrCast<openvdb::Vec3SGrid>(gb);
+            REQUIRE(oa);
+            CHECK(oa->tree().hasSameTopology(ob->tree()));
+            auto acc = ob->getConstAccessor();
+            std::size_t differ = 0;
+            for (auto it = oa->cbeginValueOn(); it; ++it) differ += acc.getValue(it.getCoord()) != *it;
+            CHECK(differ == 0);
+        }
+    }
+}
+
+VolumeMetadata someMetadata() {
+    VolumeMetadata meta;
+    meta.input = "tree-shaped test volume";
+    meta.backend = "cpu";
+    meta.resolution = 5000;
+    meta.sliceCount = 12345;
+    meta.yarnRadius = 0.1;
+    return meta;
+}
+
+} // namespace
+
+TEST_CASE("Tree order follows OpenVDB's root, internal node and leaf order", "[vdb][stream]") {
+    // Lexicographic by root child origin, then by child index inside each internal node.
+    CHECK(treeOrderKey({0, 0, 1}) < treeOrderKey({0, 1, 0}));
+    CHECK(treeOrderKey({15, 15, 15}) < treeOrderKey({0, 0, 16}));  // same upper node, lower node (0,0,1) after (0,0,0)
+    CHECK(treeOrderKey({0, 1, 0}) < treeOrderKey({0, 0, 511})); // (0,0,511) lies in lower node (0,0,31)
+    CHECK(treeOrderKey({511, 511, 511}) < treeOrderKey({0, 0, 512}));    // next root child along z comes later
+    CHECK(treeOrderKey({0, 0, 512}) < treeOrderKey({0, 512, 0}));
+    CHECK(treeOrderKey({0, 512, 0}) < treeOrderKey({512, 0, 0}));
+    std::mt19937 rng(3);
+    for (int i = 0; i < 1000; ++i) {
+        const glm::ivec3 b(int(rng() % (1 << 21)), int(rng() % (1 << 21)), int(rng() % (1 << 21)));
+        REQUIRE(treeOrderCoord(treeOrderKey(b)) == b);
+    }
+}
+
+TEST_CASE("The streaming writer gives OpenVDB's own bytes for every compression and precision", "[vdb][stream]") {
+    openvdb::initialize();
+    const BrickVolume volume = treeShapedVolume();
+    REQUIRE(volume.bricks.size() > 150);
+    const fs::path ours = scratch("ours.vdb"), theirs = scratch("theirs.vdb");
+    for (VdbCompression c : {VdbCompression::ActiveMask, VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::None})
+        for (VdbPrecision p : {VdbPrecision::Float, VdbPrecision::Half}) {
+            INFO(toString(c) << ", " << toString(p));
+            VdbWriteOptions options;
+            options.compression = c;
+            options.precision = p;
+            writeVdb(ours.string(), volume, someMetadata(), options);
+            writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half);
+            const auto a = bytesWithoutUuid(ours), b = bytesWithoutUuid(theirs);
+            CHECK(a.size() == b.size());
+            const auto mismatch = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
+            INFO("first difference at byte " << (mismatch.first - a.begin()));
+            const bool sameBytes = a == b;
+            CHECK(sameBytes);
+            checkSameGrids(ours, theirs);
+        }
+    fs::remove(ours);
+    fs::remove(theirs);
+}
+
+TEST_CASE("The streaming writer's empty volume is OpenVDB's empty volume", "[vdb][stream]") {
+    openvdb::initialize();
+    BrickVolume empty;
+    empty.grid.dims = {8, 8, 8};
+    empty.grid.voxelSize = 0.5;
+    const fs::path ours = scratch("empty-ours.vdb"), theirs = scratch("empty-theirs.vdb");
+    writeVdb(ours.string(), empty, someMetadata());
+    writeWithOpenVdb(theirs, empty, ours, VdbCompression::ActiveMask, false);
+    const bool sameBytes = bytesWithoutUuid(ours) == bytesWithoutUuid(theirs);
+    CHECK(sameBytes);
+    if (sameBytes) {
+        fs::remove(ours);
+        fs::remove(theirs);
+    }
+}
+
+TEST_CASE("The streaming writer's bytes do not depend on batch order", "[vdb][stream]") {
+    openvdb::initialize();
+    const BrickVolume volume = treeShapedVolume();
+    const fs::path whole = scratch("whole.vdb"), batches = scratch("batches.vdb");
+    writeVdb(whole.string(), volume, someMetadata());
+    {
+        VdbAssembler assembler(batches.string(), volume.grid, volume.reduce);
+        // Uneven batches, last first, from several threads.
+        const std::span<const VoxelBrick> all(volume.bricks);
+        std::vector<std::thread> threads;
+        const std::size_t cuts[] = {0, 7, 8, 100, all.size()};
+        for (int i = 3; i >= 0; --i)
+            threads.emplace_back([&, i] { assembler.add(all.subspan(cuts[i], cuts[i + 1] - cuts[i]), "batch"); });
+        for (std::thread& t : threads) t.join();
+        CHECK(assembler.brickCount() == volume.bricks.size());
+        assembler.write(someMetadata());
+    }
+    const bool sameBytes = bytesWithoutUuid(whole) == bytesWithoutUuid(batches);
+    CHECK(sameBytes);
+    fs::remove(whole);
+    fs::remove(batches);
+}
+
+TEST_CASE("A brick given twice is refused and leaves no file", "[vdb][stream]") {
+    const BrickVolume volume = treeShapedVolume();
+    const fs::path out = scratch("twice.vdb");
+    fs::remove(out);
+    VdbAssembler assembler(out.string(), volume.grid, volume.reduce);
+    assembler.add(volume.bricks, "region 1");
+    assembler.add(std::span(volume.bricks).subspan(5, 1), "region 2");
+    try {
+        assembler.write(someMetadata());
+        FAIL("no error");
+    } catch (const Error& e) {
+        CHECK(std::string(e.what()).find("given twice (from region 1 and region 2)") != std::string::npos);
+    }
+    CHECK_FALSE(fs::exists(out));
+    for (const auto& e : fs::directory_iterator(out.parent_path()))
+        CHECK(e.path().filename().string().rfind("yv_stream_twice.vdb.partial", 0) != 0);
+}
