@@ -192,6 +192,7 @@ void VdbAssembler::write(const std::string& path, const VolumeMetadata& metadata
     meta.insertMeta("reduce", openvdb::StringMetadata(toString(impl_->reduce)));
     meta.insertMeta("slice_count", openvdb::Int64Metadata(static_cast<std::int64_t>(metadata.sliceCount)));
     meta.insertMeta("yarn_radius", openvdb::DoubleMetadata(metadata.yarnRadius));
+    meta.insertMeta("yarn_radius_source", openvdb::StringMetadata(metadata.yarnRadiusSource));
     meta.insertMeta("twist", openvdb::DoubleMetadata(metadata.twist));
     meta.insertMeta("supersample", openvdb::Int32Metadata(metadata.supersample));
     meta.insertMeta("overlap", openvdb::StringMetadata(metadata.overlap));
