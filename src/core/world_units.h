@@ -34,10 +34,12 @@ inline std::string lengthProblem(double v) {
     return {};
 }
 
-/// Empty when `v` is an acceptable coordinate (finite, magnitude at most 1e12).
+/// Empty when `v` is an acceptable coordinate (finite, magnitude at most
+/// 1e12), else "is nan, expected a finite number" and the like.
 inline std::string coordinateProblem(double v) {
-    if (!std::isfinite(v)) return numberText(v) + " is not a finite number";
-    if (std::abs(v) > kMaxLength) return numberText(v) + " is beyond 1e12 in magnitude, the largest coordinate yarnvox accepts";
+    if (!std::isfinite(v)) return "is " + numberText(v) + ", expected a finite number";
+    if (std::abs(v) > kMaxLength)
+        return "is " + numberText(v) + ", beyond 1e12 in magnitude (the largest coordinate yarnvox accepts)";
     return {};
 }
 

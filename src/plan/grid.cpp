@@ -1,6 +1,7 @@
 #include "plan/grid.h"
 
 #include "core/error.h"
+#include "core/world_units.h"
 
 #include <algorithm>
 #include <string>
@@ -23,8 +24,8 @@ constexpr double kMaxAxisVoxels = double(1 << 24);
 /// a NaN must not reach the int conversion).
 void checkAxisVoxels(double voxels, double extent, double h) {
     if (!(voxels <= kMaxAxisVoxels))
-        throw Error("a garment box " + std::to_string(extent) + " wide in voxels of " + std::to_string(h) +
-                    " needs " + std::to_string(voxels) + " voxels on one axis, over the limit of 2^24 = 16777216 "
+        throw Error("a garment box " + numberText(extent) + " wide in voxels of " + numberText(h) + " needs " +
+                    numberText(voxels) + " voxels on one axis, over the limit of 2^24 = 16777216 "
                     "(brick keys hold 21 bits per axis): give a coarser --voxel-size or --resolution");
 }
 
