@@ -297,8 +297,18 @@ TEST_CASE("bad input: a yarn too thin for the voxels, or a slice spacing far bel
     const fs::path bcc = writeBcc("thin.bcc", "C0", {straight(8)});
     // The disk: fibre area under 1/65536 of a voxel face rounds to nothing.
     expectRefused(bcc, "--voxel-size 0.1 --yarn-radius 1e-5 --cross-section disk", {"yarn radius 1e-05", "--yarn-radius", "empty"});
-    // A texture narrower than half a sample pixel is missed.
+    // A texture narrower than a quarter of a sample pixel is missed.
     expectRefused(bcc, "--voxel-size 1 --yarn-radius 0.1", {"yarn radius 0.1", "sample pixels wide", "fibers"});
+    // At 0.4 pixels this straight yarn falls between the sample rows: the run
+    // warns, finds the volume empty, and keeps no file.
+    const fs::path vdb = scratch("between.vdb");
+    const RunResult r = run("voxelize " + bcc.string() + " -o " + vdb.string() + " --backend cpu --voxel-size 1 --yarn-radius 0.2");
+    INFO(r.output);
+    CHECK(r.exitCode == 1);
+    CHECK(r.output.find("warning: yarn radius 0.2") != std::string::npos);
+    CHECK(r.output.find("yarnvox: error: " + bcc.string() + ": no yarn reached a voxel's samples") != std::string::npos);
+    CHECK(r.output.find("wrote") == std::string::npos);
+    CHECK_FALSE(fs::exists(vdb));
     // --slice-spacing below 1/64 voxel: nothing gained but slices.
     expectRefused(bcc, "--voxel-size 0.1 --yarn-radius 0.2 --slice-spacing 1e-6", {"--slice-spacing 1e-06", "64 slices"});
     // Just above the texture limit the run works, with a warning that names the aliasing.
@@ -394,7 +404,7 @@ TEST_CASE("bad input: the reader checks the signature before reading the rest", 
 
 // ---- item 4: real garments ------------------------------------------------------
 
-TEST_CASE("bad input: repeated control points are dropped and counted; the volume is the same", "[bad-input][cli]") {
+TEST_CASE("bad input: repeated control points are dropped and counted, and the volume is the same", "[bad-input][cli]") {
     RawCurve doubled = straight(6);
     doubled.points.insert(doubled.points.begin() + 3, doubled.points[3]);
     doubled.points.insert(doubled.points.begin() + 5, doubled.points[4]);

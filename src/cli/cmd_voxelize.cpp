@@ -26,6 +26,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <memory>
 #include <thread>
@@ -340,6 +341,15 @@ void runVoxelize(const VoxelizeArgs& args) {
                          static_cast<unsigned long long>(counters.overflows));
     }
 
+    // The checks before slicing refuse what cannot leave a voxel; a yarn that
+    // falls between sample pixels can still miss them all. An empty volume is
+    // never a result: it is removed and the run fails.
+    if (active == 0) {
+        std::filesystem::remove(a.output);
+        throw Error(a.input + ": no yarn reached a voxel's samples (" + radius.description + ", voxel size " +
+                    numberText(grid.voxelSize) + "): the volume would be empty, " + a.output +
+                    " was not kept (a finer --resolution, a higher --supersample, or --cross-section disk)");
+    }
     const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;
     if (!a.statsPath.empty()) {
         JsonObject stats;

@@ -31,7 +31,7 @@ std::vector<std::string> checkRunScale(const RunScale& scale, const CrossSection
         // A texture is read at sample-pixel centres: a yarn narrower than a
         // pixel is hit by few of them, or none.
         const double pixelsAcross = 2.0 * r * scale.supersample / h;
-        if (pixelsAcross < 0.5)
+        if (pixelsAcross < 0.25)
             throw Error(sizes + ": the yarn is " + numberText(pixelsAcross) + " sample pixels wide, so the " + xs.name +
                         " cross-section would miss nearly every sample and leave no voxels (a finer --resolution, a "
                         "higher --supersample, or --cross-section disk)");

@@ -21,7 +21,7 @@ struct RunScale {
 
 /// Throws yv::Error when the yarns would leave no voxel (the cross-section's
 /// fibre area under 64 fixed-point units of a voxel face, or a textured cross-
-/// section narrower than half a sample pixel) or when --slice-spacing
+/// section narrower than a quarter of a sample pixel) or when --slice-spacing
 /// asks for more than 64 slices per voxel. Returns warnings (one line each,
 /// without "warning: ") where the run works but the result is coarse.
 std::vector<std::string> checkRunScale(const RunScale& scale, const CrossSection& xs);
