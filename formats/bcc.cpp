@@ -3,6 +3,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/world_units.h"
 
 #include <algorithm>
 #include <bit>
@@ -14,6 +15,10 @@
 #include <limits>
 #include <optional>
 #include <utility>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace yv {
 namespace {
@@ -57,13 +62,25 @@ std::string quoted(const std::uint8_t* p, std::size_t n) {
     throw Error(name + ": byte " + std::to_string(offset) + ": " + what);
 }
 
-} // namespace
+/// Reads until `n` bytes or the end of the file; returns how many arrived.
+std::size_t readUpTo(int fd, std::uint8_t* out, std::size_t n, const std::string& path) {
+    std::size_t used = 0;
+    while (used < n) {
+        const ssize_t got = ::read(fd, out + used, n - used);
+        if (got == 0) break;
+        if (got < 0) {
+            if (errno == EINTR) continue;
+            throw Error("cannot read " + path + ": " + errnoText(errno));
+        }
+        used += static_cast<std::size_t>(got);
+    }
+    return used;
+}
 
-Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name) {
-    const std::uint8_t* p = bytes.data();
-    const std::size_t size = bytes.size();
-
-    // The signature goes first so a short non-BCC file is called that, not "truncated".
+/// Checks the fixed header fields of `p` (`size` bytes, possibly fewer than
+/// the header: the signature is judged first, so a short non-BCC file is
+/// called that, not "truncated") and sets the curve type.
+void checkHeader(const std::uint8_t* p, std::size_t size, const std::string& name, Garment& garment) {
     const std::size_t sigLen = std::min<std::size_t>(size, 3);
     if (std::string(p, p + sigLen) != std::string("BCC", sigLen))
         fail(name, 0, "expected signature \"BCC\", found " + quoted(p, sigLen));
@@ -75,17 +92,57 @@ Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name
         fail(name, 3, std::string("unsupported byteCount ") + found +
                           ": expected 0x44 (4-byte integers and 4-byte floats)");
     }
-
-    Garment garment;
     const std::string type(p + 4, p + 6);
     if (type == "C0")
         garment.curveType = CurveType::CatmullRom;
     else if (type == "PL")
         garment.curveType = CurveType::Polyline;
+    else if (type == "BS")
+        garment.curveType = CurveType::BSpline;
+    else if (type == "BZ")
+        garment.curveType = CurveType::Bezier;
     else
         fail(name, 4, "unsupported curve type " + quoted(p + 4, 2) +
-                          ": expected \"C0\" (Catmull-Rom) or \"PL\" (polyline)");
+                          ": expected \"C0\" (Catmull-Rom), \"PL\" (polyline), \"BS\" (B-spline) or \"BZ\" (Bezier)");
     if (p[6] != 3) fail(name, 6, "unsupported dimensions " + std::to_string(p[6]) + ": expected 3");
+}
+
+/// The exact file size the header's counts imply (each curve: a 4-byte count
+/// and 12 bytes per point); nullopt when it does not fit in 64 bits.
+std::optional<std::uint64_t> impliedSize(const std::uint8_t* p) {
+    const std::uint64_t curves = loadLe(p + 8, 8), points = loadLe(p + 16, 8);
+    constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+    if (curves > (kMax - kHeaderSize) / 4) return std::nullopt;
+    const std::uint64_t countBytes = kHeaderSize + 4 * curves;
+    if (points > (kMax - countBytes) / kPointSize) return std::nullopt;
+    return countBytes + kPointSize * points;
+}
+
+/// "yarn-radius=R" in the 40-byte free-text field (written by yarnvox) gives
+/// the radius; text that says yarn-radius= but is no sane length is refused,
+/// not ignored.
+void readRadius(const std::uint8_t* p, const std::string& name, Garment& garment) {
+    const std::string info(reinterpret_cast<const char*>(p + 24), strnlen(reinterpret_cast<const char*>(p + 24), 40));
+    const std::size_t at = info.find("yarn-radius=");
+    if (at == std::string::npos) return;
+    const char* begin = info.c_str() + at + 12;
+    char* end = nullptr;
+    const double r = std::strtod(begin, &end);
+    const std::string text(begin, std::find(begin, info.c_str() + info.size(), ' '));
+    if (end == begin)
+        fail(name, 24 + at, "file info says yarn-radius=" + text + ", which is not a number");
+    if (const std::string problem = lengthProblem(r); !problem.empty())
+        fail(name, 24 + at, "file info's yarn-radius=" + text + ": " + problem + " (--yarn-radius overrides it)");
+    garment.yarnRadius = r;
+}
+
+} // namespace
+
+Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name) {
+    const std::uint8_t* p = bytes.data();
+    const std::size_t size = bytes.size();
+    Garment garment;
+    checkHeader(p, size, name, garment);
 
     const std::uint64_t curveCount = loadLe(p + 8, 8);
     const std::uint64_t totalPoints = loadLe(p + 16, 8);
@@ -95,12 +152,7 @@ Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name
                           std::to_string(kMinCurveSize) + " bytes and " +
                           std::to_string(size - kHeaderSize) + " bytes follow the header");
     garment.yarns.reserve(curveCount);
-    // "yarn-radius=R" in the 40-byte free-text field (written by yarnvox) gives the radius.
-    const std::string info(reinterpret_cast<const char*>(p + 24), strnlen(reinterpret_cast<const char*>(p + 24), 40));
-    if (const std::size_t at = info.find("yarn-radius="); at != std::string::npos) {
-        const double r = std::strtod(info.c_str() + at + 12, nullptr);
-        if (r > 0 && std::isfinite(r)) garment.yarnRadius = r;
-    }
+    readRadius(p, name, garment);
 
     std::size_t at = kHeaderSize;
     std::uint64_t pointSum = 0;
@@ -127,9 +179,8 @@ Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name
         for (std::uint64_t j = 0; j < n; ++j) {
             for (int k = 0; k < 3; ++k, at += 4) {
                 const float v = std::bit_cast<float>(static_cast<std::uint32_t>(loadLe(p + at, 4)));
-                if (!std::isfinite(v))
-                    fail(name, at, curve() + " point " + std::to_string(j) + ": " + kAxes[k] +
-                                       " coordinate is " + std::to_string(v) + ", expected a finite number");
+                if (const std::string problem = coordinateProblem(v); !problem.empty())
+                    fail(name, at, curve() + " point " + std::to_string(j) + ": " + kAxes[k] + " coordinate " + problem);
                 yarn.points[j][k] = v;
             }
         }
@@ -146,16 +197,50 @@ Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name
 }
 
 Garment readBcc(const std::string& path) {
-    const std::optional<std::vector<std::uint8_t>> bytes = readWholeFile(path);
-    if (!bytes) throw Error("cannot open " + path + ": " + errnoText(ENOENT));
-    return parseBcc(*bytes, path);
+    // The header is read and checked before anything else: /dev/zero, a pipe
+    // or a huge file of another kind is refused after 64 bytes.
+    const Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+    if (fd.get() < 0) throw Error("cannot open " + path + ": " + errnoText(errno));
+    std::vector<std::uint8_t> bytes(kHeaderSize);
+    bytes.resize(readUpTo(fd.get(), bytes.data(), kHeaderSize, path));
+    Garment header;
+    checkHeader(bytes.data(), bytes.size(), path, header);
+
+    // The header's counts fix the file's size exactly; only that many bytes
+    // (and one more, to see trailing bytes) are ever read or allocated, and
+    // storage grows with the bytes that arrive, not with what the header claims.
+    const std::optional<std::uint64_t> implied = impliedSize(bytes.data());
+    if (!implied)
+        fail(path, 8, "curve count " + std::to_string(loadLe(bytes.data() + 8, 8)) + " and control-point count " +
+                          std::to_string(loadLe(bytes.data() + 16, 8)) + " cannot describe a file");
+    struct stat st {};
+    if (::fstat(fd.get(), &st) != 0) throw Error("cannot stat " + path + ": " + errnoText(errno));
+    if (S_ISREG(st.st_mode) && std::uint64_t(st.st_size) > *implied)
+        fail(path, *implied, std::to_string(std::uint64_t(st.st_size) - *implied) + " bytes past the " +
+                                 std::to_string(*implied) + " that the header's counts describe (" +
+                                 std::to_string(loadLe(bytes.data() + 8, 8)) + " curves, " +
+                                 std::to_string(loadLe(bytes.data() + 16, 8)) + " control points)");
+    const std::uint64_t limit = S_ISREG(st.st_mode) ? std::uint64_t(st.st_size) : *implied + 1;
+    constexpr std::size_t kChunk = std::size_t(1) << 22;
+    while (bytes.size() < limit) {
+        const std::size_t used = bytes.size();
+        const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(kChunk, limit - used));
+        bytes.resize(used + want);
+        const std::size_t got = readUpTo(fd.get(), bytes.data() + used, want, path);
+        bytes.resize(used + got);
+        if (got < want) break;
+    }
+    return parseBcc(bytes, path);
 }
 
 std::vector<std::uint8_t> encodeBcc(const Garment& garment) {
     std::vector<std::uint8_t> out;
     out.reserve(kHeaderSize + garment.yarns.size() * 4 + garment.controlPointCount() * kPointSize);
     out.insert(out.end(), {'B', 'C', 'C', kByteCount});
-    const char* type = garment.curveType == CurveType::Polyline ? "PL" : "C0";
+    const char* type = garment.curveType == CurveType::Polyline  ? "PL"
+                       : garment.curveType == CurveType::BSpline ? "BS"
+                       : garment.curveType == CurveType::Bezier  ? "BZ"
+                                                                 : "C0";
     out.insert(out.end(), {static_cast<std::uint8_t>(type[0]), static_cast<std::uint8_t>(type[1]), 3, 2});
     storeLe(out, garment.yarns.size(), 8);
     storeLe(out, garment.controlPointCount(), 8);
@@ -182,9 +267,8 @@ std::vector<std::uint8_t> encodeBcc(const Garment& garment) {
         for (std::size_t j = 0; j < n; ++j) {
             for (int k = 0; k < 3; ++k) {
                 const double v = yarn.points[j][k];
-                if (!(std::abs(v) <= std::numeric_limits<float>::max()))
-                    throw Error(where + " point " + std::to_string(j) + ": " + kAxes[k] + " coordinate " +
-                                std::to_string(v) + " is not a finite 32-bit float");
+                if (const std::string problem = coordinateProblem(v); !problem.empty())
+                    throw Error(where + " point " + std::to_string(j) + ": " + kAxes[k] + " coordinate " + problem);
                 storeLe(out, std::bit_cast<std::uint32_t>(static_cast<float>(v)), 4);
             }
         }

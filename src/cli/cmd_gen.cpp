@@ -1,6 +1,7 @@
 // `yarnvox gen`: writes a procedural garment as BCC.
 #include "bcc.h"
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "garment/generate.h"
 
 #include <CLI/CLI.hpp>
@@ -27,10 +28,10 @@ void addGenCommand(CLI::App& app) {
     cmd->add_option("--seed", args->seed, "Seed of the control-point jitter")->capture_default_str();
     cmd->add_option("--spacing", args->spacing, "Distance between neighbouring yarns, world units")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(worldLength());
     cmd->add_option("--yarn-radius", args->radius, "Yarn radius recorded in the file, world units")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(worldLength());
     cmd->add_option("-o,--output", args->output, "Output .bcc file")->required();
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
     cmd->callback([args] {

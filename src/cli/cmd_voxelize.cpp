@@ -1,17 +1,21 @@
 // `yarnvox voxelize`: garment -> slices -> voxels -> .vdb, with --stats.
 #include "bcc.h"
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/run_fingerprint.h"
+#include "cli/yarn_radius.h"
 #include "core/error.h"
 #include "core/output_path.h"
 #include "core/process_memory.h"
 #include "core/stats.h"
 #include "cpu/cpu_voxelizer.h"
 #include "garment/cross_section.h"
+#include "garment/curve_check.h"
 #include "garment/slices.h"
 #include "gpu/dense_voxelizer.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_voxelizer.h"
+#include "plan/feasibility.h"
 #include "plan/grid.h"
 #include "plan/zoom_plan.h"
 #include "store/brick_store.h"
@@ -23,6 +27,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <thread>
 #include <unistd.h>
@@ -118,24 +123,44 @@ void runVoxelize(const VoxelizeArgs& args) {
     a.backend = resolveBackend(args);
     StageTimer timer;
     JsonObject stages;
-    const Garment garment = readBcc(a.input);
+    Garment garment = readBcc(a.input);
+    // Real files repeat points and mislabel loops: tidied here, said once.
+    const CurveCheckReport curveReport = checkCurves(garment, a.input);
+    if (!a.quiet) {
+        if (const std::string dropped = curveReport.droppedText(a.input); !dropped.empty())
+            std::fprintf(stderr, "%s\n", dropped.c_str());
+        for (const std::string& w : curveReport.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    }
     stages.set("read", timer.lap());
 
     CrossSection xs = makeCrossSection(a.crossSection);
     SliceOptions sliceOptions;
     sliceOptions.twist = a.twist;
-    sliceOptions.radius = a.yarnRadius > 0 ? a.yarnRadius : (xs.radius > 0 ? xs.radius : garment.yarnRadius);
-    if (!(sliceOptions.radius > 0))
-        throw Error(a.input + ": the file gives no yarn radius: pass --yarn-radius R (world units)");
+    const YarnRadiusChoice radius = chooseYarnRadius(a.yarnRadius, xs, garment, a.input);
+    if (!a.quiet && !radius.note.empty()) std::fprintf(stderr, "%s\n", radius.note.c_str());
+    sliceOptions.radius = radius.radius;
     if (a.resolution == 0 && a.voxelSize == 0.0)
         throw Error("give --resolution N (voxels on the longest axis) or --voxel-size H");
     // Slices follow the voxel size, not the garment's control points: one
     // slice per (supersampled) voxel along the yarn, unless asked otherwise.
     const double voxelSize = voxelSizeFor(garment, sliceOptions.radius, a.resolution, a.voxelSize);
+    // A run that would leave no voxels is refused before any slicing.
+    const RunScale scale{radius.radius, radius.description, voxelSize,
+                         a.resolution > 0 ? "--resolution " + std::to_string(a.resolution)
+                                          : "--voxel-size " + numberText(a.voxelSize),
+                         a.supersample, a.spacing};
+    for (const std::string& w : checkRunScale(scale, xs))
+        if (!a.quiet) std::fprintf(stderr, "warning: %s\n", w.c_str());
     const bool explicitSpacing = a.slicesPerSegment > 0 || a.spacing > 0.0;
     sliceOptions.slicesPerSegment = a.slicesPerSegment;
     sliceOptions.spacing = explicitSpacing ? a.spacing : defaultSliceSpacing(voxelSize, a.supersample);
-    const SlicePlan plan = planSlices(garment, sliceOptions);
+    const SlicePlan plan = [&] {
+        try {
+            return planSlices(garment, sliceOptions);
+        } catch (const Error& e) {
+            throw Error(a.input + ": " + e.what());
+        }
+    }();
     stages.set("slices", timer.lap());
     const VoxelGrid grid = makeGrid(plan, a.resolution, a.voxelSize);
     if (explicitSpacing && !a.quiet && plan.maxSpacing > 1.05 * grid.voxelSize)
@@ -159,6 +184,7 @@ void runVoxelize(const VoxelizeArgs& args) {
     meta.resolution = a.resolution;
     meta.sliceCount = plan.sliceCount;
     meta.yarnRadius = sliceOptions.radius;
+    meta.yarnRadiusSource = radius.source;
     meta.twist = a.twist;
     meta.supersample = a.supersample;
     meta.overlap = toString(settings.overlap);
@@ -316,6 +342,15 @@ void runVoxelize(const VoxelizeArgs& args) {
                          static_cast<unsigned long long>(counters.overflows));
     }
 
+    // The checks before slicing refuse what cannot leave a voxel; a yarn that
+    // falls between sample pixels can still miss them all. An empty volume is
+    // never a result: it is removed and the run fails.
+    if (active == 0) {
+        std::filesystem::remove(a.output);
+        throw Error(a.input + ": no yarn reached a voxel's samples (" + radius.description + ", voxel size " +
+                    numberText(grid.voxelSize) + "): the volume would be empty, " + a.output +
+                    " was not kept (a finer --resolution, a higher --supersample, or --cross-section disk)");
+    }
     const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;
     if (!a.statsPath.empty()) {
         JsonObject stats;
@@ -386,19 +421,22 @@ void addVoxelizeCommand(CLI::App& app) {
     auto* res = cmd->add_option("--resolution", a->resolution, "Voxels on the longest axis of the padded garment box")
                     ->check(CLI::Range(8, 1 << 20));
     cmd->add_option("--voxel-size", a->voxelSize, "Voxel edge length, world units (instead of --resolution)")
-        ->check(CLI::PositiveNumber)
+        ->check(worldLength())
         ->excludes(res);
-    cmd->add_option("--yarn-radius", a->yarnRadius, "Yarn radius, world units (default: from the cross-section PNG or the garment file)")
-        ->check(CLI::PositiveNumber);
+    cmd->add_option("--yarn-radius", a->yarnRadius, "Yarn radius, world units (default: from the cross-section PNG or the garment file, else "
+                    "estimated from the distances between touching yarns)")
+        ->check(worldLength());
     auto* perSegment =
         cmd->add_option("--slices-per-segment", a->slicesPerSegment,
                         "Slices per curve segment (the paper uses 25 and 50; default: one slice per voxel along the yarn)")
             ->check(CLI::Range(1, 100000));
     cmd->add_option("--slice-spacing", a->spacing,
                     "Distance between slices, world units (default: the voxel size over --supersample)")
-        ->check(CLI::PositiveNumber)
+        ->check(worldLength())
         ->excludes(perSegment);
-    cmd->add_option("--twist", a->twist, "Yarn twist, radians per world unit of yarn length")->capture_default_str();
+    cmd->add_option("--twist", a->twist, "Yarn twist, radians per world unit of yarn length")
+        ->capture_default_str()
+        ->check(finiteNumber(kMaxTwist));
     cmd->add_option("--cross-section", a->crossSection, "Fibre density on each slice: fibers, disk, or FILE.png (alpha = density)")
         ->capture_default_str();
     cmd->add_option("--reduce", a->reduce, "mean: fibre volume fraction and mean axis; max: the paper's max density")

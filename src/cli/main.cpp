@@ -11,6 +11,10 @@ int main(int argc, char** argv) {
     CLI::App app{"yarnvox: turns yarn-level cloth into sparse volumes of fibre density and orientation"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "yarnvox " YV_VERSION);
+    // A bad option is one line like every other error: what, where, and where to look.
+    app.failure_message([](const CLI::App*, const CLI::Error& e) {
+        return std::string("yarnvox: error: ") + e.what() + " (see --help)\n";
+    });
     yv::addGenCommand(app);
     yv::addVoxelizeCommand(app);
     yv::addMergeCommand(app);

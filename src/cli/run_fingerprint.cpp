@@ -44,7 +44,7 @@ std::string encodeMetadata(const VolumeMetadata& m) {
     out.precision(17);
     out << "input=" << m.input << "\nbackend=" << m.backend << "\ncross_section=" << m.crossSection
         << "\nresolution=" << m.resolution << "\nslice_count=" << m.sliceCount << "\nyarn_radius=" << m.yarnRadius
-        << "\ntwist=" << m.twist << "\nsupersample=" << m.supersample << "\noverlap=" << m.overlap
+        << "\nyarn_radius_source=" << m.yarnRadiusSource        << "\ntwist=" << m.twist << "\nsupersample=" << m.supersample << "\noverlap=" << m.overlap
         << "\nslice_spacing=" << m.sliceSpacing << "\n";
     return out.str();
 }
@@ -62,6 +62,7 @@ VolumeMetadata decodeMetadata(const std::string& text) {
         else if (key == "resolution") m.resolution = std::stoi(value);
         else if (key == "slice_count") m.sliceCount = std::stoull(value);
         else if (key == "yarn_radius") m.yarnRadius = std::stod(value);
+        else if (key == "yarn_radius_source") m.yarnRadiusSource = value;
         else if (key == "twist") m.twist = std::stod(value);
         else if (key == "supersample") m.supersample = std::stoi(value);
         else if (key == "overlap") m.overlap = value;

@@ -9,10 +9,37 @@
 
 namespace yv {
 
+namespace {
+
+/// The Catmull-Rom points of the cubic with end points a, b and end
+/// derivatives da, db (cubic Hermite data): the curve passes through P1 and P2
+/// with derivatives (P2-P0)/2 and (P3-P1)/2, and a cubic is fixed by its ends
+/// and end derivatives, so every cubic segment has exactly one such form.
+SegmentPoints fromHermite(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& da, const glm::dvec3& db) {
+    return {b - 2.0 * da, a, b, a + 2.0 * db};
+}
+
+} // namespace
+
 SegmentPoints segmentPoints(const Yarn& yarn, std::size_t segment, CurveType type) {
     const std::size_t n = yarn.points.size();
-    YV_CHECK(n >= 2);
+    YV_CHECK(segment < yarnSegmentCount(yarn, type));
     const auto& P = yarn.points;
+    if (type == CurveType::BSpline) {
+        // Uniform cubic B-spline on B0..B3: ends (B0 + 4 B1 + B2) / 6 and
+        // (B1 + 4 B2 + B3) / 6, end derivatives (B2 - B0) / 2 and (B3 - B1) / 2.
+        // A closed curve's segment s starts near point s, an open one's near s + 1.
+        const std::size_t first = yarn.closed ? segment + n - 1 : segment;
+        const glm::dvec3 b0 = P[first % n], b1 = P[(first + 1) % n], b2 = P[(first + 2) % n], b3 = P[(first + 3) % n];
+        return fromHermite((b0 + 4.0 * b1 + b2) / 6.0, (b1 + 4.0 * b2 + b3) / 6.0, 0.5 * (b2 - b0), 0.5 * (b3 - b1));
+    }
+    if (type == CurveType::Bezier) {
+        // Cubic Bezier on B0..B3: through B0 and B3, end derivatives 3 (B1 - B0) and 3 (B3 - B2).
+        const std::size_t first = 3 * segment;
+        const glm::dvec3 b0 = P[first], b1 = P[first + 1], b2 = P[first + 2], b3 = P[(first + 3) % n];
+        return fromHermite(b0, b3, 3.0 * (b1 - b0), 3.0 * (b3 - b2));
+    }
+
     const glm::dvec3 a = P[segment % n];
     const glm::dvec3 b = P[(segment + 1) % n];
     if (type == CurveType::Polyline) return {2.0 * a - b, a, b, 2.0 * b - a};
@@ -22,7 +49,6 @@ SegmentPoints segmentPoints(const Yarn& yarn, std::size_t segment, CurveType typ
         before = P[(segment + n - 1) % n];
         after = P[(segment + 2) % n];
     } else {
-        YV_CHECK(segment + 1 < n);
         before = segment > 0 ? P[segment - 1] : 2.0 * a - b;
         after = segment + 2 < n ? P[segment + 2] : 2.0 * b - a;
     }

@@ -19,7 +19,10 @@ using SegmentPoints = std::array<glm::dvec3, 4>;
 /// Open yarns estimate their end tangents from the end chord: the missing
 /// point is mirrored (P[-1] = 2 P[0] - P[1]), so the end tangent is P[1]-P[0].
 /// A polyline uses mirrored points on both ends of every segment, which makes
-/// the cubic a straight line with uniform speed.
+/// the cubic a straight line with uniform speed. B-spline and Bezier segments
+/// are converted exactly: the Catmull-Rom points of the same cubic polynomial
+/// (same positions for every t), so the slicing and every backend need no
+/// other basis. `segment` < yarnSegmentCount(yarn, type).
 SegmentPoints segmentPoints(const Yarn& yarn, std::size_t segment, CurveType type);
 
 /// Position at t in [0, 1]: 1/2 [1 t t^2 t^3] M [P[i-1] P[i] P[i+1] P[i+2]]^T.

@@ -1,6 +1,7 @@
 #include "garment/cross_section.h"
 
 #include "core/error.h"
+#include "core/world_units.h"
 
 #include <png.h>
 
@@ -84,6 +85,66 @@ CrossSection makeFiberCrossSection(int size, std::uint64_t seed) {
     return xs;
 }
 
+namespace {
+
+/// libpng's state for one read. libpng reports errors by longjmp, which must
+/// not cross a frame holding C++ objects with destructors: every function
+/// that calls libpng and may jump (the png* steps below) has trivially
+/// destructible locals only, and returns false on error; the caller, which
+/// owns the vectors, never sees a jump.
+struct PngRead {
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    char message[200] = "";
+};
+
+void onPngError(png_structp png, png_const_charp message) {
+    auto* read = static_cast<PngRead*>(png_get_error_ptr(png));
+    std::snprintf(read->message, sizeof read->message, "%s", message);
+    png_longjmp(png, 1);
+}
+
+void onPngWarning(png_structp, png_const_charp) {} // warnings (a bad ancillary chunk) are not errors
+
+/// Header and text chunks; then the transforms to 8-bit grey + alpha.
+bool pngReadInfo(PngRead& r, FILE* file) {
+    if (setjmp(png_jmpbuf(r.png))) return false;
+    png_init_io(r.png, file);
+    png_set_sig_bytes(r.png, 8);
+    png_read_info(r.png, r.info);
+    return true;
+}
+
+bool pngSetTransforms(PngRead& r, bool& hasAlpha) {
+    if (setjmp(png_jmpbuf(r.png))) return false;
+    png_set_strip_16(r.png);
+    png_set_packing(r.png);
+    const int colorType = png_get_color_type(r.png, r.info);
+    if (colorType == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(r.png);
+    if (png_get_valid(r.png, r.info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(r.png);
+    if (colorType == PNG_COLOR_TYPE_GRAY && png_get_bit_depth(r.png, r.info) < 8) png_set_expand_gray_1_2_4_to_8(r.png);
+    hasAlpha = (colorType & PNG_COLOR_MASK_ALPHA) || png_get_valid(r.png, r.info, PNG_INFO_tRNS);
+    if (colorType & PNG_COLOR_MASK_COLOR || colorType == PNG_COLOR_TYPE_PALETTE) png_set_rgb_to_gray(r.png, 1, -1, -1);
+    if (!hasAlpha) png_set_add_alpha(r.png, 0xff, PNG_FILLER_AFTER);
+    png_read_update_info(r.png, r.info);
+    return true;
+}
+
+bool pngReadRows(PngRead& r, png_bytepp rows) {
+    if (setjmp(png_jmpbuf(r.png))) return false;
+    png_read_image(r.png, rows);
+    png_read_end(r.png, nullptr);
+    return true;
+}
+
+/// Destroys libpng's state on every way out of the loader.
+struct PngReadGuard {
+    PngRead& r;
+    ~PngReadGuard() { png_destroy_read_struct(&r.png, &r.info, nullptr); }
+};
+
+} // namespace
+
 CrossSection loadCrossSectionPng(const std::string& path) {
     std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!file) throw Error(path + ": cannot open cross-section PNG: " + std::strerror(errno));
@@ -91,52 +152,49 @@ CrossSection loadCrossSectionPng(const std::string& path) {
     if (std::fread(signature, 1, 8, file.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0)
         throw Error(path + ": byte 0: not a PNG file (expected the PNG signature)");
 
-    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    png_infop info = png ? png_create_info_struct(png) : nullptr;
-    if (!info) throw Error(path + ": out of memory reading PNG");
-    CrossSection xs;
-    xs.name = path;
-    if (setjmp(png_jmpbuf(png))) {
-        png_destroy_read_struct(&png, &info, nullptr);
-        throw Error(path + ": corrupt or truncated PNG");
-    }
-    png_init_io(png, file.get());
-    png_set_sig_bytes(png, 8);
-    png_read_info(png, info);
-    const png_uint_32 width = png_get_image_width(png, info), height = png_get_image_height(png, info);
-    if (width != height || width < 2 || width > 8192) {
-        png_destroy_read_struct(&png, &info, nullptr);
+    PngRead r;
+    r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &r, onPngError, onPngWarning);
+    r.info = r.png ? png_create_info_struct(r.png) : nullptr;
+    const PngReadGuard guard{r};
+    if (!r.info) throw Error(path + ": out of memory reading PNG");
+    const auto corrupt = [&] { return Error(path + ": corrupt or truncated PNG: " + r.message); };
+    if (!pngReadInfo(r, file.get())) throw corrupt();
+
+    const png_uint_32 width = png_get_image_width(r.png, r.info), height = png_get_image_height(r.png, r.info);
+    if (width != height || width < 2 || width > 8192)
         throw Error(path + ": cross-section must be square, 2 to 8192 pixels (is " + std::to_string(width) + "x" +
                     std::to_string(height) + ")");
-    }
+    CrossSection xs;
+    xs.name = path;
     png_textp text = nullptr;
     int textCount = 0;
-    png_get_text(png, info, &text, &textCount);
-    for (int i = 0; i < textCount; ++i)
-        if (std::strcmp(text[i].key, "yarn-radius") == 0) xs.radius = std::atof(text[i].text);
+    png_get_text(r.png, r.info, &text, &textCount);
+    for (int i = 0; i < textCount; ++i) {
+        if (std::strcmp(text[i].key, "yarn-radius") != 0) continue;
+        char* end = nullptr;
+        const double radius = std::strtod(text[i].text, &end);
+        const std::string problem = end == text[i].text || *end != '\0' ? "is not a number" : lengthProblem(radius);
+        if (!problem.empty())
+            throw Error(path + ": text chunk yarn-radius '" + text[i].text + "': " + problem +
+                        " (--yarn-radius overrides it)");
+        xs.radius = radius;
+    }
 
-    // Normalise every PNG flavour to 8-bit grey + alpha.
-    png_set_strip_16(png);
-    png_set_packing(png);
-    const int colorType = png_get_color_type(png, info);
-    if (colorType == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
-    if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
-    if (colorType == PNG_COLOR_TYPE_GRAY && png_get_bit_depth(png, info) < 8) png_set_expand_gray_1_2_4_to_8(png);
-    const bool hasAlpha = (colorType & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, info, PNG_INFO_tRNS);
-    if (colorType & PNG_COLOR_MASK_COLOR || colorType == PNG_COLOR_TYPE_PALETTE) png_set_rgb_to_gray(png, 1, -1, -1);
-    if (!hasAlpha) png_set_add_alpha(png, 0xff, PNG_FILLER_AFTER);
-    png_read_update_info(png, info);
-
+    bool hasAlpha = false;
+    if (!pngSetTransforms(r, hasAlpha)) throw corrupt();
     std::vector<png_byte> rows(static_cast<std::size_t>(width) * height * 2);
     std::vector<png_bytep> rowPointers(height);
     // PNG rows run top to bottom; slice-local v runs bottom to top.
     for (png_uint_32 y = 0; y < height; ++y) rowPointers[y] = rows.data() + static_cast<std::size_t>(height - 1 - y) * width * 2;
-    png_read_image(png, rowPointers.data());
-    png_destroy_read_struct(&png, &info, nullptr);
+    if (!pngReadRows(r, rowPointers.data())) throw corrupt();
 
     xs.size = static_cast<int>(width);
     xs.density.resize(static_cast<std::size_t>(width) * height);
     for (std::size_t i = 0; i < xs.density.size(); ++i) xs.density[i] = hasAlpha ? rows[2 * i + 1] : rows[2 * i];
+    if (std::all_of(xs.density.begin(), xs.density.end(), [](std::uint8_t d) { return d == 0; }))
+        throw Error(path + ": every pixel of the cross-section has density 0 (" +
+                    (hasAlpha ? std::string("fully transparent") : std::string("black")) +
+                    "): the volume would be empty (density is the alpha channel, or the grey level without one)");
     return xs;
 }
 

@@ -17,7 +17,22 @@ struct Yarn {
 
 /// How the control points of a garment are meant to be joined. Catmull-Rom
 /// is the paper's interpolation; a polyline is kept straight between points.
-enum class CurveType { CatmullRom, Polyline };
+/// A uniform cubic B-spline approximates its control polygon (segment s of
+/// an open curve is shaped by points s..s+3); a cubic Bezier curve passes
+/// through every third point (segment s: points 3s..3s+3). See formats/bcc.md.
+enum class CurveType { CatmullRom, Polyline, BSpline, Bezier };
+
+/// Curve segments of a yarn of this type: n-1 (open) or n (closed) spans
+/// between points for Catmull-Rom and polylines; n-3 or n for a B-spline;
+/// (n-1)/3 or n/3 for Bezier curves. 0 when there are too few points.
+inline std::size_t yarnSegmentCount(const Yarn& y, CurveType type) {
+    const std::size_t n = y.points.size();
+    switch (type) {
+    case CurveType::BSpline: return y.closed ? (n >= 3 ? n : 0) : (n >= 4 ? n - 3 : 0);
+    case CurveType::Bezier: return y.closed ? n / 3 : (n >= 4 ? (n - 1) / 3 : 0);
+    default: return n < 2 ? 0 : (y.closed ? n : n - 1);
+    }
+}
 
 struct Garment {
     std::vector<Yarn> yarns;
@@ -30,11 +45,10 @@ struct Garment {
         for (const Yarn& y : yarns) n += y.points.size();
         return n;
     }
-    /// Number of curve segments: n-1 for an open yarn of n points, n for a closed one.
+    /// Number of curve segments (yarnSegmentCount summed over the yarns).
     std::size_t segmentCount() const {
         std::size_t n = 0;
-        for (const Yarn& y : yarns)
-            if (y.points.size() >= 2) n += y.closed ? y.points.size() : y.points.size() - 1;
+        for (const Yarn& y : yarns) n += yarnSegmentCount(y, curveType);
         return n;
     }
 };

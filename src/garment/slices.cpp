@@ -52,10 +52,10 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
     plan.segments.reserve(garment.segmentCount());
     for (std::size_t y = 0; y < garment.yarns.size(); ++y) {
         const Yarn& yarn = garment.yarns[y];
-        if (yarn.points.size() < 2)
-            throw Error("yarn " + std::to_string(y) + ": needs at least 2 control points, has " +
-                        std::to_string(yarn.points.size()));
-        const std::size_t segCount = yarn.closed ? yarn.points.size() : yarn.points.size() - 1;
+        const std::size_t segCount = yarnSegmentCount(yarn, garment.curveType);
+        if (segCount == 0)
+            throw Error("yarn " + std::to_string(y) + ": " + std::to_string(yarn.points.size()) +
+                        " control points make no curve segment (at least 2 are needed; 4 for an open B-spline or Bezier curve)");
         for (std::size_t s = 0; s < segCount; ++s) {
             SegmentRecord rec;
             rec.points = segmentPoints(yarn, s, garment.curveType);
@@ -176,8 +176,7 @@ void curveBounds(const Garment& garment, glm::dvec3& lo, glm::dvec3& hi) {
     lo = glm::dvec3(HUGE_VAL);
     hi = glm::dvec3(-HUGE_VAL);
     for (const Yarn& yarn : garment.yarns) {
-        if (yarn.points.size() < 2) continue;
-        const std::size_t segCount = yarn.closed ? yarn.points.size() : yarn.points.size() - 1;
+        const std::size_t segCount = yarnSegmentCount(yarn, garment.curveType);
         for (std::size_t s = 0; s < segCount; ++s) {
             glm::dvec3 a, b;
             catmullRomBounds(segmentPoints(yarn, s, garment.curveType), a, b);

@@ -1,6 +1,7 @@
 #include "plan/grid.h"
 
 #include "core/error.h"
+#include "core/world_units.h"
 
 #include <algorithm>
 #include <string>
@@ -15,12 +16,29 @@ void garmentBox(glm::dvec3 curveMin, glm::dvec3 curveMax, double radius, glm::dv
     hi = curveMax + reach;
 }
 
+/// Voxels a grid may have on one axis: brick keys hold 21 bits per axis of
+/// 8-voxel bricks (core/bricks.h), so voxel coordinates stay below 2^24.
+constexpr double kMaxAxisVoxels = double(1 << 24);
+
+/// Refuses `voxels` on one axis when they do not fit (or are not a number:
+/// a NaN must not reach the int conversion).
+void checkAxisVoxels(double voxels, double extent, double h) {
+    if (!(voxels <= kMaxAxisVoxels))
+        throw Error("a garment box " + numberText(extent) + " wide in voxels of " + numberText(h) + " needs " +
+                    numberText(voxels) + " voxels on one axis, over the limit of 2^24 = 16777216 "
+                    "(brick keys hold 21 bits per axis): give a coarser --voxel-size or --resolution");
+}
+
 double voxelSizeForBox(glm::dvec3 lo, glm::dvec3 hi, int resolution, double voxelSize) {
     if ((resolution > 0) == (voxelSize > 0.0))
         throw Error("give exactly one of --resolution (voxels on the longest axis) and --voxel-size");
-    if (voxelSize > 0.0) return voxelSize;
     const glm::dvec3 extent = hi - lo;
-    return std::max({extent.x, extent.y, extent.z}) / resolution;
+    const double longest = std::max({extent.x, extent.y, extent.z});
+    const double h = voxelSize > 0.0 ? voxelSize : longest / resolution;
+    // Known before any slice is planned: a voxel size far too small for the
+    // garment would otherwise first ask for billions of slices.
+    checkAxisVoxels(longest / h, longest, h);
+    return h;
 }
 
 } // namespace
@@ -50,8 +68,7 @@ VoxelGrid makeGrid(const SlicePlan& plan, int resolution, double voxelSize) {
     const glm::dvec3 size = extent / h + 2.0 * padding;
     for (int a = 0; a < 3; ++a) {
         const double n = std::ceil(size[a] / 8.0) * 8.0;
-        if (n > double(1 << 24))
-            throw Error("grid of " + std::to_string(std::int64_t(n)) + " voxels on one axis exceeds the limit of 2^24");
+        checkAxisVoxels(n, extent[a], h);
         grid.dims[a] = static_cast<int>(n);
     }
     // Centre the garment in the rounded-up grid.

@@ -331,6 +331,7 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     fileMeta.insertMeta("reduce", openvdb::StringMetadata(toString(m.reduce)));
     fileMeta.insertMeta("slice_count", openvdb::Int64Metadata(static_cast<std::int64_t>(metadata.sliceCount)));
     fileMeta.insertMeta("yarn_radius", openvdb::DoubleMetadata(metadata.yarnRadius));
+    fileMeta.insertMeta("yarn_radius_source", openvdb::StringMetadata(metadata.yarnRadiusSource));
     fileMeta.insertMeta("twist", openvdb::DoubleMetadata(metadata.twist));
     fileMeta.insertMeta("supersample", openvdb::Int32Metadata(metadata.supersample));
     fileMeta.insertMeta("overlap", openvdb::StringMetadata(metadata.overlap));

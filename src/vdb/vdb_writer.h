@@ -19,6 +19,7 @@ struct VolumeMetadata {
     int resolution = 0;       ///< voxels on the longest axis asked for (0: from voxel size)
     std::uint64_t sliceCount = 0;
     double yarnRadius = 0.0;
+    std::string yarnRadiusSource;  ///< "option", "cross-section", "file" or "estimated"
     double twist = 0.0;
     int supersample = 1;
     std::string overlap = "clamp"; ///< how interpenetrating yarns add up (mean reduction)

@@ -1,0 +1,156 @@
+#include "garment/curve_check.h"
+
+#include "core/error.h"
+#include "core/world_units.h"
+#include "garment/catmull_rom.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <string>
+
+namespace yv {
+namespace {
+
+/// A span this many times the curve's median span is worth a warning: real
+/// garments keep spans within a few times of each other, and a closed flag
+/// on an open yarn joins its ends with a chord across the garment.
+constexpr double kLongSpanFactor = 20.0;
+/// Warnings printed one per curve up to this many, then a count.
+constexpr std::size_t kMaxLongSpanLines = 5;
+
+std::string curveText(const std::string& name, std::size_t curve) {
+    return name + ": curve " + std::to_string(curve);
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
+/// Removes points equal to their predecessor (and, on a closed curve, a last
+/// point equal to the first). `original` keeps each point's index in the file.
+void dropRepeats(Yarn& yarn, bool interior, std::vector<std::size_t>& original, CurveCheckReport& report) {
+    std::vector<glm::dvec3> kept;
+    std::vector<std::size_t> keptIndex;
+    kept.reserve(yarn.points.size());
+    for (std::size_t j = 0; j < yarn.points.size(); ++j) {
+        if (interior && !kept.empty() && yarn.points[j] == kept.back()) {
+            ++report.droppedSpans;
+            continue;
+        }
+        kept.push_back(yarn.points[j]);
+        keptIndex.push_back(j);
+    }
+    while (yarn.closed && kept.size() >= 2 && kept.back() == kept.front() &&
+           (interior || kept.size() % 3 == 1)) {
+        kept.pop_back();
+        keptIndex.pop_back();
+        ++report.droppedSpans;
+        ++report.droppedClosingSpans;
+    }
+    yarn.points = std::move(kept);
+    original = std::move(keptIndex);
+}
+
+/// Refuses a point count the curve type cannot use.
+void checkCount(const Yarn& yarn, CurveType type, std::size_t filePoints, const std::string& where) {
+    const std::size_t n = yarn.points.size();
+    if (n < 2 || (n == 2 && yarn.closed && type != CurveType::Polyline))
+        throw Error(where + ": all " + std::to_string(filePoints) + " control points lie at " +
+                    (n < 2 ? "one place (point 0)" : "two places, a closed curve that only goes back and forth") +
+                    ": not a curve");
+    if (type == CurveType::BSpline && !yarn.closed && n < 4)
+        throw Error(where + ": an open B-spline needs at least 4 control points, has " + std::to_string(n));
+    if (type == CurveType::Bezier && (yarn.closed ? n % 3 != 0 : (n < 4 || n % 3 != 1)))
+        throw Error(where + ": " + std::to_string(n) + " control points cannot make a cubic Bezier curve: it needs 3k+1 " +
+                    "(open) or 3k (closed: the last segment ends at the first point)");
+}
+
+/// Refuses a knot where the curve's derivative vanishes: the slices there
+/// would have no normal. Checked at each segment's start and end.
+void checkTangents(const Yarn& yarn, CurveType type, const std::vector<std::size_t>& original, const std::string& where) {
+    const std::size_t segments = yarnSegmentCount(yarn, type);
+    const std::size_t n = yarn.points.size();
+    for (std::size_t s = 0; s < segments; ++s) {
+        const SegmentPoints p = segmentPoints(yarn, s, type);
+        // Derivatives at t = 0 and t = 1 are (P2 - P0) / 2 and (P3 - P1) / 2.
+        for (int end = 0; end < 2; ++end) {
+            const glm::dvec3 d = end == 0 ? p[2] - p[0] : p[3] - p[1];
+            const double scale = std::max(glm::length(p[1]), glm::length(p[2])) + 1.0;
+            if (glm::length(d) > 1e-12 * scale) continue;
+            // The knot's point in the file: for Catmull-Rom and polylines the
+            // segment's start or end point; for B-splines and Bezier curves the
+            // segment's first control point is as close as one can name it.
+            const std::size_t local =
+                type == CurveType::Bezier ? (3 * s + 3 * end) % n
+                : type == CurveType::BSpline ? (yarn.closed ? s + n - 1 + end : s + end) % n
+                                               : (s + end) % n;
+            throw Error(where + " point " + std::to_string(original[local]) +
+                        ": the curve stops there (its neighbours coincide, so it turns straight back): no tangent, not a curve");
+        }
+    }
+}
+
+/// Warns about a span far longer than the curve's median span.
+void checkLongSpans(const Yarn& yarn, CurveType type, const std::vector<std::size_t>& original, const std::string& where,
+                    std::size_t& curvesWithLongSpans, CurveCheckReport& report) {
+    const std::size_t n = yarn.points.size();
+    const std::size_t spans = yarn.closed ? n : n - 1;
+    if (spans < 4 || type == CurveType::Bezier) return; // Bezier handles are not spans of the curve
+    std::vector<double> length(spans);
+    for (std::size_t j = 0; j < spans; ++j) length[j] = glm::length(yarn.points[(j + 1) % n] - yarn.points[j]);
+    const double typical = median(length);
+    const std::size_t worst = std::max_element(length.begin(), length.end()) - length.begin();
+    if (!(length[worst] > kLongSpanFactor * typical)) return;
+    if (++curvesWithLongSpans > kMaxLongSpanLines) return;
+    const bool closing = yarn.closed && worst == n - 1;
+    report.warnings.push_back(where + ": the span from point " + std::to_string(original[worst]) + " to point " +
+                              std::to_string(original[(worst + 1) % n]) + " is " + numberText(length[worst]) +
+                              " long, " + numberText(length[worst] / typical) + " times the curve's median span " +
+                              numberText(typical) +
+                              (closing ? " (the closing span of a closed curve: is the closed flag right?)" : ""));
+}
+
+} // namespace
+
+std::string CurveCheckReport::droppedText(const std::string& name) const {
+    if (droppedSpans == 0) return {};
+    std::string s = name + ": dropped " + std::to_string(droppedSpans) + " zero-length span" +
+                    (droppedSpans == 1 ? "" : "s") + " (repeated control points";
+    if (droppedClosingSpans > 0)
+        s += "; " + std::to_string(droppedClosingSpans) + " of them closing closed curves whose last point repeats the first";
+    return s + ")";
+}
+
+CurveCheckReport checkCurves(Garment& garment, const std::string& name) {
+    CurveCheckReport report;
+    // Interior repeats are zero-length spans only where spans join consecutive
+    // points; a B-spline's double point is a legitimate, still moving, curve.
+    const bool interior = garment.curveType == CurveType::CatmullRom || garment.curveType == CurveType::Polyline;
+    const bool closing = interior || garment.curveType == CurveType::Bezier;
+    std::size_t curvesWithLongSpans = 0;
+    std::vector<std::size_t> original;
+    for (std::size_t i = 0; i < garment.yarns.size(); ++i) {
+        Yarn& yarn = garment.yarns[i];
+        const std::string where = curveText(name, i);
+        const std::size_t filePoints = yarn.points.size();
+        if (closing) {
+            dropRepeats(yarn, interior, original, report);
+        } else {
+            original.resize(filePoints);
+            for (std::size_t j = 0; j < filePoints; ++j) original[j] = j;
+        }
+        checkCount(yarn, garment.curveType, filePoints, where);
+        checkTangents(yarn, garment.curveType, original, where);
+        checkLongSpans(yarn, garment.curveType, original, where, curvesWithLongSpans, report);
+    }
+    if (curvesWithLongSpans > kMaxLongSpanLines)
+        report.warnings.push_back(name + ": " + std::to_string(curvesWithLongSpans - kMaxLongSpanLines) +
+                                  " more curves have a span over " + numberText(kLongSpanFactor) +
+                                  " times their median span");
+    return report;
+}
+
+} // namespace yv
