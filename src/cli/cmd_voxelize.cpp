@@ -27,7 +27,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <thread>
 #include <unistd.h>
@@ -196,6 +195,16 @@ void runVoxelize(const VoxelizeArgs& args) {
     writeOptions.precision = parseVdbPrecision(a.precision);
     writeOptions.timings = &writeTimings;
 
+    // The checks before slicing refuse what cannot leave a voxel; a yarn that
+    // falls between sample pixels can still miss them all. An empty volume is
+    // never a result: the run fails before anything is written.
+    const auto refuseEmpty = [&](std::uint64_t activeVoxels) {
+        if (activeVoxels == 0)
+            throw Error(a.input + ": no yarn reached a voxel's samples (" + radius.description + ", voxel size " +
+                        numberText(grid.voxelSize) + "): the volume would be empty, " + a.output +
+                        " was not written (a finer --resolution, a higher --supersample, or --cross-section disk)");
+    };
+
     JsonObject backendStats;
     std::uint64_t samples = 0, active = 0, bricks = 0;
     double voxelizeSeconds = 0.0;
@@ -213,9 +222,10 @@ void runVoxelize(const VoxelizeArgs& args) {
         voxelizeSeconds = timer.lap();
         stages.set("voxelize", voxelizeSeconds);
         meta.backend = "gl-dense";
+        active = volume.activeVoxelCount();
+        refuseEmpty(active);
         writeVdb(a.output, volume, meta, writeOptions);
         stages.set("write", timer.lap());
-        active = volume.activeVoxelCount();
         bricks = volume.bricks.size();
         tally = volume.tally;
         backendStats.set("renderer", counters.renderer)
@@ -234,9 +244,10 @@ void runVoxelize(const VoxelizeArgs& args) {
         backendStats.set("samples", counters.samples);
         voxelizeSeconds = timer.lap();
         stages.set("voxelize", voxelizeSeconds);
+        active = volume.activeVoxelCount();
+        refuseEmpty(active);
         writeVdb(a.output, volume, meta, writeOptions);
         stages.set("write", timer.lap());
-        active = volume.activeVoxelCount();
         bricks = volume.bricks.size();
         tally = volume.tally;
     } else {
@@ -285,6 +296,7 @@ void runVoxelize(const VoxelizeArgs& args) {
             tally = writerStats.tally;
             voxelizeSeconds = timer.lap();
             stages.set("voxelize", voxelizeSeconds);
+            refuseEmpty(active);
             assembler.write(meta);
             stages.set("write", timer.lap());
         } else {
@@ -298,13 +310,14 @@ void runVoxelize(const VoxelizeArgs& args) {
             store.markComplete(zoom.regions.size());
             voxelizeSeconds = timer.lap();
             stages.set("voxelize", voxelizeSeconds);
-            mergeStoreToVdb(store, a.output, meta, writeOptions);
-            stages.set("merge", timer.lap());
-            storeBytes = store.bytesOnDisk();
             for (const RegionInfo& r : store.listRegions()) {
                 active += r.activeVoxels;
                 bricks += r.brickCount;
             }
+            refuseEmpty(active);
+            mergeStoreToVdb(store, a.output, meta, writeOptions);
+            stages.set("merge", timer.lap());
+            storeBytes = store.bytesOnDisk();
             // Regions taken from a resumed run were not resolved here.
             tally = writerStats.tally;
             tallyComplete = counters.resumedRegions == 0;
@@ -342,15 +355,6 @@ void runVoxelize(const VoxelizeArgs& args) {
                          static_cast<unsigned long long>(counters.overflows));
     }
 
-    // The checks before slicing refuse what cannot leave a voxel; a yarn that
-    // falls between sample pixels can still miss them all. An empty volume is
-    // never a result: it is removed and the run fails.
-    if (active == 0) {
-        std::filesystem::remove(a.output);
-        throw Error(a.input + ": no yarn reached a voxel's samples (" + radius.description + ", voxel size " +
-                    numberText(grid.voxelSize) + "): the volume would be empty, " + a.output +
-                    " was not kept (a finer --resolution, a higher --supersample, or --cross-section disk)");
-    }
     const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;
     if (!a.statsPath.empty()) {
         JsonObject stats;
