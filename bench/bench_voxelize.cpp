@@ -175,6 +175,7 @@ int main(int argc, char** argv) try {
                         .set("brick_gpu_seconds", glc.brickSeconds)
                         .set("brick_fragments_per_second", glc.fragments / glc.brickSeconds)
                         .set("readback_seconds", glc.readbackSeconds)
+                        .set("readback_bytes", glc.readbackBytes)
                         .set("gpu_slice_data_bytes", glc.sliceDataBytes)
                         .set("gpu_peak_bytes", glc.peakGpuBytes);
                 }

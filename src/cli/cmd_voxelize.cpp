@@ -300,6 +300,7 @@ void runVoxelize(const VoxelizeArgs& args) {
             .set("gpu_raster_seconds", counters.rasterSeconds)
             .set("gpu_brick_seconds", counters.brickSeconds)
             .set("readback_seconds", counters.readbackSeconds)
+            .set("readback_bytes", counters.readbackBytes)
             .set("store_bytes_on_disk", storeBytes)
             .set("store_resolve_seconds", writerStats.resolveSeconds)
             .set("store_encode_seconds", writerStats.encodeSeconds)

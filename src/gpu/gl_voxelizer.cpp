@@ -70,6 +70,7 @@ class ReadbackBuffer {
     /// Copies `bytes` from the start of `source` and returns them, once the GPU is done.
     const void* read(GLuint source, std::uint64_t bytes, std::uint64_t* gpuBytes) {
         if (bytes == 0) return nullptr;
+        bytesRead_ += bytes;
         if (bytes > size_) {
             if (gpuBytes) *gpuBytes -= size_;
             release();
@@ -90,6 +91,8 @@ class ReadbackBuffer {
             throw Error("GPU readback did not finish within 10 minutes (driver hang or lost device)");
         return mapped_;
     }
+    /// Bytes read so far.
+    std::uint64_t bytesRead() const { return bytesRead_; }
 
   private:
     void release() {
@@ -103,6 +106,7 @@ class ReadbackBuffer {
     GLuint id_ = 0;
     std::uint64_t size_ = 0;
     const void* mapped_ = nullptr;
+    std::uint64_t bytesRead_ = 0;
 };
 
 /// Time of the GL commands between begin() and end(): both ends wait for the
@@ -200,6 +204,7 @@ class GlBackend::Impl {
         }
         progress.finish();
         counters_.fragmentCapacity = capacity_;
+        counters_.readbackBytes = small_.bytesRead() + readback_.bytesRead();
     }
 
     std::uint64_t fragmentBudget() const { return capacity_; }

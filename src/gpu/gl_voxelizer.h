@@ -40,6 +40,7 @@ struct GlVoxelizeCounters {
     double rasterSeconds = 0.0;         ///< time of raster + append passes (GPU drained at both ends)
     double brickSeconds = 0.0;          ///< time of the brick passes (likewise)
     double readbackSeconds = 0.0;       ///< wall time of reading back bricks
+    std::uint64_t readbackBytes = 0;    ///< bytes copied from the GPU to the host (counts and bricks)
 };
 
 /// Receives each finished zoom region's bricks (raw accumulators), in plan order.
