@@ -39,13 +39,14 @@ struct VoxelizeArgs {
     bool quiet = false, verbose = false, resume = false, keepWorkDir = false;
 };
 
-/// Hands finished regions to the resolving pipeline (RegionWriter), which
-/// writes them to a work dir or puts them straight into the .vdb's leaves.
+/// Hands finished regions (resolved on the GPU, packed) to the pipeline
+/// (RegionWriter), which unpacks them and writes them to a work dir or puts
+/// them straight into the .vdb's leaves.
 class QueueSink : public RegionSink {
   public:
     explicit QueueSink(RegionWriter& writer) : writer_(writer) {}
-    void consume(const ZoomRegion& r, std::vector<BrickAccumulator>&& bricks) override {
-        writer_.submit(r.id, r.min, r.max, std::move(bricks));
+    void consume(const ZoomRegion& r, PackedBricks&& bricks) override {
+        writer_.submitResolved(r.id, r.min, r.max, std::move(bricks));
     }
 
   private:
@@ -241,7 +242,7 @@ void runVoxelize(const VoxelizeArgs& args) {
         manifest.runMetadata = encodeMetadata(meta);
         RegionWriterStats writerStats;
         std::uint64_t recomputed = 0, storeBytes = 0;
-        // Resolving (an eigenvector per voxel) and compressing keep several cores busy.
+        // Unpacking the GPU's bricks and compressing them keep several cores busy.
         const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
         if (inMemory) {
             VdbAssembler assembler(grid, settings.reduce);
@@ -299,6 +300,7 @@ void runVoxelize(const VoxelizeArgs& args) {
             .set("gpu_peak_bytes", counters.peakGpuBytes)
             .set("gpu_raster_seconds", counters.rasterSeconds)
             .set("gpu_brick_seconds", counters.brickSeconds)
+            .set("gpu_resolve_seconds", counters.resolveSeconds)
             .set("readback_seconds", counters.readbackSeconds)
             .set("readback_bytes", counters.readbackBytes)
             .set("store_bytes_on_disk", storeBytes)
