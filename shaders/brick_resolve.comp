@@ -92,6 +92,32 @@ dvec3 decodeAxisD(uint code) {
     return normalizeD(dvec3(u, w, max(0.0LF, 1.0LF - abs(u) - abs(w))));
 }
 #else
+// One Jacobi rotation zeroing a[p][q] (src/core/bricks.cpp: principalAxis's
+// inner step). p and q are constants at every call, so once inlined every
+// index is too and the matrices stay in registers.
+void jacobiRotate(inout double a[3][3], inout double v[3][3], int p, int q) {
+    if (a[p][q] == 0.0LF) return;
+    precise double theta = (a[q][q] - a[p][p]) / (2.0LF * a[p][q]);
+    precise double tt = (theta >= 0.0LF ? 1.0LF : -1.0LF) / (abs(theta) + sqrt(theta * theta + 1.0LF));
+    precise double c = 1.0LF / sqrt(tt * tt + 1.0LF);
+    precise double s = tt * c;
+    for (int k = 0; k < 3; ++k) { // A <- A J
+        precise double akp = a[k][p], akq = a[k][q];
+        a[k][p] = c * akp - s * akq;
+        a[k][q] = s * akp + c * akq;
+    }
+    for (int k = 0; k < 3; ++k) { // A <- J^T A
+        precise double apk = a[p][k], aqk = a[q][k];
+        a[p][k] = c * apk - s * aqk;
+        a[q][k] = s * apk + c * aqk;
+    }
+    for (int k = 0; k < 3; ++k) { // V <- V J
+        precise double vkp = v[k][p], vkq = v[k][q];
+        v[k][p] = c * vkp - s * vkq;
+        v[k][q] = s * vkp + c * vkq;
+    }
+}
+
 // Principal eigenvector of the symmetric tensor (xx yy zz xy xz yz): the
 // CPU's cyclic Jacobi sweeps (src/core/bricks.cpp: principalAxis), operation
 // for operation; `precise` keeps multiply-adds unfused, as the CPU computes them.
@@ -104,33 +130,13 @@ dvec3 principalAxis(double t[6]) {
         precise double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
         precise double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
         if (off <= 1e-30LF * diag || off == 0.0LF) break;
-        for (int p = 0; p < 2; ++p)
-            for (int q = p + 1; q < 3; ++q) {
-                if (a[p][q] == 0.0LF) continue;
-                precise double theta = (a[q][q] - a[p][p]) / (2.0LF * a[p][q]);
-                precise double tt = (theta >= 0.0LF ? 1.0LF : -1.0LF) / (abs(theta) + sqrt(theta * theta + 1.0LF));
-                precise double c = 1.0LF / sqrt(tt * tt + 1.0LF);
-                precise double s = tt * c;
-                for (int k = 0; k < 3; ++k) { // A <- A J
-                    precise double akp = a[k][p], akq = a[k][q];
-                    a[k][p] = c * akp - s * akq;
-                    a[k][q] = s * akp + c * akq;
-                }
-                for (int k = 0; k < 3; ++k) { // A <- J^T A
-                    precise double apk = a[p][k], aqk = a[q][k];
-                    a[p][k] = c * apk - s * aqk;
-                    a[q][k] = s * apk + c * aqk;
-                }
-                for (int k = 0; k < 3; ++k) { // V <- V J
-                    precise double vkp = v[k][p], vkq = v[k][q];
-                    v[k][p] = c * vkp - s * vkq;
-                    v[k][q] = s * vkp + c * vkq;
-                }
-            }
+        jacobiRotate(a, v, 0, 1);
+        jacobiRotate(a, v, 0, 2);
+        jacobiRotate(a, v, 1, 2);
     }
     int best = 0;
-    for (int i = 1; i < 3; ++i)
-        if (a[i][i] > a[best][best]) best = i;
+    if (a[1][1] > a[best][best]) best = 1;
+    if (a[2][2] > a[best][best]) best = 2;
     return normalizeD(dvec3(v[0][best], v[1][best], v[2][best]));
 }
 #endif
