@@ -117,6 +117,7 @@ class GlBackend::Impl {
                 }
             }
             if (!partials_.empty()) {
+                counters_.hostSummedBricks += partials_.size();
                 resolver_->resolve(partials_, packed_);
                 partials_.clear();
                 slotOfKey_.clear();

@@ -33,6 +33,7 @@ struct GlVoxelizeCounters {
     std::uint64_t passes = 0;           ///< raster passes that fit
     std::uint64_t overflows = 0;        ///< passes redone in smaller pieces
     std::uint64_t listGrowths = 0;      ///< passes redone after growing the fragment list within the budget
+    std::uint64_t hostSummedBricks = 0; ///< bricks drawn in several passes (segments halved), summed on the host
     std::uint64_t plannedRegions = 0;   ///< zoom regions in the plan
     std::uint64_t regions = 0;          ///< zoom regions computed
     std::uint64_t resumedRegions = 0;   ///< zoom regions taken from a resumed work directory
