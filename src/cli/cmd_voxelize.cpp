@@ -291,6 +291,7 @@ void runVoxelize(const VoxelizeArgs& args) {
             .set("raster_passes", counters.passes)
             .set("overflow_retries", counters.overflows)
             .set("fragment_list_growths", counters.listGrowths)
+            .set("bricks_summed_on_host", counters.hostSummedBricks)
             .set("zoom_regions", counters.plannedRegions)
             .set("regions_computed", counters.regions)
             .set("regions_resumed", counters.resumedRegions)

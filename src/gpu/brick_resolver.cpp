@@ -36,16 +36,19 @@ GlBrickResolver::GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* 
     maxGroups_ = static_cast<GLuint>(std::clamp(maxGroups, 1, 65535));
 }
 
-void GlBrickResolver::resolve(GLuint words, std::uint32_t count, const BrickKeys& keys, PackedBricks& out) {
+void GlBrickResolver::resolve(GLuint words, std::uint32_t count, const BrickKeys& keys, PackedBricks& out,
+                              std::uint64_t maxActiveVoxels) {
     if (count == 0) return;
     const auto start = Clock::now();
     const std::uint64_t blocks = (count + kScanBlock - 1) / kScanBlock;
     places_.reserve(std::uint64_t(count) * 8, gpuBytes_);
     blockSums_.reserve(blocks * 8, gpuBytes_);
-    // Sized for the worst case (every voxel active) so that the resolve runs
-    // before its totals are known and one wait covers all three passes.
+    // Sized for the most it can take (every slot kept, every voxel within the
+    // bound active) so that the resolve runs before its totals are known and
+    // one wait covers all three passes.
     const std::uint64_t headerBytes = std::uint64_t(count) * sizeof(PackedBrickHeader);
-    output_.reserve(std::uint64_t(count) * kResolveBytesPerBrick, gpuBytes_);
+    const std::uint64_t voxelCapacity = std::min<std::uint64_t>(std::uint64_t(count) * kBrickVoxels, maxActiveVoxels);
+    output_.reserve(headerBytes + voxelCapacity * sizeof(PackedVoxel), gpuBytes_);
     const GLuint groups = std::min<GLuint>(count, maxGroups_); // one work group a slot, looping past the limit
 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, words);
@@ -81,7 +84,7 @@ void GlBrickResolver::resolve(GLuint words, std::uint32_t count, const BrickKeys
 
     std::uint32_t totals[2] = {0, 0}; // kept bricks, active voxels
     std::memcpy(totals, small_.read(totals_.id(), 8, gpuBytes_), 8);
-    YV_CHECK(totals[0] <= count && totals[1] <= std::uint64_t(totals[0]) * kBrickVoxels);
+    YV_CHECK(totals[0] <= count && totals[1] <= std::uint64_t(totals[0]) * kBrickVoxels && totals[1] <= voxelCapacity);
     gpuSeconds_ += secondsSince(start);
 
     const auto readStart = Clock::now();

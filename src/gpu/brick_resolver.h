@@ -15,7 +15,7 @@
 
 namespace yv {
 
-/// Worst-case GPU bytes the resolve's output needs per brick slot.
+/// GPU bytes the resolve's output needs per brick slot, at most.
 constexpr std::uint64_t kResolveBytesPerBrick = sizeof(PackedBrickHeader) + kBrickVoxels * sizeof(PackedVoxel);
 
 /// Where the key of each brick slot comes from.
@@ -37,7 +37,10 @@ class GlBrickResolver {
     /// 512 words per slot, channel-major, as BrickAccumulator) and appends the
     /// bricks with an active voxel to `out`, in slot order. Waits twice for
     /// the GPU: for the totals (a few bytes), then for the packed bricks.
-    void resolve(GLuint words, std::uint32_t count, const BrickKeys& keys, PackedBricks& out);
+    /// `maxActiveVoxels` bounds the active voxels (the pass's fragment count
+    /// does: every active voxel got one), so the output needs less GPU memory.
+    void resolve(GLuint words, std::uint32_t count, const BrickKeys& keys, PackedBricks& out,
+                 std::uint64_t maxActiveVoxels = ~std::uint64_t(0));
     /// The same for accumulators on the host (uploaded first), in their order.
     void resolve(const std::vector<BrickAccumulator>& accumulators, PackedBricks& out);
 

@@ -348,7 +348,8 @@ class GlBackend::Impl {
         if (item.partial)
             readPartial(item.min, bricks, activeBricks);
         else
-            resolver_->resolve(brickWords_.id(), activeBricks, BrickKeys{slotBricks_.id(), true, item.min / 8, bricks}, packed_);
+            resolver_->resolve(brickWords_.id(), activeBricks, BrickKeys{slotBricks_.id(), true, item.min / 8, bricks},
+                               packed_, fragmentCount);
         notePeak();
         counters_.fragments += fragmentCount;
         ++counters_.passes;
