@@ -34,9 +34,9 @@ class RegionWriter {
   public:
     /// Starts `workers` threads (0: two, so one region's disk write overlaps
     /// the next one's compression) writing into `store`, whose reduce mode must
-    /// be `reduce`; bricks resolve with `overlap`. At most `maxQueuedBytes` of
-    /// accumulators are held at once, counting regions queued and regions being
-    /// worked on.
+    /// be `reduce`; accumulators resolve with `overlap`. At most
+    /// `maxQueuedBytes` of accumulators or packed bricks are held at once,
+    /// counting regions queued and regions being worked on.
     RegionWriter(BrickStore& store, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes, unsigned workers = 0);
     /// Where resolved regions go when there is no store (called on worker threads, concurrently).
     using Destination = std::function<void(std::uint64_t id, std::vector<VoxelBrick>&& bricks)>;
