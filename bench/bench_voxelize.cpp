@@ -174,7 +174,9 @@ int main(int argc, char** argv) try {
                         .set("raster_fragments_per_second", glc.fragments / glc.rasterSeconds)
                         .set("brick_gpu_seconds", glc.brickSeconds)
                         .set("brick_fragments_per_second", glc.fragments / glc.brickSeconds)
+                        .set("resolve_gpu_seconds", glc.resolveSeconds)
                         .set("readback_seconds", glc.readbackSeconds)
+                        .set("readback_bytes", glc.readbackBytes)
                         .set("gpu_slice_data_bytes", glc.sliceDataBytes)
                         .set("gpu_peak_bytes", glc.peakGpuBytes);
                 }

@@ -1,4 +1,5 @@
 #include "core/error.h"
+#include "core/packed_bricks.h"
 #include "cpu/cpu_voxelizer.h"
 #include "garment/cross_section.h"
 #include "store/brick_store.h"
@@ -20,6 +21,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <mutex>
 #include <random>
 
 using namespace yv;
@@ -493,6 +495,93 @@ TEST_CASE("RegionWriter with a tiny queue bound writes every region, as resolveV
     for (std::size_t i = 0; i < back.bricks.size(); ++i) mismatches += !sameBits(back.bricks[i], expected.bricks[i]);
     CHECK(mismatches == 0);
     CHECK(back.activeVoxelCount() == expected.activeVoxelCount());
+}
+
+namespace {
+
+/// What the GPU resolve reads back for a region, built here with resolveBrick.
+PackedBricks packOnCpu(const std::vector<BrickAccumulator>& accumulators) {
+    PackedBricks packed;
+    for (const BrickAccumulator& a : accumulators) {
+        VoxelBrick b;
+        ResolveTally t;
+        if (!resolveBrick(Reduce::Mean, Overlap::Clamp, a, b, &t)) continue;
+        PackedBrickHeader h{};
+        h.key[0] = static_cast<std::uint32_t>(b.key);
+        h.key[1] = static_cast<std::uint32_t>(b.key >> 32);
+        for (int w = 0; w < 8; ++w) {
+            h.activeMask[2 * w] = static_cast<std::uint32_t>(b.activeMask[w]);
+            h.activeMask[2 * w + 1] = static_cast<std::uint32_t>(b.activeMask[w] >> 32);
+        }
+        h.firstVoxel = static_cast<std::uint32_t>(packed.voxels.size());
+        h.activeCount = static_cast<std::uint32_t>(t.activeVoxels);
+        h.voxelsOverOne = static_cast<std::uint32_t>(t.voxelsOverOne);
+        h.densitySum = t.densitySum;
+        h.rawDensitySum = t.rawDensitySum;
+        h.excessOverOne = t.excessOverOne;
+        for (int v = 0; v < kBrickVoxels; ++v)
+            if (b.isActive(v))
+                packed.voxels.push_back({b.density[v], {b.orientation[v].x, b.orientation[v].y, b.orientation[v].z}});
+        packed.headers.push_back(h);
+    }
+    return packed;
+}
+
+} // namespace
+
+TEST_CASE("RegionWriter takes resolved, packed regions and writes what submit() writes", "[store]") {
+    ScratchDir scratch;
+    const std::vector<AccumulatorRegion> regions = makeAccumulatorRegions(16, 6);
+    std::vector<BrickAccumulator> all;
+    for (const auto& r : regions) all.insert(all.end(), r.accumulators.begin(), r.accumulators.end());
+    const BrickVolume expected = resolveVolume(testGrid(), Reduce::Mean, Overlap::Clamp, all);
+
+    SECTION("into a store, under a tiny bound") {
+        const std::string dir = scratch.sub("w");
+        {
+            BrickStore store(dir, testManifest(), false);
+            RegionWriter writer(store, Reduce::Mean, Overlap::Clamp, 1, 3);
+            for (const auto& r : regions) writer.submitResolved(r.id, r.min, r.max, packOnCpu(r.accumulators));
+            CHECK(writer.finish().size() == regions.size());
+            const RegionWriterStats stats = writer.stats();
+            CHECK(stats.bricksWritten == expected.bricks.size());
+            CHECK(stats.tally.activeVoxels == expected.tally.activeVoxels);
+            CHECK(stats.tally.densitySum == Approx(expected.tally.densitySum).epsilon(1e-12));
+            CHECK(stats.tally.rawDensitySum == Approx(expected.tally.rawDensitySum).epsilon(1e-12));
+            store.markComplete(regions.size());
+        }
+        const BrickVolume back = loadStore(dir);
+        REQUIRE(back.bricks.size() == expected.bricks.size());
+        std::size_t mismatches = 0;
+        for (std::size_t i = 0; i < back.bricks.size(); ++i) mismatches += !sameBits(back.bricks[i], expected.bricks[i]);
+        CHECK(mismatches == 0);
+    }
+    SECTION("to a destination") {
+        std::mutex mutex;
+        std::vector<VoxelBrick> got;
+        RegionWriter writer([&](std::uint64_t, std::vector<VoxelBrick>&& bricks) {
+            std::lock_guard lock(mutex);
+            got.insert(got.end(), bricks.begin(), bricks.end());
+        }, Reduce::Mean, Overlap::Clamp, std::size_t(1) << 20, 2);
+        for (const auto& r : regions) writer.submitResolved(r.id, r.min, r.max, packOnCpu(r.accumulators));
+        std::uint64_t active = 0;
+        for (const RegionInfo& info : writer.finish()) active += info.activeVoxels;
+        CHECK(active == expected.tally.activeVoxels);
+        std::sort(got.begin(), got.end(), [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });
+        REQUIRE(got.size() == expected.bricks.size());
+        std::size_t mismatches = 0;
+        for (std::size_t i = 0; i < got.size(); ++i) mismatches += !sameBits(got[i], expected.bricks[i]);
+        CHECK(mismatches == 0);
+    }
+    SECTION("a header that contradicts its voxels is a worker error") {
+        BrickStore store(scratch.sub("w"), testManifest(), false);
+        RegionWriter writer(store, Reduce::Mean, Overlap::Clamp, 1, 2);
+        PackedBricks bad = packOnCpu(regions[0].accumulators);
+        REQUIRE(!bad.headers.empty());
+        bad.headers.back().activeCount += 1;
+        writer.submitResolved(0, regions[0].min, regions[0].max, std::move(bad));
+        CHECK_THAT(errorOf([&] { writer.finish(); }), Catch::Contains("packed brick"));
+    }
 }
 
 TEST_CASE("A RegionWriter worker error surfaces from submit and finish, without deadlock", "[store]") {

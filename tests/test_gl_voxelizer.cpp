@@ -112,7 +112,14 @@ TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreem
         VoxelizeSettings cpu;
         cpu.reduce = c.reduce;
         const BrickVolume ref = voxelizeCpu(plan, xs, grid, cpu);
-        const BrickVolume gl = voxelizeGl(plan, xs, grid, glSettings(c.reduce));
+        GlVoxelizeCounters counters;
+        const BrickVolume gl = voxelizeGl(plan, xs, grid, glSettings(c.reduce), &counters);
+        // What comes back from the GPU: packed bricks, and a few counts per pass.
+        const std::uint64_t packed =
+            gl.bricks.size() * sizeof(PackedBrickHeader) + gl.activeVoxelCount() * sizeof(PackedVoxel);
+        CHECK(counters.readbackBytes >= packed);
+        CHECK(counters.readbackBytes - packed <=
+              16 * (counters.passes + counters.listGrowths + 2 * counters.overflows + counters.plannedRegions));
         const test::VolumeComparison cmp = test::compareVolumes(ref, gl);
         INFO(toString(c.pattern) << " " << toString(c.shape) << " twist " << c.twist << " " << toString(c.reduce)
                                  << ": IoU " << cmp.iou << " mass ratio " << cmp.massRatio << " angle "
@@ -150,6 +157,41 @@ TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses no
         CHECK(tiny.plannedRegions > ample.plannedRegions);
         CHECK(tiny.fragments == ample.fragments);
         CHECK(identical(a, b));
+    }
+}
+
+TEST_CASE("GL: a brick too full for one pass is drawn in halves, summed on the host, resolved on the GPU", "[gl][overflow]") {
+    YV_REQUIRE_GL();
+    // Yarns through one point, each segment one brick long: the bricks at the
+    // crossing take more fragments than the smallest list holds, from many
+    // segments, so those bricks are drawn with their segments split.
+    Garment garment;
+    for (int i = 0; i < 10; ++i) {
+        const double a = 0.45 * i, b = 0.9 * i;
+        const glm::dvec3 dir(std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b));
+        garment.yarns.push_back(test::straightYarn(-2.0 * dir, dir, 4).yarns[0]);
+    }
+    SliceOptions opt;
+    opt.radius = 0.6;
+    opt.slicesPerSegment = 8;
+    const SlicePlan plan = planSlices(garment, opt);
+    const VoxelGrid grid = makeGrid(plan, 0, 0.125);
+    const CrossSection xs = makeDiskCrossSection();
+    std::uint32_t maxSlices = 0;
+    for (const SegmentRecord& seg : plan.segments) maxSlices = std::max(maxSlices, seg.sliceCount);
+    for (Reduce r : {Reduce::Mean, Reduce::Max}) {
+        GlVoxelizeCounters ample, tiny;
+        const BrickVolume a = voxelizeGl(plan, xs, grid, glSettings(r), &ample);
+        // Accepted for any slab depth: 64 pixels of a brick face, 8 voxels deep.
+        const BrickVolume b = voxelizeGl(plan, xs, grid, glSettings(r, std::uint64_t(maxSlices) * 64 * 8), &tiny);
+        INFO(toString(r) << ": " << tiny.hostSummedBricks << " bricks summed on the host, " << tiny.overflows
+                         << " overflows");
+        CHECK(ample.hostSummedBricks == 0);
+        CHECK(tiny.hostSummedBricks > 0);
+        CHECK(tiny.fragments == ample.fragments);
+        CHECK(identical(a, b));
+        CHECK(b.tally.activeVoxels == a.tally.activeVoxels);
+        CHECK(b.tally.densitySum == Approx(a.tally.densitySum).epsilon(1e-12));
     }
 }
 

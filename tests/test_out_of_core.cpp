@@ -24,11 +24,11 @@ namespace {
 
 class Collect : public RegionSink {
   public:
-    void consume(const ZoomRegion&, std::vector<BrickAccumulator>&& bricks) override {
-        for (BrickAccumulator& b : bricks) all.push_back(std::move(b));
+    void consume(const ZoomRegion&, PackedBricks&& bricks) override {
+        all.push_back(std::move(bricks));
         ++regions;
     }
-    std::vector<BrickAccumulator> all;
+    std::vector<PackedBricks> all;
     std::uint64_t regions = 0;
 };
 
@@ -41,7 +41,7 @@ BrickVolume runWithBudget(const SlicePlan& plan, const CrossSection& xs, const V
     counters.plannedRegions = zoom.regions.size();
     Collect sink;
     backend.run(zoom.regions, sink);
-    return resolveVolume(grid, Reduce::Mean, Overlap::Clamp, sink.all);
+    return unpackVolume(grid, Reduce::Mean, sink.all);
 }
 
 } // namespace

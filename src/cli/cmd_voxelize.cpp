@@ -43,13 +43,14 @@ struct VoxelizeArgs {
     bool quiet = false, verbose = false, resume = false, keepWorkDir = false;
 };
 
-/// Hands finished regions to the resolving pipeline (RegionWriter), which
-/// writes them to a work dir or puts them straight into the .vdb's leaves.
+/// Hands finished regions (resolved on the GPU, packed) to the pipeline
+/// (RegionWriter), which unpacks them and writes them to a work dir or puts
+/// them straight into the .vdb's leaves.
 class QueueSink : public RegionSink {
   public:
     explicit QueueSink(RegionWriter& writer) : writer_(writer) {}
-    void consume(const ZoomRegion& r, std::vector<BrickAccumulator>&& bricks) override {
-        writer_.submit(r.id, r.min, r.max, std::move(bricks));
+    void consume(const ZoomRegion& r, PackedBricks&& bricks) override {
+        writer_.submitResolved(r.id, r.min, r.max, std::move(bricks));
     }
 
   private:
@@ -279,7 +280,7 @@ void runVoxelize(const VoxelizeArgs& args) {
         manifest.runMetadata = encodeMetadata(meta);
         RegionWriterStats writerStats;
         std::uint64_t recomputed = 0, storeBytes = 0;
-        // Resolving (an eigenvector per voxel) and compressing keep several cores busy.
+        // Unpacking the GPU's bricks and compressing them keep several cores busy.
         const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
         if (inMemory) {
             VdbAssembler assembler(a.output, grid, settings.reduce, writeOptions);
@@ -330,6 +331,7 @@ void runVoxelize(const VoxelizeArgs& args) {
             .set("raster_passes", counters.passes)
             .set("overflow_retries", counters.overflows)
             .set("fragment_list_growths", counters.listGrowths)
+            .set("bricks_summed_on_host", counters.hostSummedBricks)
             .set("zoom_regions", counters.plannedRegions)
             .set("regions_computed", counters.regions)
             .set("regions_resumed", counters.resumedRegions)
@@ -339,7 +341,9 @@ void runVoxelize(const VoxelizeArgs& args) {
             .set("gpu_peak_bytes", counters.peakGpuBytes)
             .set("gpu_raster_seconds", counters.rasterSeconds)
             .set("gpu_brick_seconds", counters.brickSeconds)
+            .set("gpu_resolve_seconds", counters.resolveSeconds)
             .set("readback_seconds", counters.readbackSeconds)
+            .set("readback_bytes", counters.readbackBytes)
             .set("store_bytes_on_disk", storeBytes)
             .set("store_resolve_seconds", writerStats.resolveSeconds)
             .set("store_encode_seconds", writerStats.encodeSeconds)

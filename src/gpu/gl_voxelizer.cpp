@@ -2,7 +2,9 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "gpu/brick_resolver.h"
 #include "gpu/egl_context.h"
+#include "gpu/gl_buffer.h"
 #include "gpu/gl_program.h"
 #include "gpu/gpu_layout.h"
 
@@ -22,88 +24,6 @@ namespace {
 
 constexpr GLuint kWorkGroup = 256;
 constexpr std::uint64_t kInitialFragmentSlots = 1 << 20; // 16 MiB of fragments
-
-/// A GL buffer that grows on demand (contents are not kept when it grows).
-class GlBuffer {
-  public:
-    ~GlBuffer() { release(); }
-    void reserve(std::uint64_t bytes, std::uint64_t* gpuBytes) {
-        if (bytes <= size_ && id_) return;
-        if (gpuBytes) *gpuBytes -= size_;
-        release();
-        size_ = std::max<std::uint64_t>(bytes, 16);
-        glCreateBuffers(1, &id_);
-        glNamedBufferStorage(id_, static_cast<GLsizeiptr>(size_), nullptr, GL_DYNAMIC_STORAGE_BIT);
-        checkGlError("allocating a GPU buffer");
-        if (gpuBytes) *gpuBytes += size_;
-    }
-    void upload(const void* data, std::uint64_t bytes, std::uint64_t* gpuBytes) {
-        reserve(bytes, gpuBytes);
-        glNamedBufferSubData(id_, 0, static_cast<GLsizeiptr>(bytes), data);
-    }
-    void clear(std::uint64_t bytes) {
-        const GLuint zero = 0;
-        glClearNamedBufferSubData(id_, GL_R32UI, 0, static_cast<GLsizeiptr>(bytes), GL_RED_INTEGER, GL_UNSIGNED_INT,
-                                  &zero);
-    }
-    void bindStorage(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
-    GLuint id() const { return id_; }
-    std::uint64_t size() const { return size_; }
-
-  private:
-    void release() {
-        if (id_) glDeleteBuffers(1, &id_);
-        id_ = 0;
-        size_ = 0;
-    }
-    GLuint id_ = 0;
-    std::uint64_t size_ = 0;
-};
-
-/// Host-visible copy target for readback. Reading device buffers directly
-/// (glGetBufferSubData) makes the NVIDIA driver migrate them to host memory,
-/// which slows every later pass that touches them; copying into this
-/// persistently mapped buffer leaves the working buffers in video memory.
-class ReadbackBuffer {
-  public:
-    ~ReadbackBuffer() { release(); }
-    /// Copies `bytes` from the start of `source` and returns them, once the GPU is done.
-    const void* read(GLuint source, std::uint64_t bytes, std::uint64_t* gpuBytes) {
-        if (bytes == 0) return nullptr;
-        if (bytes > size_) {
-            if (gpuBytes) *gpuBytes -= size_;
-            release();
-            size_ = std::max<std::uint64_t>(bytes, 1 << 20);
-            glCreateBuffers(1, &id_);
-            const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_CLIENT_STORAGE_BIT;
-            glNamedBufferStorage(id_, static_cast<GLsizeiptr>(size_), nullptr, flags);
-            mapped_ = glMapNamedBufferRange(id_, 0, static_cast<GLsizeiptr>(size_), GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT);
-            checkGlError("mapping the readback buffer");
-            if (gpuBytes) *gpuBytes += size_;
-        }
-        glCopyNamedBufferSubData(source, id_, 0, 0, static_cast<GLsizeiptr>(bytes));
-        glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
-        GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
-        const GLenum waited = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, GLuint64(600) * 1000000000);
-        glDeleteSync(fence);
-        if (waited != GL_ALREADY_SIGNALED && waited != GL_CONDITION_SATISFIED)
-            throw Error("GPU readback did not finish within 10 minutes (driver hang or lost device)");
-        return mapped_;
-    }
-
-  private:
-    void release() {
-        if (!id_) return;
-        glUnmapNamedBuffer(id_);
-        glDeleteBuffers(1, &id_);
-        id_ = 0;
-        size_ = 0;
-        mapped_ = nullptr;
-    }
-    GLuint id_ = 0;
-    std::uint64_t size_ = 0;
-    const void* mapped_ = nullptr;
-};
 
 /// Time of the GL commands between begin() and end(): both ends wait for the
 /// GPU to drain (glFinish), so this is what the pass costs the pipeline.
@@ -127,6 +47,9 @@ class GpuTimer {
 struct WorkItem {
     glm::ivec3 min, max;
     std::vector<std::uint32_t> segments;
+    /// One brick drawn in several passes, each with part of its segments: its
+    /// accumulators add up on the host before the brick is resolved.
+    bool partial = false;
 };
 
 GLuint groupsFor(std::uint64_t items, GLuint maxGroups) {
@@ -156,6 +79,7 @@ class GlBackend::Impl {
             reduce_ == Reduce::Max ? std::vector<std::string>{"REDUCE_MAX 1"} : std::vector<std::string>{};
         scatter_ = GlProgram::compute("brick_scatter.comp", defines);
         if (reduce_ == Reduce::Max) maxOrient_ = GlProgram::compute("brick_max_orient.comp");
+        resolver_ = std::make_unique<GlBrickResolver>(reduce_, settings.base.overlap, &gpuBytes_);
         glCreateVertexArrays(1, &vao_);
         glCreateFramebuffers(1, &fbo_);
         // The list starts small and grows to what passes need, up to the budget,
@@ -192,10 +116,16 @@ class GlBackend::Impl {
                     split(item, stack);
                 }
             }
+            if (!partials_.empty()) {
+                counters_.hostSummedBricks += partials_.size();
+                resolver_->resolve(partials_, packed_);
+                partials_.clear();
+                slotOfKey_.clear();
+            }
             ++counters_.regions;
-            sink.consume(region, std::move(accumulators_));
-            accumulators_.clear();
-            slotOfKey_.clear();
+            noteResolver();
+            sink.consume(region, std::move(packed_));
+            packed_ = {};
             progress.advance(1);
         }
         progress.finish();
@@ -217,7 +147,10 @@ class GlBackend::Impl {
         capacity_ = settings_.fragmentCapacity ? settings_.fragmentCapacity : fragmentBytes / sizeof(GpuFragment);
         capacity_ = std::min<std::uint64_t>(capacity_, block / sizeof(GpuFragment));
         capacity_ = std::min<std::uint64_t>(capacity_, 0xffffffffu);
-        brickBudget_ = std::min(block, memory / 3) / (std::uint64_t(words_) * kBrickVoxels * 4);
+        // A brick slot holds its words, and the resolve's output for it in the worst case.
+        const std::uint64_t wordBytes = std::uint64_t(words_) * kBrickVoxels * 4;
+        brickBudget_ = std::min(block / std::max(wordBytes, kResolveBytesPerBrick),
+                                memory / 3 / (wordBytes + kResolveBytesPerBrick));
         if (settings_.fragmentCapacity) brickBudget_ = std::min<std::uint64_t>(brickBudget_, std::max<std::uint64_t>(capacity_ / 8, 1));
 
         GLint fbMax[2] = {0, 0}, viewportMax[2] = {0, 0};
@@ -288,8 +221,8 @@ class GlBackend::Impl {
         // halves' bricks add up on the host.
         YV_CHECK(item.segments.size() > 1);
         const std::size_t half = item.segments.size() / 2;
-        WorkItem a{item.min, item.max, {item.segments.begin(), item.segments.begin() + half}};
-        WorkItem b{item.min, item.max, {item.segments.begin() + half, item.segments.end()}};
+        WorkItem a{item.min, item.max, {item.segments.begin(), item.segments.begin() + half}, true};
+        WorkItem b{item.min, item.max, {item.segments.begin() + half, item.segments.end()}, true};
         stack.push_back(std::move(b));
         stack.push_back(std::move(a));
     }
@@ -409,8 +342,25 @@ class GlBackend::Impl {
         checkGlError("brick passes");
         notePeak();
 
-        // Read back only the touched bricks.
+        // Per pass the host waits for the fragment count, the touched bricks'
+        // count and (in the resolver) the resolved totals, each a few bytes,
+        // then for the packed bricks; the timers' glFinish are for --stats.
+        if (item.partial)
+            readPartial(item.min, bricks, activeBricks);
+        else
+            resolver_->resolve(brickWords_.id(), activeBricks, BrickKeys{slotBricks_.id(), true, item.min / 8, bricks},
+                               packed_, fragmentCount);
+        notePeak();
+        counters_.fragments += fragmentCount;
+        ++counters_.passes;
+        return true;
+    }
+
+    /// Reads back the raw words of a brick drawn in several passes and adds
+    /// them to its accumulator; run() resolves it once all passes are in.
+    void readPartial(glm::ivec3 min, glm::ivec3 bricks, GLuint activeBricks) {
         const auto readStart = std::chrono::steady_clock::now();
+        const std::uint64_t brickWords = std::uint64_t(activeBricks) * words_ * kBrickVoxels;
         std::vector<std::uint32_t> slotBrick(activeBricks);
         std::memcpy(slotBrick.data(), small_.read(slotBricks_.id(), std::uint64_t(activeBricks) * 4, &gpuBytes_),
                     std::size_t(activeBricks) * 4);
@@ -419,18 +369,22 @@ class GlBackend::Impl {
         for (GLuint slot = 0; slot < activeBricks; ++slot) {
             const std::uint32_t b = slotBrick[slot];
             const glm::ivec3 local(b % bricks.x, (b / bricks.x) % bricks.y, b / (bricks.x * bricks.y));
-            const std::uint64_t key = brickKey(item.min / 8 + local);
+            const std::uint64_t key = brickKey(min / 8 + local);
             const std::uint32_t* src = words + slot * perBrick;
-            auto [it, inserted] = slotOfKey_.try_emplace(key, accumulators_.size());
+            auto [it, inserted] = slotOfKey_.try_emplace(key, partials_.size());
             if (inserted)
-                accumulators_.push_back({key, std::vector<std::uint32_t>(src, src + perBrick)});
+                partials_.push_back({key, std::vector<std::uint32_t>(src, src + perBrick)});
             else
-                combineAccumulators(reduce_, accumulators_[it->second].words.data(), src);
+                combineAccumulators(reduce_, partials_[it->second].words.data(), src);
         }
-        counters_.readbackSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - readStart).count();
-        counters_.fragments += fragmentCount;
-        ++counters_.passes;
-        return true;
+        partialReadSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - readStart).count();
+    }
+
+    /// Copies the resolver's counters (totals so far) into the backend's.
+    void noteResolver() {
+        counters_.resolveSeconds = resolver_->gpuSeconds();
+        counters_.readbackSeconds = partialReadSeconds_ + resolver_->readbackSeconds();
+        counters_.readbackBytes = small_.bytesRead() + readback_.bytesRead() + resolver_->bytesRead();
     }
 
     void notePeak() { counters_.peakGpuBytes = std::max(counters_.peakGpuBytes, gpuBytes_); }
@@ -452,8 +406,11 @@ class GlBackend::Impl {
     GLuint texture_ = 0, vao_ = 0, fbo_ = 0;
     bool disk_ = false; ///< the cross-section is the uniform disk
     GlProgram raster_, flag_, scan_, scatter_, maxOrient_;
-    std::vector<BrickAccumulator> accumulators_;
-    std::unordered_map<std::uint64_t, std::size_t> slotOfKey_;
+    std::unique_ptr<GlBrickResolver> resolver_;
+    PackedBricks packed_;                    ///< the current region's resolved bricks
+    std::vector<BrickAccumulator> partials_; ///< the current region's bricks drawn in several passes
+    std::unordered_map<std::uint64_t, std::size_t> slotOfKey_; ///< key -> index in partials_
+    double partialReadSeconds_ = 0.0;
 };
 
 GlBackend::GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
@@ -472,10 +429,8 @@ namespace {
 /// Keeps every region's bricks in memory (no work directory).
 class CollectingSink : public RegionSink {
   public:
-    void consume(const ZoomRegion&, std::vector<BrickAccumulator>&& bricks) override {
-        for (BrickAccumulator& b : bricks) all.push_back(std::move(b));
-    }
-    std::vector<BrickAccumulator> all;
+    void consume(const ZoomRegion&, PackedBricks&& bricks) override { regions.push_back(std::move(bricks)); }
+    std::vector<PackedBricks> regions;
 };
 
 } // namespace
@@ -489,7 +444,7 @@ BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const Voxe
     c.plannedRegions = zoom.regions.size();
     CollectingSink sink;
     backend.run(zoom.regions, sink);
-    return resolveVolume(grid, settings.base.reduce, settings.base.overlap, sink.all);
+    return unpackVolume(grid, settings.base.reduce, sink.regions);
 }
 
 } // namespace yv

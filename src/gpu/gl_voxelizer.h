@@ -1,8 +1,10 @@
 // The GL backend: slices rasterised on the GPU, voxel fragments appended to
-// an SSBO through an atomic counter, bricks built by compute passes.
+// an SSBO through an atomic counter, bricks built and resolved by compute
+// passes; only finished bricks come back to the host, packed.
 #pragma once
 
 #include "core/bricks.h"
+#include "core/packed_bricks.h"
 #include "cpu/cpu_voxelizer.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
@@ -31,6 +33,7 @@ struct GlVoxelizeCounters {
     std::uint64_t passes = 0;           ///< raster passes that fit
     std::uint64_t overflows = 0;        ///< passes redone in smaller pieces
     std::uint64_t listGrowths = 0;      ///< passes redone after growing the fragment list within the budget
+    std::uint64_t hostSummedBricks = 0; ///< bricks drawn in several passes (segments halved), summed on the host
     std::uint64_t plannedRegions = 0;   ///< zoom regions in the plan
     std::uint64_t regions = 0;          ///< zoom regions computed
     std::uint64_t resumedRegions = 0;   ///< zoom regions taken from a resumed work directory
@@ -39,16 +42,19 @@ struct GlVoxelizeCounters {
     std::uint64_t peakGpuBytes = 0;     ///< largest sum of yarnvox's GPU buffers
     double rasterSeconds = 0.0;         ///< time of raster + append passes (GPU drained at both ends)
     double brickSeconds = 0.0;          ///< time of the brick passes (likewise)
-    double readbackSeconds = 0.0;       ///< wall time of reading back bricks
+    double resolveSeconds = 0.0;        ///< time of the resolve passes, until their totals are on the host
+    double readbackSeconds = 0.0;       ///< wall time of reading back bricks (packed, and raw ones split by segments)
+    std::uint64_t readbackBytes = 0;    ///< bytes copied from the GPU to the host (counts and bricks)
 };
 
-/// Receives each finished zoom region's bricks (raw accumulators), in plan order.
+/// Receives each finished zoom region's bricks, resolved on the GPU and
+/// packed (bricks with an active voxel only), in plan order.
 class RegionSink {
   public:
     virtual ~RegionSink() = default;
     /// True when the region needs no work (complete and verified in a resumed run).
     virtual bool alreadyDone(const ZoomRegion&) { return false; }
-    virtual void consume(const ZoomRegion& region, std::vector<BrickAccumulator>&& bricks) = 0;
+    virtual void consume(const ZoomRegion& region, PackedBricks&& bricks) = 0;
 };
 
 /// The GL backend on a live context: budgets from the queried limits, then

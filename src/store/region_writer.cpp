@@ -74,9 +74,19 @@ void RegionWriter::submit(std::uint64_t id, glm::ivec3 min, glm::ivec3 max,
             throw Error("region " + std::to_string(id) + ": accumulator of brick key " + std::to_string(a.key) +
                         " has " + std::to_string(a.words.size()) + " words, " + toString(reduce_) + " needs " +
                         std::to_string(words));
-    Job job{id, min, max, std::move(accumulators), 0};
+    Job job{id, min, max, std::move(accumulators), {}, false, 0};
     job.bytes = heldBytes(job.accumulators);
+    enqueue(std::move(job));
+}
 
+void RegionWriter::submitResolved(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, PackedBricks bricks) {
+    Job job{id, min, max, {}, std::move(bricks), true, 0};
+    job.bytes = job.resolved.bytes();
+    enqueue(std::move(job));
+}
+
+void RegionWriter::enqueue(Job job) {
+    const std::uint64_t id = job.id;
     std::unique_lock lock(mutex_);
     if (closing_) throw Error("region " + std::to_string(id) + ": submitted after the region writer finished");
     const auto waitStart = Clock::now();
@@ -114,6 +124,7 @@ void RegionWriter::work() {
             }
         }
         job.accumulators = {};
+        job.resolved = {};
         {
             std::lock_guard lock(mutex_);
             if (error && !error_) error_ = error;
@@ -123,15 +134,18 @@ void RegionWriter::work() {
     }
 }
 
-void RegionWriter::process(Job& job) {
-    auto t = Clock::now();
+std::vector<VoxelBrick> RegionWriter::bricksOf(Job& job, ResolveTally& tally) const {
+    if (job.isResolved) {
+        std::vector<VoxelBrick> bricks = unpackBricks(job.resolved, &tally);
+        job.resolved = {};
+        return bricks;
+    }
     std::vector<VoxelBrick> bricks(job.accumulators.size());
     std::vector<std::uint8_t> keep(job.accumulators.size());
     std::vector<ResolveTally> tallies(job.accumulators.size());
     tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t i) {
         keep[i] = resolveBrick(reduce_, overlap_, job.accumulators[i], bricks[i], &tallies[i]);
     });
-    ResolveTally tally;
     for (const ResolveTally& t : tallies) tally += t;
     job.accumulators = {};
     std::size_t kept = 0;
@@ -141,6 +155,13 @@ void RegionWriter::process(Job& job) {
             ++kept;
         }
     bricks.resize(kept);
+    return bricks;
+}
+
+void RegionWriter::process(Job& job) {
+    const auto t = Clock::now();
+    ResolveTally tally;
+    std::vector<VoxelBrick> bricks = bricksOf(job, tally);
     const double resolveSeconds = secondsSince(t);
 
     RegionWriteTimings timings;

@@ -1,9 +1,11 @@
-// The pipeline stage between the voxelizer and the disk: takes the raw
-// accumulators of finished regions, resolves, compresses and writes them on
-// worker threads, and bounds the memory held by regions waiting their turn.
+// The pipeline stage between the voxelizer and the disk: takes finished
+// regions (raw accumulators to resolve, or bricks the GPU already resolved,
+// packed), unpacks or resolves, compresses and writes them on worker threads,
+// and bounds the memory held by regions waiting their turn.
 #pragma once
 
 #include "core/bricks.h"
+#include "core/packed_bricks.h"
 #include "store/brick_store.h"
 
 #include <condition_variable>
@@ -19,12 +21,12 @@
 namespace yv {
 
 struct RegionWriterStats {
-    double resolveSeconds = 0.0;    ///< summed over workers
+    double resolveSeconds = 0.0;    ///< resolving accumulators or unpacking resolved bricks; summed over workers
     double encodeSeconds = 0.0;     ///< serialise, compress, checksum; summed over workers
     double writeSeconds = 0.0;      ///< write, fsync, rename; summed over workers
     double submitWaitSeconds = 0.0; ///< time submit() blocked on a full queue (the producer stalled on disk)
     std::uint64_t regionsWritten = 0, bricksWritten = 0, bytesWritten = 0;
-    std::uint64_t peakQueuedBytes = 0; ///< most accumulator bytes held at once, queued or in a worker
+    std::uint64_t peakQueuedBytes = 0; ///< most region bytes (accumulators or packed bricks) held at once, queued or in a worker
     ResolveTally tally;                ///< over the regions written (summed in completion order)
 };
 
@@ -32,9 +34,9 @@ class RegionWriter {
   public:
     /// Starts `workers` threads (0: two, so one region's disk write overlaps
     /// the next one's compression) writing into `store`, whose reduce mode must
-    /// be `reduce`; bricks resolve with `overlap`. At most `maxQueuedBytes` of
-    /// accumulators are held at once, counting regions queued and regions being
-    /// worked on.
+    /// be `reduce`; accumulators resolve with `overlap`. At most
+    /// `maxQueuedBytes` of accumulators or packed bricks are held at once,
+    /// counting regions queued and regions being worked on.
     RegionWriter(BrickStore& store, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes, unsigned workers = 0);
     /// Where resolved regions go when there is no store (called on worker threads, concurrently).
     using Destination = std::function<void(std::uint64_t id, std::vector<VoxelBrick>&& bricks)>;
@@ -53,6 +55,11 @@ class RegionWriter {
     /// the bound would be exceeded, unless nothing is held (a region larger than
     /// the bound is taken alone). Throws the first worker error once one occurred.
     void submit(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::vector<BrickAccumulator> accumulators);
+    /// Queues one region whose bricks are already resolved (the GPU resolve's
+    /// packed readback), under the same bound; the workers unpack them, sum
+    /// their tallies in header order, and write them as submit() does. A
+    /// header that contradicts the voxels is a worker error.
+    void submitResolved(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, PackedBricks bricks);
     /// Waits for every submitted region, then returns them sorted by id, or
     /// rethrows the first worker error.
     std::vector<RegionInfo> finish();
@@ -64,9 +71,14 @@ class RegionWriter {
         std::uint64_t id = 0;
         glm::ivec3 min{0}, max{0};
         std::vector<BrickAccumulator> accumulators;
+        PackedBricks resolved; ///< used when `isResolved`
+        bool isResolved = false;
         std::size_t bytes = 0;
     };
     void start(unsigned workers);
+    void enqueue(Job job);
+    /// The job's bricks, resolved or unpacked, and their tally.
+    std::vector<VoxelBrick> bricksOf(Job& job, ResolveTally& tally) const;
     void work();
     void process(Job& job);
     void stop();

@@ -1,0 +1,87 @@
+#include "core/packed_bricks.h"
+
+#include "core/error.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <bit>
+#include <limits>
+#include <string>
+
+namespace yv {
+
+void PackedBricks::append(const PackedBrickHeader* h, std::size_t brickCount, const PackedVoxel* v,
+                          std::size_t voxelCount) {
+    // firstVoxel is 32 bits: a region (at most 1024^3 voxels) always fits.
+    YV_CHECK(voxels.size() + voxelCount <= std::numeric_limits<std::uint32_t>::max());
+    const auto shift = static_cast<std::uint32_t>(voxels.size());
+    const std::size_t first = headers.size();
+    headers.insert(headers.end(), h, h + brickCount);
+    for (std::size_t i = first; i < headers.size(); ++i) headers[i].firstVoxel += shift;
+    voxels.insert(voxels.end(), v, v + voxelCount);
+}
+
+ResolveTally tallyOf(const PackedBrickHeader& h) {
+    ResolveTally t;
+    t.activeVoxels = h.activeCount;
+    t.voxelsOverOne = h.voxelsOverOne;
+    t.densitySum = h.densitySum;
+    t.rawDensitySum = h.rawDensitySum;
+    t.excessOverOne = h.excessOverOne;
+    return t;
+}
+
+void unpackBrick(const PackedBricks& packed, std::size_t i, VoxelBrick& out) {
+    const PackedBrickHeader& h = packed.headers[i];
+    out.key = h.brickKey();
+    int count = 0;
+    for (int w = 0; w < kBrickVoxels / 64; ++w) {
+        out.activeMask[w] = std::uint64_t(h.activeMask[2 * w]) | (std::uint64_t(h.activeMask[2 * w + 1]) << 32);
+        count += std::popcount(out.activeMask[w]);
+    }
+    if (count != int(h.activeCount) || count == 0 || std::uint64_t(h.firstVoxel) + count > packed.voxels.size())
+        throw Error("packed brick " + std::to_string(out.key) + ": " + std::to_string(h.activeCount) +
+                    " active voxels from " + std::to_string(h.firstVoxel) + ", mask has " + std::to_string(count) +
+                    ", " + std::to_string(packed.voxels.size()) + " voxels held");
+    out.density.fill(0.0f);
+    out.orientation.fill(glm::vec3(0.0f));
+    const PackedVoxel* v = packed.voxels.data() + h.firstVoxel;
+    for (int w = 0; w < kBrickVoxels / 64; ++w)
+        for (std::uint64_t bits = out.activeMask[w]; bits; bits &= bits - 1, ++v) {
+            const int offset = w * 64 + std::countr_zero(bits);
+            out.density[offset] = v->density;
+            out.orientation[offset] = glm::vec3(v->axis[0], v->axis[1], v->axis[2]);
+        }
+}
+
+std::vector<VoxelBrick> unpackBricks(const PackedBricks& packed, ResolveTally* tally) {
+    std::vector<VoxelBrick> bricks(packed.headers.size());
+    tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t i) { unpackBrick(packed, i, bricks[i]); });
+    if (tally)
+        for (const PackedBrickHeader& h : packed.headers) *tally += tallyOf(h);
+    return bricks;
+}
+
+BrickVolume unpackVolume(const VoxelGrid& grid, Reduce reduce, const std::vector<PackedBricks>& regions) {
+    struct Ref {
+        std::uint64_t key;
+        std::uint32_t region, index;
+    };
+    std::vector<Ref> order;
+    for (std::size_t r = 0; r < regions.size(); ++r)
+        for (std::size_t i = 0; i < regions[r].headers.size(); ++i)
+            order.push_back({regions[r].headers[i].brickKey(), std::uint32_t(r), std::uint32_t(i)});
+    tbb::parallel_sort(order.begin(), order.end(), [](const Ref& a, const Ref& b) { return a.key < b.key; });
+    BrickVolume volume;
+    volume.grid = grid;
+    volume.reduce = reduce;
+    volume.bricks.resize(order.size());
+    tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t i) {
+        unpackBrick(regions[order[i].region], order[i].index, volume.bricks[i]);
+    });
+    for (const Ref& ref : order) volume.tally += tallyOf(regions[ref.region].headers[ref.index]);
+    return volume;
+}
+
+} // namespace yv

@@ -1,0 +1,71 @@
+// Resolved bricks as the GPU resolve reads them back: a header per brick that
+// has an active voxel (key, active mask, where its values are, its tally),
+// then the values of active voxels only, so the bytes moved from the GPU grow
+// with the active voxels rather than with 512 voxels of accumulator words.
+// shaders/brick_resolve.comp writes this layout (std430).
+#pragma once
+
+#include "core/bricks.h"
+#include "plan/grid.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace yv {
+
+/// One resolved brick (112 bytes, 8-byte aligned for the doubles).
+struct PackedBrickHeader {
+    std::uint32_t key[2];         ///< brickKey, low word first
+    std::uint32_t activeMask[16]; ///< voxel v active: bit v % 32 of word v / 32
+    std::uint32_t firstVoxel;     ///< index in PackedBricks::voxels of its first active voxel
+    std::uint32_t activeCount;    ///< active voxels (bits set in activeMask), stored in offset order
+    std::uint32_t voxelsOverOne;  ///< this brick's ResolveTally, as resolveBrick computes it
+    std::uint32_t unused;
+    double densitySum, rawDensitySum, excessOverOne;
+
+    std::uint64_t brickKey() const { return std::uint64_t(key[0]) | (std::uint64_t(key[1]) << 32); }
+};
+static_assert(sizeof(PackedBrickHeader) == 112, "PackedBrickHeader must match shaders/brick_resolve.comp");
+static_assert(offsetof(PackedBrickHeader, firstVoxel) == 72 && offsetof(PackedBrickHeader, densitySum) == 88,
+              "PackedBrickHeader must match shaders/brick_resolve.comp");
+
+/// One active voxel: density and orientation, as VoxelBrick holds them. Four
+/// floats rather than an axis code: the mean axis stays the CPU's to float
+/// precision, and a voxel is one aligned 16-byte store on the GPU.
+struct PackedVoxel {
+    float density;
+    float axis[3];
+};
+static_assert(sizeof(PackedVoxel) == 16, "PackedVoxel must match shaders/brick_resolve.comp");
+
+/// A region's resolved bricks, packed.
+struct PackedBricks {
+    std::vector<PackedBrickHeader> headers; ///< bricks with an active voxel, in the order they were resolved
+    std::vector<PackedVoxel> voxels;        ///< each brick's active voxels, bricks one after another
+
+    /// Appends bricks whose firstVoxel counts from `voxels` (as one GPU pass
+    /// wrote them), shifting them past the voxels already held.
+    void append(const PackedBrickHeader* h, std::size_t brickCount, const PackedVoxel* v, std::size_t voxelCount);
+    std::size_t bytes() const {
+        return headers.capacity() * sizeof(PackedBrickHeader) + voxels.capacity() * sizeof(PackedVoxel);
+    }
+};
+
+/// What resolving brick `h` found.
+ResolveTally tallyOf(const PackedBrickHeader& h);
+
+/// Unpacks brick `i`: the mask, and density and axis of its active voxels
+/// (zero elsewhere, as resolveBrick leaves voxels with no density). Throws
+/// yv::Error when the header contradicts itself or the voxels.
+void unpackBrick(const PackedBricks& packed, std::size_t i, VoxelBrick& out);
+
+/// Every brick, unpacked in parallel, in header order; adds their tallies to
+/// `tally` in header order (the same bits for the same input).
+std::vector<VoxelBrick> unpackBricks(const PackedBricks& packed, ResolveTally* tally = nullptr);
+
+/// All regions' bricks as one volume sorted by key, its tally summed in key
+/// order as resolveVolume sums it.
+BrickVolume unpackVolume(const VoxelGrid& grid, Reduce reduce, const std::vector<PackedBricks>& regions);
+
+} // namespace yv

@@ -1,0 +1,119 @@
+#include "gpu/brick_resolver.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <string>
+
+namespace yv {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+constexpr std::uint64_t kScanBlock = 1024; // slots one scan work group covers (brick_resolve_scan.comp)
+
+std::vector<std::string> variant(Reduce reduce, Overlap overlap, bool countOnly) {
+    std::vector<std::string> defines;
+    if (reduce == Reduce::Max) defines.push_back("REDUCE_MAX 1");
+    if (overlap == Overlap::Sum) defines.push_back("OVERLAP_SUM 1");
+    if (countOnly) defines.push_back("COUNT_ONLY 1");
+    return defines;
+}
+
+} // namespace
+
+GlBrickResolver::GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes)
+    : reduce_(reduce), gpuBytes_(gpuBytes),
+      count_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, true))),
+      scan_(GlProgram::compute("brick_resolve_scan.comp")),
+      resolve_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, false))) {
+    totals_.reserve(8, gpuBytes_);
+    GLint maxGroups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &maxGroups);
+    maxGroups_ = static_cast<GLuint>(std::clamp(maxGroups, 1, 65535));
+}
+
+void GlBrickResolver::resolve(GLuint words, std::uint32_t count, const BrickKeys& keys, PackedBricks& out,
+                              std::uint64_t maxActiveVoxels) {
+    if (count == 0) return;
+    const auto start = Clock::now();
+    const std::uint64_t blocks = (count + kScanBlock - 1) / kScanBlock;
+    places_.reserve(std::uint64_t(count) * 8, gpuBytes_);
+    blockSums_.reserve(blocks * 8, gpuBytes_);
+    // Sized for the most it can take (every slot kept, every voxel within the
+    // bound active) so that the resolve runs before its totals are known and
+    // one wait covers all three passes.
+    const std::uint64_t headerBytes = std::uint64_t(count) * sizeof(PackedBrickHeader);
+    const std::uint64_t voxelCapacity = std::min<std::uint64_t>(std::uint64_t(count) * kBrickVoxels, maxActiveVoxels);
+    output_.reserve(headerBytes + voxelCapacity * sizeof(PackedVoxel), gpuBytes_);
+    const GLuint groups = std::min<GLuint>(count, maxGroups_); // one work group a slot, looping past the limit
+
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, words);
+    places_.bindStorage(1);
+    count_.use();
+    glUniform1ui(count_.uniform("uBrickCount"), count);
+    glDispatchCompute(groups, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+    blockSums_.bindStorage(5);
+    totals_.bindStorage(6);
+    scan_.use();
+    glUniform1ui(scan_.uniform("uBrickCount"), count);
+    glUniform1ui(scan_.uniform("uBlockCount"), static_cast<GLuint>(blocks));
+    for (int phase = 0; phase < 3; ++phase) {
+        glUniform1i(scan_.uniform("uPhase"), phase);
+        glDispatchCompute(phase == 1 ? 1 : static_cast<GLuint>(blocks), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    }
+
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, keys.buffer);
+    output_.bindStorage(3);
+    output_.bindStorage(4);
+    resolve_.use();
+    glUniform1ui(resolve_.uniform("uBrickCount"), count);
+    glUniform1i(resolve_.uniform("uKeysFromRegion"), keys.fromRegion ? 1 : 0);
+    glUniform3i(resolve_.uniform("uBrickMin"), keys.brickMin.x, keys.brickMin.y, keys.brickMin.z);
+    glUniform3i(resolve_.uniform("uRegionBricks"), keys.regionBricks.x, keys.regionBricks.y, keys.regionBricks.z);
+    glUniform1ui(resolve_.uniform("uVoxelBase"), static_cast<GLuint>(headerBytes / sizeof(PackedVoxel)));
+    glDispatchCompute(groups, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    checkGlError("brick resolve passes");
+
+    std::uint32_t totals[2] = {0, 0}; // kept bricks, active voxels
+    std::memcpy(totals, small_.read(totals_.id(), 8, gpuBytes_), 8);
+    YV_CHECK(totals[0] <= count && totals[1] <= std::uint64_t(totals[0]) * kBrickVoxels && totals[1] <= voxelCapacity);
+    gpuSeconds_ += secondsSince(start);
+
+    const auto readStart = Clock::now();
+    const std::uint64_t keptBytes = std::uint64_t(totals[0]) * sizeof(PackedBrickHeader);
+    const std::uint64_t voxelBytes = std::uint64_t(totals[1]) * sizeof(PackedVoxel);
+    const auto* bytes = static_cast<const unsigned char*>(
+        readback_.read({{output_.id(), 0, keptBytes}, {output_.id(), headerBytes, voxelBytes}}, gpuBytes_));
+    if (totals[0] > 0)
+        out.append(reinterpret_cast<const PackedBrickHeader*>(bytes), totals[0],
+                   reinterpret_cast<const PackedVoxel*>(bytes + keptBytes), totals[1]);
+    readbackSeconds_ += secondsSince(readStart);
+}
+
+void GlBrickResolver::resolve(const std::vector<BrickAccumulator>& accumulators, PackedBricks& out) {
+    if (accumulators.empty()) return;
+    const std::size_t perBrick = std::size_t(wordsPerVoxel(reduce_)) * kBrickVoxels;
+    std::vector<std::uint32_t> words(accumulators.size() * perBrick), keyWords(accumulators.size() * 2);
+    for (std::size_t i = 0; i < accumulators.size(); ++i) {
+        const BrickAccumulator& a = accumulators[i];
+        if (a.words.size() != perBrick)
+            throw Error("accumulator of brick key " + std::to_string(a.key) + " has " + std::to_string(a.words.size()) +
+                        " words, " + toString(reduce_) + " needs " + std::to_string(perBrick));
+        std::copy(a.words.begin(), a.words.end(), words.begin() + i * perBrick);
+        keyWords[2 * i] = static_cast<std::uint32_t>(a.key);
+        keyWords[2 * i + 1] = static_cast<std::uint32_t>(a.key >> 32);
+    }
+    uploadWords_.upload(words.data(), words.size() * 4, gpuBytes_);
+    uploadKeys_.upload(keyWords.data(), keyWords.size() * 4, gpuBytes_);
+    resolve(uploadWords_.id(), static_cast<std::uint32_t>(accumulators.size()), BrickKeys{uploadKeys_.id()}, out);
+}
+
+} // namespace yv

@@ -1,0 +1,63 @@
+// The GPU resolve: turns accumulated brick slots into finished bricks (what
+// resolveBrick does on the CPU), drops the empty ones, compacts the active
+// voxels and reads back only those, packed (src/core/packed_bricks.h).
+#pragma once
+
+#include "core/bricks.h"
+#include "core/packed_bricks.h"
+#include "gpu/gl_buffer.h"
+#include "gpu/gl_program.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace yv {
+
+/// GPU bytes the resolve's output needs per brick slot, at most.
+constexpr std::uint64_t kResolveBytesPerBrick = sizeof(PackedBrickHeader) + kBrickVoxels * sizeof(PackedVoxel);
+
+/// Where the key of each brick slot comes from.
+struct BrickKeys {
+    GLuint buffer = 0;             ///< region brick index per slot (fromRegion), else two key words per slot
+    bool fromRegion = false;
+    glm::ivec3 brickMin{0};        ///< the region's first brick (fromRegion)
+    glm::ivec3 regionBricks{0};    ///< bricks along each axis of the region (fromRegion)
+};
+
+/// Resolves bricks on a live GL 4.5 context (needs double precision in
+/// shaders, core since 4.0).
+class GlBrickResolver {
+  public:
+    /// `gpuBytes`, where given, tracks the sum of yarnvox's GPU buffers.
+    GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes = nullptr);
+
+    /// Resolves `count` slots of `words` (wordsPerVoxel(reduce) channels of
+    /// 512 words per slot, channel-major, as BrickAccumulator) and appends the
+    /// bricks with an active voxel to `out`, in slot order. Waits twice for
+    /// the GPU: for the totals (a few bytes), then for the packed bricks.
+    /// `maxActiveVoxels` bounds the active voxels (the pass's fragment count
+    /// does: every active voxel got one), so the output needs less GPU memory.
+    void resolve(GLuint words, std::uint32_t count, const BrickKeys& keys, PackedBricks& out,
+                 std::uint64_t maxActiveVoxels = ~std::uint64_t(0));
+    /// The same for accumulators on the host (uploaded first), in their order.
+    void resolve(const std::vector<BrickAccumulator>& accumulators, PackedBricks& out);
+
+    std::uint64_t bytesRead() const { return small_.bytesRead() + readback_.bytesRead(); }
+    /// Time from the first resolve pass until its totals were read back (the GPU's resolve work).
+    double gpuSeconds() const { return gpuSeconds_; }
+    /// Time of copying the packed bricks to the host.
+    double readbackSeconds() const { return readbackSeconds_; }
+
+  private:
+    Reduce reduce_;
+    std::uint64_t* gpuBytes_;
+    GlProgram count_, scan_, resolve_;
+    GlBuffer places_, blockSums_, totals_, output_, uploadWords_, uploadKeys_;
+    ReadbackBuffer small_, readback_;
+    GLuint maxGroups_ = 65535;
+    double gpuSeconds_ = 0.0, readbackSeconds_ = 0.0;
+};
+
+} // namespace yv
