@@ -7,6 +7,7 @@
 #include "garment/catmull_rom.h"
 #include "garment/curve_check.h"
 #include "garment/radius_estimate.h"
+#include "run_cli.h"
 
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
@@ -29,24 +30,12 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-struct RunResult {
-    int exitCode;
-    std::string output; // stdout and stderr
-};
-
-RunResult runShell(const std::string& line) {
-    FILE* pipe = popen(("(" + line + ") 2>&1").c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    std::array<char, 4096> buf;
-    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using yv::test::RunResult;
+using yv::test::runShell;
 
 const std::string kBinary = std::string(YV_BINARY_DIR) + "/yarnvox";
 
-RunResult run(const std::string& args) { return runShell(kBinary + " " + args); }
+RunResult run(const std::string& args) { return yv::test::runYarnvox(args); }
 
 fs::path scratch(const std::string& name) {
     const fs::path dir = fs::temp_directory_path() / ("yv_bad_input_" + std::to_string(::getpid()));

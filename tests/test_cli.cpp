@@ -1,4 +1,6 @@
 // The yarnvox binary end to end: exit codes, messages, files left behind.
+#include "run_cli.h"
+
 #include <catch2/catch.hpp>
 
 #include <openvdb/openvdb.h>
@@ -13,24 +15,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct RunResult {
-    int exitCode;
-    std::string output; // stdout and stderr
-};
+using yv::test::RunResult;
 
-/// Runs a shell command line, stdout and stderr together.
-RunResult run_shell(const std::string& line) {
-    const std::string cmd = "(" + line + ") 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    std::array<char, 4096> buf;
-    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-RunResult run(const std::string& args) { return run_shell(std::string(YV_BINARY_DIR) + "/yarnvox " + args); }
+RunResult run_shell(const std::string& line) { return yv::test::runShell(line); }
+RunResult run(const std::string& args) { return yv::test::runYarnvox(args); }
 
 fs::path scratch(const std::string& name) {
     const fs::path dir = fs::temp_directory_path() / "yv_cli_test";
