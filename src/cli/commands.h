@@ -10,5 +10,6 @@ namespace yv {
 void addGenCommand(CLI::App& app);
 void addVoxelizeCommand(CLI::App& app);
 void addMergeCommand(CLI::App& app);
+void addInspectCommand(CLI::App& app);
 
 } // namespace yv

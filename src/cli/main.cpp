@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     yv::addGenCommand(app);
     yv::addVoxelizeCommand(app);
     yv::addMergeCommand(app);
+    yv::addInspectCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -58,14 +58,30 @@ JsonObject& JsonObject::set(const std::string& key, const JsonObject& value) {
     return *this;
 }
 
+JsonObject& JsonObject::set(const std::string& key, const std::vector<JsonObject>& values) {
+    fields_.emplace_back(key, "\x02"); // marker: array of objects
+    arrays_.push_back(values);
+    return *this;
+}
+
 std::string JsonObject::dump(int indent) const {
     const std::string pad(indent + 2, ' '), end(indent, ' ');
     std::string out = "{\n";
-    std::size_t nestedIndex = 0;
+    std::size_t nestedIndex = 0, arrayIndex = 0;
     for (std::size_t i = 0; i < fields_.size(); ++i) {
         const auto& [key, value] = fields_[i];
         out += pad + jsonQuote(key) + ": ";
-        out += value.size() && value[0] == '\x01' ? nested_[nestedIndex++].dump(indent + 2) : value;
+        if (value.size() && value[0] == '\x01') {
+            out += nested_[nestedIndex++].dump(indent + 2);
+        } else if (value.size() && value[0] == '\x02') {
+            const std::vector<JsonObject>& items = arrays_[arrayIndex++];
+            out += "[";
+            for (std::size_t k = 0; k < items.size(); ++k)
+                out += (k ? ",\n" : "\n") + std::string(indent + 4, ' ') + items[k].dump(indent + 4);
+            out += items.empty() ? "]" : "\n" + pad + "]";
+        } else {
+            out += value;
+        }
         out += i + 1 < fields_.size() ? ",\n" : "\n";
     }
     return out + end + "}";

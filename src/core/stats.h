@@ -8,7 +8,7 @@
 
 namespace yv {
 
-/// An ordered JSON object of numbers, strings and nested objects.
+/// An ordered JSON object of numbers, strings, nested objects and arrays of objects.
 class JsonObject {
   public:
     JsonObject& set(const std::string& key, double value);
@@ -19,11 +19,13 @@ class JsonObject {
     JsonObject& set(const std::string& key, const char* value) { return set(key, std::string(value)); }
     JsonObject& set(const std::string& key, bool value);
     JsonObject& set(const std::string& key, const JsonObject& value);
+    JsonObject& set(const std::string& key, const std::vector<JsonObject>& values);
     std::string dump(int indent = 0) const;
 
   private:
     std::vector<std::pair<std::string, std::string>> fields_; // key, encoded value
     std::vector<JsonObject> nested_;
+    std::vector<std::vector<JsonObject>> arrays_;
 };
 
 std::string jsonQuote(const std::string& s);

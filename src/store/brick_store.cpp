@@ -277,6 +277,25 @@ std::vector<RegionInfo> BrickStore::listRegions() const {
     return out;
 }
 
+std::vector<std::uint64_t> BrickStore::regionIds() const {
+    std::vector<std::uint64_t> ids;
+    for (const std::string& name : listDir(dir_).regions) {
+        std::uint64_t id = 0;
+        parseRegionName(name, id);
+        ids.push_back(id);
+    }
+    std::sort(ids.begin(), ids.end());
+    return ids;
+}
+
+RegionInfo BrickStore::regionInfo(std::uint64_t id) const {
+    const std::string path = regionPath(id);
+    std::uint64_t size = 0;
+    const RegionHeader h = readHeaderOnly(path, size);
+    checkRegionIdentity(h, manifest_, id, nullptr, nullptr, path);
+    return infoOf(h, size);
+}
+
 std::vector<VoxelBrick> BrickStore::readRegion(std::uint64_t id) const {
     const std::string path = regionPath(id);
     const auto bytes = readWholeFile(path);

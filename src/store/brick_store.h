@@ -59,6 +59,10 @@ class BrickStore {
     /// Every region file, sorted by id, from its header (checksum, size and run
     /// checked); throws yv::Error on a damaged or foreign one rather than skip it.
     std::vector<RegionInfo> listRegions() const;
+    /// Ids of the region files on disk, sorted, from their names alone (nothing read).
+    std::vector<std::uint64_t> regionIds() const;
+    /// One region file from its header (checksum, size and run checked); throws yv::Error when damaged.
+    RegionInfo regionInfo(std::uint64_t id) const;
     /// The bricks of region `id`, sorted by key, after every check; throws yv::Error when damaged.
     std::vector<VoxelBrick> readRegion(std::uint64_t id) const;
     /// Records in the manifest that the run wrote all `regionCount` regions;

@@ -1,0 +1,273 @@
+// `yarnvox inspect`: numbers about what a run produced, from its work
+// directory or from any .vdb with a float density grid, as text or JSON.
+#include "cli/commands.h"
+#include "core/error.h"
+#include "core/stats.h"
+#include "inspect/inspect_store.h"
+#include "inspect/inspect_vdb.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace yv {
+namespace {
+
+std::string bytesText(double b) {
+    const char* units[] = {"B", "KB", "MB", "GB", "TB"};
+    int u = 0;
+    while (b >= 1000.0 && u < 4) b /= 1000.0, ++u;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, u ? "%.2f %s" : "%.0f %s", b, units[u]);
+    return buf;
+}
+
+std::string coordText(glm::ivec3 v) {
+    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+JsonObject statisticsJson(const VoxelStatistics& v, double voxelVolume) {
+    std::vector<JsonObject> bins;
+    for (int i = 0; i < VoxelStatistics::kBins; ++i)
+        bins.push_back(JsonObject().set("low", v.binLow(i)).set("high", v.binHigh(i)).set("voxels", v.histogram[std::size_t(i)]));
+    JsonObject axes;
+    const double n = v.unitAxes ? double(v.unitAxes) : 1.0;
+    axes.set("x", v.axisComponentSum.x / n).set("y", v.axisComponentSum.y / n).set("z", v.axisComponentSum.z / n);
+    return JsonObject()
+        .set("active_voxels", v.activeVoxels)
+        .set("density_histogram", bins)
+        .set("voxels_above_one", v.aboveOne)
+        .set("share_above_one", v.activeVoxels ? double(v.aboveOne) / double(v.activeVoxels) : 0.0)
+        .set("density_max", v.densityMax)
+        .set("fiber_volume", v.densitySum * voxelVolume)
+        .set("unit_axes", v.unitAxes)
+        .set("mean_abs_axis", axes);
+}
+
+void printStatistics(const VoxelStatistics& v, double voxelVolume, bool hasOrientation) {
+    std::printf("density of %llu active voxels (fibre volume %.6g):\n", static_cast<unsigned long long>(v.activeVoxels),
+                v.densitySum * voxelVolume);
+    const std::uint64_t most = *std::max_element(v.histogram.begin(), v.histogram.end());
+    for (int i = 0; i < VoxelStatistics::kBins; ++i) {
+        const std::uint64_t n = v.histogram[std::size_t(i)];
+        const int bar = most ? int(40.0 * double(n) / double(most) + 0.5) : 0;
+        if (i == VoxelStatistics::kBins - 1)
+            std::printf("  above 1    %12llu %s\n", static_cast<unsigned long long>(n), std::string(std::size_t(bar), '#').c_str());
+        else
+            std::printf("  %.1f - %.1f  %12llu %s\n", v.binLow(i), v.binHigh(i), static_cast<unsigned long long>(n),
+                        std::string(std::size_t(bar), '#').c_str());
+    }
+    std::printf("  above 1 by more than 1/1024: %llu voxels (%.3g %%), largest %.6g\n",
+                static_cast<unsigned long long>(v.aboveOne),
+                v.activeVoxels ? 100.0 * double(v.aboveOne) / double(v.activeVoxels) : 0.0, v.densityMax);
+    if (!hasOrientation) return;
+    const double n = v.unitAxes ? double(v.unitAxes) : 1.0;
+    std::printf("orientation: %.4g %% of the active voxels have a unit axis; mean |axis| x %.3f, y %.3f, z %.3f\n",
+                v.activeVoxels ? 100.0 * double(v.unitAxes) / double(v.activeVoxels) : 0.0, v.axisComponentSum.x / n,
+                v.axisComponentSum.y / n, v.axisComponentSum.z / n);
+}
+
+// ---- a .vdb -----------------------------------------------------------------
+
+void reportVdb(const std::string& path, bool json) {
+    const VdbSummary s = inspectVdb(path);
+    const double h3 = s.voxelSize * s.voxelSize * s.voxelSize;
+    if (json) {
+        JsonObject meta;
+        for (const auto& [k, v] : s.fileMetadata) meta.set(k, v);
+        std::vector<JsonObject> grids;
+        for (const GridSummary& g : s.grids)
+            grids.push_back(JsonObject()
+                                .set("name", g.name)
+                                .set("type", g.type)
+                                .set("active_voxels", g.activeVoxels)
+                                .set("leaves", g.leaves)
+                                .set("bounds_min", coordText(g.boundsMin))
+                                .set("bounds_max", coordText(g.boundsMax))
+                                .set("half_float", g.halfFloat)
+                                .set("compression", g.compression));
+        const JsonObject out = JsonObject()
+                                   .set("path", s.path)
+                                   .set("kind", "vdb")
+                                   .set("file_bytes", s.fileBytes)
+                                   .set("openvdb_version", s.libraryVersion)
+                                   .set("voxel_size", s.voxelSize)
+                                   .set("metadata", meta)
+                                   .set("grids", grids)
+                                   .set("bytes_per_active_voxel",
+                                        s.voxels.activeVoxels ? double(s.fileBytes) / double(s.voxels.activeVoxels) : 0.0)
+                                   .set("voxels", statisticsJson(s.voxels, h3));
+        std::printf("%s\n", out.dump().c_str());
+        return;
+    }
+    std::printf("%s: OpenVDB file %s, %s, voxel size %.6g\n", s.path.c_str(), s.libraryVersion.c_str(),
+                bytesText(double(s.fileBytes)).c_str(), s.voxelSize);
+    for (const auto& [k, v] : s.fileMetadata) std::printf("  %s: %s\n", k.c_str(), v.c_str());
+    for (const GridSummary& g : s.grids)
+        std::printf("grid %s (%s%s): %llu active voxels in %llu leaves, bounds %s to %s%s%s\n", g.name.c_str(),
+                    g.type.c_str(), g.halfFloat ? ", stored as half" : "", static_cast<unsigned long long>(g.activeVoxels),
+                    static_cast<unsigned long long>(g.leaves), coordText(g.boundsMin).c_str(),
+                    coordText(g.boundsMax).c_str(), g.compression.empty() ? "" : ", compression ",
+                    g.compression.c_str());
+    if (s.voxels.activeVoxels)
+        std::printf("%.3g bytes on disk per active voxel\n", double(s.fileBytes) / double(s.voxels.activeVoxels));
+    printStatistics(s.voxels, h3, s.hasOrientation);
+}
+
+// ---- a work directory ---------------------------------------------------------
+
+/// The run's description the manifest keeps (key=value lines), in its order.
+std::vector<std::pair<std::string, std::string>> runDescription(const std::string& text) {
+    std::vector<std::pair<std::string, std::string>> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+        if (const std::size_t eq = line.find('='); eq != std::string::npos)
+            out.emplace_back(line.substr(0, eq), line.substr(eq + 1));
+    return out;
+}
+
+using RegionKey = std::function<double(const RegionRow&)>;
+
+const std::map<std::string, RegionKey>& regionColumns() {
+    static const std::map<std::string, RegionKey> columns = {
+        {"id", [](const RegionRow& r) { return double(r.info.id); }},
+        {"bricks", [](const RegionRow& r) { return double(r.info.brickCount); }},
+        {"active", [](const RegionRow& r) { return double(r.info.activeVoxels); }},
+        {"bytes", [](const RegionRow& r) { return double(r.info.bytesOnDisk); }},
+        {"ratio", [](const RegionRow& r) { return r.info.bytesOnDisk ? double(r.valueBytes) / double(r.info.bytesOnDisk) : 0.0; }},
+        {"volume", [](const RegionRow& r) {
+             const glm::dvec3 e = glm::dvec3(r.info.max - r.info.min);
+             return e.x * e.y * e.z;
+         }},
+    };
+    return columns;
+}
+
+void reportStore(const std::string& dir, bool json, bool verify, const std::string& sortColumn, std::size_t limit) {
+    StoreSummary s = inspectStore(dir, verify);
+    const RegionKey& key = regionColumns().at(sortColumn);
+    // Largest first for every column but the id.
+    std::stable_sort(s.regions.begin(), s.regions.end(), [&](const RegionRow& a, const RegionRow& b) {
+        return sortColumn == "id" ? key(a) < key(b) : key(a) > key(b);
+    });
+    const VoxelGrid& grid = s.manifest.grid;
+    const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;
+    const auto run = runDescription(s.manifest.runMetadata);
+    const double ratio = s.bytesOnDisk ? double(s.valueBytes) / double(s.bytesOnDisk) : 0.0;
+    if (json) {
+        std::vector<JsonObject> rows;
+        for (const RegionRow& r : s.regions) {
+            JsonObject row;
+            row.set("id", r.info.id).set("min", coordText(r.info.min)).set("max", coordText(r.info.max));
+            if (r.problem.empty())
+                row.set("bricks", r.info.brickCount)
+                    .set("active_voxels", r.info.activeVoxels)
+                    .set("bytes_on_disk", r.info.bytesOnDisk)
+                    .set("compression_ratio", regionColumns().at("ratio")(r));
+            else
+                row.set("problem", r.problem);
+            rows.push_back(row);
+        }
+        JsonObject runJson;
+        for (const auto& [k, v] : run) runJson.set(k, v);
+        JsonObject out;
+        out.set("path", s.dir)
+            .set("kind", "work_dir")
+            .set("run", runJson)
+            .set("grid_dims", coordText(grid.dims))
+            .set("voxel_size", grid.voxelSize)
+            .set("reduce", toString(s.manifest.reduce))
+            .set("complete", s.manifest.completeRegions.has_value())
+            .set("regions", std::uint64_t(s.regions.size()))
+            .set("bricks", s.bricks)
+            .set("active_voxels", s.activeVoxels)
+            .set("bytes_on_disk", s.bytesOnDisk)
+            .set("compression_ratio", ratio)
+            .set("verified", s.verified)
+            .set("bad_regions", s.badRegions)
+            .set("region_table", rows);
+        if (verify) out.set("voxels", statisticsJson(s.voxels, h3));
+        std::printf("%s\n", out.dump().c_str());
+    } else {
+        std::printf("%s: work directory, grid %dx%dx%d, voxel %.6g, reduce %s\n", s.dir.c_str(), grid.dims.x,
+                    grid.dims.y, grid.dims.z, grid.voxelSize, toString(s.manifest.reduce));
+        for (const auto& [k, v] : run) std::printf("  %s: %s\n", k.c_str(), v.c_str());
+        std::printf("%zu regions (%s), %llu bricks, %llu active voxels, %s on disk for %s of values (%.2fx)\n",
+                    s.regions.size(), s.manifest.completeRegions ? "run complete" : "run not finished",
+                    static_cast<unsigned long long>(s.bricks), static_cast<unsigned long long>(s.activeVoxels),
+                    bytesText(double(s.bytesOnDisk)).c_str(), bytesText(double(s.valueBytes)).c_str(), ratio);
+        std::printf("%12s  %-22s %-22s %10s %14s %12s %7s\n", "region", "min", "max", "bricks", "active voxels",
+                    "on disk", "ratio");
+        const std::size_t shown = limit ? std::min(limit, s.regions.size()) : s.regions.size();
+        for (std::size_t i = 0; i < shown; ++i) {
+            const RegionRow& r = s.regions[i];
+            if (!r.problem.empty()) {
+                std::printf("%12llu  %s\n", static_cast<unsigned long long>(r.info.id), r.problem.c_str());
+                continue;
+            }
+            std::printf("%12llu  %-22s %-22s %10llu %14llu %12s %7.2f\n", static_cast<unsigned long long>(r.info.id),
+                        coordText(r.info.min).c_str(), coordText(r.info.max).c_str(),
+                        static_cast<unsigned long long>(r.info.brickCount),
+                        static_cast<unsigned long long>(r.info.activeVoxels), bytesText(double(r.info.bytesOnDisk)).c_str(),
+                        regionColumns().at("ratio")(r));
+        }
+        if (shown < s.regions.size())
+            std::printf("(%zu more; --limit 0 shows all, --sort COLUMN orders them)\n", s.regions.size() - shown);
+        if (verify) {
+            std::printf("verified: %s\n", s.badRegions ? (std::to_string(s.badRegions) + " bad regions").c_str()
+                                                        : ("every region's checksums hold (" +
+                                                           std::to_string(s.regions.size()) + ")").c_str());
+            printStatistics(s.voxels, h3, true);
+        }
+    }
+    if (s.badRegions) {
+        std::string first;
+        for (const RegionRow& r : s.regions)
+            if (!r.problem.empty()) {
+                first = r.problem;
+                break;
+            }
+        throw Error(s.dir + ": " + std::to_string(s.badRegions) + " of " + std::to_string(s.regions.size()) +
+                    " regions are damaged (first: " + first + ")");
+    }
+}
+
+} // namespace
+
+void addInspectCommand(CLI::App& app) {
+    struct Args {
+        std::string path, sort = "id";
+        bool json = false, verify = false;
+        std::size_t limit = 20;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand(
+        "inspect", "Numbers about a voxelization: a work directory's regions, or a .vdb's grids and voxels");
+    cmd->add_option("path", args->path, "A work directory (--work-dir, --keep-work-dir) or an OpenVDB file with a float 'density' grid")
+        ->required()
+        ->check(CLI::ExistingPath);
+    cmd->add_flag("--json", args->json, "Print JSON instead of text");
+    cmd->add_flag("--verify", args->verify,
+                  "Work directory: read every region in full, check its checksums, and exit 1 naming the damaged ones");
+    std::vector<std::string> columns;
+    for (const auto& [name, _] : regionColumns()) columns.push_back(name);
+    cmd->add_option("--sort", args->sort, "Work directory: order the region table by this column (largest first)")
+        ->capture_default_str()
+        ->check(CLI::IsMember(columns));
+    cmd->add_option("--limit", args->limit, "Work directory: rows of the region table to print (0: all; JSON has all)")
+        ->capture_default_str();
+    cmd->callback([args] {
+        if (std::filesystem::is_directory(args->path))
+            reportStore(args->path, args->json, args->verify, args->sort, args->limit);
+        else
+            reportVdb(args->path, args->json);
+    });
+}
+
+} // namespace yv

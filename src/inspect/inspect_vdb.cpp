@@ -1,0 +1,91 @@
+#include "inspect/inspect_vdb.h"
+
+#include "core/error.h"
+
+#include <openvdb/openvdb.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <filesystem>
+
+namespace yv {
+namespace {
+
+template <typename GridT> GridSummary summarize(const GridT& grid, const std::string& compression) {
+    GridSummary g;
+    g.name = grid.getName();
+    g.type = grid.type();
+    g.activeVoxels = grid.activeVoxelCount();
+    g.leaves = grid.tree().leafCount();
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    g.boundsMin = {box.min().x(), box.min().y(), box.min().z()};
+    g.boundsMax = {box.max().x(), box.max().y(), box.max().z()};
+    g.halfFloat = grid.saveFloatAsHalf();
+    g.compression = compression;
+    return g;
+}
+
+std::string compressionOf(const openvdb::GridBase& grid) {
+    if (auto m = grid.getMetadata<openvdb::StringMetadata>(openvdb::GridBase::META_FILE_COMPRESSION)) return m->value();
+    return "";
+}
+
+} // namespace
+
+VdbSummary inspectVdb(const std::string& path) {
+    openvdb::initialize();
+    VdbSummary s;
+    s.path = path;
+    std::error_code ec;
+    s.fileBytes = std::filesystem::file_size(path, ec);
+    if (ec) throw Error(path + ": cannot read: " + ec.message());
+    openvdb::io::File file(path);
+    try {
+        file.open(/*delayLoad=*/false);
+    } catch (const openvdb::Exception& e) {
+        throw Error(path + ": not an OpenVDB file OpenVDB can read (" + e.what() + ")");
+    }
+    s.libraryVersion = file.version();
+    const openvdb::MetaMap::Ptr fileMeta = file.getMetadata(); // a copy: iterate one map
+    for (auto it = fileMeta->beginMeta(); it != fileMeta->endMeta(); ++it)
+        s.fileMetadata.emplace_back(it->first, it->second->str());
+
+    auto density = openvdb::gridPtrCast<openvdb::FloatGrid>(file.hasGrid("density") ? file.readGrid("density") : nullptr);
+    if (!density) {
+        file.close();
+        throw Error(path + ": has no float grid named 'density'");
+    }
+    openvdb::Vec3SGrid::Ptr orientation;
+    if (file.hasGrid("orientation")) orientation = openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid("orientation"));
+    file.close();
+    s.voxelSize = density->voxelSize()[0];
+    s.grids.push_back(summarize(*density, compressionOf(*density)));
+    if (orientation) s.grids.push_back(summarize(*orientation, compressionOf(*orientation)));
+    s.hasOrientation = bool(orientation);
+
+    // Voxel statistics leaf by leaf, in parallel.
+    std::vector<const openvdb::FloatGrid::TreeType::LeafNodeType*> leaves;
+    leaves.reserve(density->tree().leafCount());
+    for (auto it = density->tree().cbeginLeaf(); it; ++it) leaves.push_back(it.getLeaf());
+    s.voxels = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, leaves.size()), VoxelStatistics{},
+        [&](const tbb::blocked_range<std::size_t>& r, VoxelStatistics acc) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const openvdb::Vec3STree::LeafNodeType* axisLeaf =
+                    orientation ? orientation->tree().probeConstLeaf(leaves[i]->origin()) : nullptr;
+                for (auto v = leaves[i]->cbeginValueOn(); v; ++v) {
+                    glm::vec3 axis(0.0f);
+                    if (axisLeaf) {
+                        const openvdb::Vec3s a = axisLeaf->getValue(v.pos());
+                        axis = {a.x(), a.y(), a.z()};
+                    }
+                    acc.add(*v, axis);
+                }
+            }
+            return acc;
+        },
+        [](VoxelStatistics a, const VoxelStatistics& b) { return a += b; });
+    return s;
+}
+
+} // namespace yv

@@ -1,0 +1,39 @@
+// `yarnvox inspect FILE.vdb`: what is in an OpenVDB file with a float
+// `density` grid (yarnvox's own or anyone's), read through OpenVDB.
+#pragma once
+
+#include "inspect/voxel_statistics.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace yv {
+
+struct GridSummary {
+    std::string name, type;
+    std::uint64_t activeVoxels = 0, leaves = 0;
+    glm::ivec3 boundsMin{0}, boundsMax{0}; ///< active voxels, inclusive; empty grid: min > max
+    bool halfFloat = false;
+    std::string compression; ///< as the file records it, when it does
+};
+
+struct VdbSummary {
+    std::string path;
+    std::uint64_t fileBytes = 0;
+    std::string libraryVersion; ///< the OpenVDB version that wrote the file
+    double voxelSize = 0.0;
+    std::vector<std::pair<std::string, std::string>> fileMetadata; ///< name, value as text
+    std::vector<GridSummary> grids;
+    VoxelStatistics voxels; ///< density, with orientation where an `orientation` grid is there
+    bool hasOrientation = false;
+};
+
+/// Reads `path`; throws yv::Error naming it when it is not an OpenVDB file
+/// or has no float grid named `density`.
+VdbSummary inspectVdb(const std::string& path);
+
+} // namespace yv

@@ -1,0 +1,31 @@
+// What `yarnvox inspect` says about the voxels of a volume, from a .vdb's
+// leaves or a work directory's bricks alike: a density histogram, the share
+// of voxels above 1, the mass, and how the orientations lie.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+
+namespace yv {
+
+struct VoxelStatistics {
+    /// Active voxels by density: ten bins of width 0.1 over (0, 1], then above 1.
+    static constexpr int kBins = 11;
+    std::array<std::uint64_t, kBins> histogram{};
+    std::uint64_t activeVoxels = 0;
+    std::uint64_t aboveOne = 0; ///< density above 1 by more than kOverOneMargin
+    double densitySum = 0.0;    ///< sum of densities (times the voxel volume: the fibre volume)
+    double densityMax = 0.0;
+    std::uint64_t unitAxes = 0;         ///< orientations of unit length (within 1e-3)
+    glm::dvec3 axisComponentSum{0.0};   ///< sum of |axis| per world axis, over unit axes
+
+    void add(float density, glm::vec3 axis);
+    VoxelStatistics& operator+=(const VoxelStatistics& o);
+    /// Lower and upper density of bin `i` (the last bin: above 1, upper bound the largest density).
+    double binLow(int i) const { return i == kBins - 1 ? 1.0 : 0.1 * i; }
+    double binHigh(int i) const { return i == kBins - 1 ? densityMax : 0.1 * (i + 1); }
+};
+
+} // namespace yv
