@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "vdb/tree_order.h"
 #include "vdb/vdb_writer.h"
+#include "vdb_bytes.h"
 
 #include <catch2/catch.hpp>
 #include <openvdb/openvdb.h>
@@ -20,19 +21,7 @@ namespace {
 
 fs::path scratch(const std::string& name) { return fs::temp_directory_path() / ("yv_stream_" + name); }
 
-std::vector<std::uint8_t> fileBytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
-
-/// File bytes with the 36-character UUID of the header (after the magic
-/// number, the three version numbers and the offsets flag) blanked out.
-std::vector<std::uint8_t> bytesWithoutUuid(const fs::path& path) {
-    std::vector<std::uint8_t> bytes = fileBytes(path);
-    REQUIRE(bytes.size() > 57);
-    std::fill(bytes.begin() + 21, bytes.begin() + 57, 0);
-    return bytes;
-}
+std::vector<std::uint8_t> bytesWithoutUuid(const fs::path& path) { return test::vdbBytesWithoutUuid(path); }
 
 /// Bricks that exercise the tree: several root children (past voxel 4096 on
 /// every axis), internal nodes with one and with many children, full leaves,
