@@ -12,6 +12,8 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <thread>
 
@@ -96,6 +98,51 @@ TEST_CASE("A run killed at random points again and again, each time resumed, end
     }
     CHECK(kills >= 2);
     if (!fs::exists(out)) REQUIRE(yv::test::runYarnvox(run.voxelize(out, work, true)).exitCode == 0);
+    const bool same = run.sameAsReference(out);
+    CHECK(same);
+}
+
+TEST_CASE("SIGINT stops at a region boundary, says how far and how to go on; going on gives the uninterrupted file", "[gl][out-of-core][cli][faults]") {
+    YV_REQUIRE_GL();
+    FaultRun run("sigint");
+    const fs::path work = run.dir / "work", out = run.dir / "out.vdb", log = run.dir / "log.txt";
+    const pid_t child = fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        // yarnvox itself gets the signal (exec, no shell in between).
+        const std::string line = "exec " + std::string(YV_BINARY_DIR) + "/yarnvox " + run.voxelize(out, work) + " >" +
+                                 log.string() + " 2>&1";
+        execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
+        _exit(127);
+    }
+    const auto regionFiles = [&] {
+        std::size_t n = 0;
+        std::error_code ec;
+        for (const auto& e : fs::directory_iterator(work, ec)) n += e.path().extension() == ".yvb";
+        return n;
+    };
+    int status = 0;
+    while (regionFiles() < 3) {
+        if (waitpid(child, &status, WNOHANG) == child) FAIL("the run ended before it could be interrupted");
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    kill(child, SIGINT);
+    waitpid(child, &status, 0);
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 1);
+    std::ifstream in(log);
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    INFO(text);
+    CHECK(text.find("yarnvox: error: interrupted by SIGINT after ") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+    const std::string marker = "go on with: ";
+    const std::size_t at = text.find(marker);
+    REQUIRE(at != std::string::npos);
+    const std::string command = text.substr(at + marker.size(), text.find('\n', at) - at - marker.size());
+    CHECK(command.find(" --resume") != std::string::npos);
+    const yv::test::RunResult resumed = yv::test::runShell(command);
+    INFO(resumed.output);
+    REQUIRE(resumed.exitCode == 0);
     const bool same = run.sameAsReference(out);
     CHECK(same);
 }

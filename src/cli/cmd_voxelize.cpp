@@ -5,6 +5,7 @@
 #include "cli/run_fingerprint.h"
 #include "cli/yarn_radius.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/output_path.h"
 #include "core/process_memory.h"
 #include "core/stats.h"
@@ -51,7 +52,11 @@ class QueueSink : public RegionSink {
     explicit QueueSink(RegionWriter& writer) : writer_(writer) {}
     void consume(const ZoomRegion& r, PackedBricks&& bricks) override {
         writer_.submitResolved(r.id, r.min, r.max, std::move(bricks));
+        ++consumed;
     }
+    /// SIGINT or SIGTERM: stop at this region boundary.
+    bool stopRequested() override { return interruptSignal() != 0; }
+    std::uint64_t consumed = 0; ///< regions handed to the writer
 
   private:
     RegionWriter& writer_;
@@ -288,11 +293,18 @@ void runVoxelize(const VoxelizeArgs& args) {
                 assembler.add(resolved, "region " + std::to_string(id));
             }, settings.reduce, settings.overlap, writerQueueBytes(), workers);
             QueueSink sink(writer);
-            backend.run(zoom.regions, sink);
+            {
+                const InterruptScope interruptible;
+                backend.run(zoom.regions, sink);
+            }
             for (const RegionInfo& r : writer.finish()) {
                 active += r.activeVoxels;
                 bricks += r.brickCount;
             }
+            if (interruptSignal())
+                throw Error("interrupted by " + interruptSignalName() + " after " + std::to_string(sink.consumed) +
+                            " of " + std::to_string(zoom.regions.size()) + " regions: nothing was written (" +
+                            a.output + " is untouched; a run with --work-dir DIR can be resumed)");
             writerStats = writer.stats();
             tally = writerStats.tally;
             voxelizeSeconds = timer.lap();
@@ -304,8 +316,19 @@ void runVoxelize(const VoxelizeArgs& args) {
             BrickStore store(workDir, manifest, a.resume);
             RegionWriter writer(store, settings.reduce, settings.overlap, writerQueueBytes(), workers);
             StoreSink sink(store, writer, a.resume);
-            backend.run(zoom.regions, sink);
-            writer.finish();
+            {
+                const InterruptScope interruptible;
+                backend.run(zoom.regions, sink);
+            }
+            writer.finish(); // every region handed over is on disk before the run stops
+            if (interruptSignal()) {
+                const std::string& line = commandLine();
+                const bool resuming = line.find(" --resume") != std::string::npos;
+                throw Error("interrupted by " + interruptSignalName() + " after " +
+                            std::to_string(sink.consumed + counters.resumedRegions) + " of " +
+                            std::to_string(zoom.regions.size()) + " regions, all of them kept in " + workDir +
+                            "; go on with: " + line + (resuming ? "" : " --resume"));
+            }
             writerStats = writer.stats();
             recomputed = sink.recomputed;
             store.markComplete(zoom.regions.size());

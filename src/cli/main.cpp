@@ -1,6 +1,7 @@
 // yarnvox: yarn-level cloth to sparse volumes of fibre density and orientation.
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 
 #include <CLI/CLI.hpp>
 #include <openvdb/Exceptions.h>
@@ -8,6 +9,7 @@
 #include <cstdio>
 
 int main(int argc, char** argv) {
+    yv::recordCommandLine(argc, argv);
     CLI::App app{"yarnvox: turns yarn-level cloth into sparse volumes of fibre density and orientation"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "yarnvox " YV_VERSION);

@@ -100,6 +100,7 @@ class GlBackend::Impl {
     void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) {
         Progress progress("voxelize", regions.size(), settings_.base.quiet, "regions");
         for (const ZoomRegion& region : regions) {
+            if (sink.stopRequested()) break;
             if (sink.alreadyDone(region)) {
                 ++counters_.resumedRegions;
                 progress.advance(1);

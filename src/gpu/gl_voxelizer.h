@@ -54,6 +54,9 @@ class RegionSink {
     virtual ~RegionSink() = default;
     /// True when the region needs no work (complete and verified in a resumed run).
     virtual bool alreadyDone(const ZoomRegion&) { return false; }
+    /// Asked before each region: true ends the run there (regions already
+    /// handed over stay handed over).
+    virtual bool stopRequested() { return false; }
     virtual void consume(const ZoomRegion& region, PackedBricks&& bricks) = 0;
 };
 
