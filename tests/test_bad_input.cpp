@@ -7,6 +7,7 @@
 #include "garment/catmull_rom.h"
 #include "garment/curve_check.h"
 #include "garment/radius_estimate.h"
+#include "plan/resource_estimate.h"
 #include "run_cli.h"
 
 #include <catch2/catch.hpp>
@@ -574,4 +575,38 @@ TEST_CASE("bad input: checkCurves reports by file index, after drops", "[bad-inp
     // Points 4 (2,0,0) and its neighbours: after the drops, knot (2,0,0) sits
     // between two (1,0,0): the file's point 4 is named, not the tidied index 2.
     CHECK_THROWS_WITH(yv::checkCurves(g, "idx.bcc"), Contains("idx.bcc: curve 0 point 4"));
+}
+
+TEST_CASE("bad input: a run that needs more disk or memory than the machine has is refused at the start, with the numbers", "[bad-input][cli]") {
+    // The bound: a quarter of the yarn's disk along its length, over the voxel volume.
+    yv::Garment g;
+    yv::Yarn y;
+    y.points = {{0, 0, 0}, {3, 0, 0}, {3, 4, 0}}; // length 7
+    g.yarns.push_back(y);
+    const yv::ResourceNeeds n = yv::estimateNeeds(g, 0.5, 0.1, false);
+    CHECK(n.activeVoxels == Approx(0.25 * M_PI * 0.25 * 7.0 / 1e-3));
+    CHECK(n.outputBytes == Approx(16.0 * n.activeVoxels));
+    CHECK(yv::estimateNeeds(g, 0.5, 0.1, true).outputBytes == Approx(8.0 * n.activeVoxels));
+    const std::string dir = fs::temp_directory_path().string();
+    CHECK(yv::checkNeeds(n, {dir, "", true}, "--resolution 64").empty());
+    yv::ResourceNeeds disk = n;
+    disk.outputBytes = 1e21;
+    CHECK_THAT(yv::checkNeeds(disk, {dir, "", false}, "--resolution 64"),
+               Contains("the output needs at least 2e+12 GB of disk") && Contains("choose a coarser --resolution"));
+    yv::ResourceNeeds memory = n;
+    memory.volumeBytes = 1e21;
+    CHECK_THAT(yv::checkNeeds(memory, {dir, "", true}, "--voxel-size 0.001"),
+               Contains("the CPU backend holds the whole volume") && Contains("--backend gl"));
+    CHECK(yv::checkNeeds(memory, {dir, "", false}, "--voxel-size 0.001").empty()); // the GL path does not hold it
+
+    // End to end: refused before any slicing, nothing written.
+    const fs::path bcc = fs::temp_directory_path() / ("yv_needs_" + std::to_string(getpid()) + ".bcc");
+    const fs::path vdb = bcc.string() + ".vdb";
+    REQUIRE(run("gen --pattern plain --crossings 400 --quiet -o " + bcc.string()).exitCode == 0);
+    const RunResult r = run("voxelize " + bcc.string() + " -o " + vdb.string() + " --resolution 1000000");
+    INFO(r.output);
+    CHECK(r.exitCode == 1);
+    CHECK_THAT(r.output, Contains("needs at least") && Contains("--resolution 1000000") && Contains("active voxels at least"));
+    CHECK_FALSE(fs::exists(vdb));
+    fs::remove(bcc);
 }

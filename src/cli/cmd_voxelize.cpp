@@ -18,6 +18,7 @@
 #include "gpu/gl_voxelizer.h"
 #include "plan/feasibility.h"
 #include "plan/grid.h"
+#include "plan/resource_estimate.h"
 #include "plan/zoom_plan.h"
 #include "store/brick_store.h"
 #include "store/region_writer.h"
@@ -28,6 +29,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <thread>
 #include <unistd.h>
@@ -156,6 +158,16 @@ void runVoxelize(const VoxelizeArgs& args) {
                          a.supersample, a.spacing};
     for (const std::string& w : checkRunScale(scale, xs))
         if (!a.quiet) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    // Disk and memory the run needs at least, before minutes of work.
+    {
+        const std::string outputDir = std::filesystem::path(a.output).parent_path().string();
+        const bool store = !a.workDir.empty() || a.keepWorkDir || a.resume;
+        const RunPlace place{outputDir, store ? (a.workDir.empty() ? outputDir : a.workDir) : "",
+                             a.backend == "cpu" && a.method != "dense"};
+        const std::string problem = checkNeeds(estimateNeeds(garment, radius.radius, voxelSize, a.precision == "half"),
+                                               place, scale.voxelSource);
+        if (!problem.empty()) throw Error(a.input + ": " + problem);
+    }
     const bool explicitSpacing = a.slicesPerSegment > 0 || a.spacing > 0.0;
     sliceOptions.slicesPerSegment = a.slicesPerSegment;
     sliceOptions.spacing = explicitSpacing ? a.spacing : defaultSliceSpacing(voxelSize, a.supersample);
