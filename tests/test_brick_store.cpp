@@ -335,6 +335,67 @@ TEST_CASE("Resuming keeps the regions of the same run and refuses another run", 
     CHECK(entriesOf(dir) == std::vector<std::string>{"manifest"});
 }
 
+TEST_CASE("Resuming refuses regions of another yarnvox version or sampling code, naming which, and deletes nothing", "[store]") {
+    ScratchDir scratch;
+    const std::string dir = scratch.sub("w");
+    std::mt19937_64 rng(10);
+    StoreManifest old = testManifest();
+    old.yarnvoxVersion = "0.0.9";
+    old.samplingCode = 0xabc;
+    {
+        BrickStore store(dir, old, false);
+        store.writeRegion(0, kAll0, kAll1, {sparseBrick(rng, brickKey({2, 2, 2}))});
+    }
+    const std::string manifestBefore = formatManifest(readManifest(dir));
+    CHECK_THAT(manifestBefore, Catch::Contains("\nyarnvox_version 0.0.9\nsampling_code 0x0000000000000abc\n"));
+
+    // The same fingerprint: only the version tells the runs apart, and the message says so.
+    StoreManifest now = testManifest();
+    now.samplingCode = 0xabc;
+    const std::string version = errorOf([&] { BrickStore(dir, now, true); });
+    CHECK_THAT(version, Catch::StartsWith(dir + ": this work dir belongs to a different run") &&
+                            Catch::Contains(std::string("made by yarnvox 0.0.9, this is ") + YV_VERSION) &&
+                            Catch::Contains("drop --resume"));
+    CHECK_THAT(version, !Catch::Contains("fingerprint"));
+
+    old.samplingCode = 0xdef;
+    old.fingerprint = 0x999;
+    {
+        BrickStore store(dir, old, false);
+        store.writeRegion(0, kAll0, kAll1, {sparseBrick(rng, brickKey({2, 2, 2}))});
+    }
+    now.yarnvoxVersion = "0.0.9";
+    const std::string code = errorOf([&] { BrickStore(dir, now, true); });
+    CHECK_THAT(code, Catch::Contains("the sampling code differs (0x0000000000000def on disk, 0x0000000000000abc "
+                                     "in this yarnvox)"));
+    CHECK_THAT(code, !Catch::Contains("made by") && !Catch::Contains("fingerprint"));
+
+    // Refusing changed nothing.
+    CHECK(entriesOf(dir) == std::vector<std::string>{"manifest", "region-0.yvb"});
+    CHECK(readManifest(dir).samplingCode == 0xdef);
+    now.samplingCode = 0xdef;
+    now.fingerprint = 0x999;
+    BrickStore same(dir, now, true);
+    CHECK(same.hasVerifiedRegion(0, kAll0, kAll1));
+}
+
+TEST_CASE("A manifest of the previous store version (no yarnvox_version line) is refused on resume, nothing deleted", "[store]") {
+    ScratchDir scratch;
+    const std::string dir = scratch.sub("w");
+    std::mt19937_64 rng(11);
+    {
+        BrickStore store(dir, testManifest(), false);
+        store.writeRegion(0, kAll0, kAll1, {sparseBrick(rng, brickKey({2, 2, 2}))});
+    }
+    std::string text = formatManifest(testManifest());
+    text.replace(text.find("version 2\n"), 10, "version 1\n");
+    text.erase(text.find("yarnvox_version"), text.find("fingerprint") - text.find("yarnvox_version"));
+    putFile(dir + "/manifest", std::vector<std::uint8_t>(text.begin(), text.end()));
+    CHECK_THAT(errorOf([&] { BrickStore(dir, testManifest(), true); }),
+               Catch::Contains("line 2: unsupported brick store version 1: expected 2 (written by another yarnvox version?)"));
+    CHECK(entriesOf(dir) == std::vector<std::string>{"manifest", "region-0.yvb"});
+}
+
 TEST_CASE("A directory holding files the store did not write is never cleared", "[store]") {
     ScratchDir scratch;
     const std::string dir = scratch.sub("w");
@@ -408,18 +469,18 @@ TEST_CASE("A damaged manifest is reported by line", "[store]") {
     text.replace(text.find("voxel_size"), 10, "voxel_sise");
     putFile(dir + "/manifest", std::vector<std::uint8_t>(text.begin(), text.end()));
     CHECK_THAT(errorOf([&] { readManifest(dir); }),
-               Catch::Contains("manifest: line 5: expected \"voxel_size H\""));
-    CHECK_THAT(errorOf([&] { BrickStore(dir, testManifest(), true); }), Catch::Contains("line 5"));
+               Catch::Contains("manifest: line 7: expected \"voxel_size H\""));
+    CHECK_THAT(errorOf([&] { BrickStore(dir, testManifest(), true); }), Catch::Contains("line 7"));
     putFile(dir + "/manifest", {});
     CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::Contains("line 1: expected \"yarnvox brick store\""));
     text.replace(text.find("voxel_sise"), 10, "voxel_size");
     text.replace(text.find("reduce mean"), 11, "reduce mode");
     text += "extra\n";
     putFile(dir + "/manifest", std::vector<std::uint8_t>(text.begin(), text.end()));
-    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::Contains("line 7: unknown reduce mode \"mode\""));
+    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::Contains("line 9: unknown reduce mode \"mode\""));
     text.replace(text.find("reduce mode"), 11, "reduce mean");
     putFile(dir + "/manifest", std::vector<std::uint8_t>(text.begin(), text.end()));
-    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::Contains("line 8: unexpected line"));
+    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::Contains("line 10: unexpected line"));
     CHECK_THAT(errorOf([&] { readManifest(scratch.sub("nothing")); }), Catch::Contains("no manifest"));
 }
 

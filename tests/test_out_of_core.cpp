@@ -193,6 +193,47 @@ TEST_CASE("A run killed part-way and resumed gives the same .vdb, and damaged re
     fs::remove_all(dir.parent_path());
 }
 
+TEST_CASE("Resuming a work dir made by another yarnvox version or sampling code is refused, saying which, deleting nothing", "[gl][out-of-core][cli]") {
+    YV_REQUIRE_GL();
+    const fs::path dir = scratchDir("other-version");
+    fs::create_directories(dir);
+    const fs::path bcc = dir / "g.bcc", work = dir / "work", out = dir / "out.vdb";
+    REQUIRE(runQuiet("gen --pattern plain --crossings 8 -o " + bcc.string()) == 0);
+    const std::string args = "voxelize " + bcc.string() + " -o " + out.string() +
+                             " --resolution 64 --fragment-budget 50000 --quiet --work-dir " + work.string();
+    REQUIRE(runQuiet(args) == 0);
+    const std::size_t regions = regionFiles(work);
+    REQUIRE(regions > 0);
+    const std::string manifest = readFile(work / "manifest");
+    REQUIRE(manifest.find(std::string("\nyarnvox_version ") + YV_VERSION + "\n") != std::string::npos);
+    const std::size_t code = manifest.find("\nsampling_code 0x");
+    REQUIRE(code != std::string::npos);
+    fs::remove(out);
+
+    const auto resumeWith = [&](const std::string& text) {
+        std::ofstream(work / "manifest", std::ios::binary | std::ios::trunc) << text;
+        const fs::path log = dir / "log.txt";
+        const int rc = std::system((yarnvox() + " " + args + " --resume >" + log.string() + " 2>&1").c_str());
+        CHECK(rc != 0);
+        CHECK_FALSE(fs::exists(out));
+        CHECK(regionFiles(work) == regions); // nothing deleted
+        return readFile(log);
+    };
+    std::string older = manifest;
+    older.replace(older.find(YV_VERSION, older.find("yarnvox_version")), std::strlen(YV_VERSION), "0.0.9");
+    CHECK_THAT(resumeWith(older), Catch::Contains(std::string("made by yarnvox 0.0.9, this is ") + YV_VERSION) &&
+                                      Catch::Contains("use a fresh --work-dir"));
+    std::string otherCode = manifest;
+    otherCode[code + 17] = otherCode[code + 17] == '0' ? '1' : '0'; // the first hex digit
+    CHECK_THAT(resumeWith(otherCode), Catch::Contains("the sampling code differs"));
+
+    // The work dir's own manifest back: it resumes (every region re-used).
+    std::ofstream(work / "manifest", std::ios::binary | std::ios::trunc) << manifest;
+    CHECK(runQuiet(args + " --resume") == 0);
+    CHECK(fs::exists(out));
+    fs::remove_all(dir.parent_path());
+}
+
 TEST_CASE("Without a work dir, regions go straight into the .vdb: the same file as through the store", "[gl][out-of-core][cli]") {
     YV_REQUIRE_GL();
     const fs::path dir = scratchDir("in-memory");

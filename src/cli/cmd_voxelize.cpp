@@ -292,6 +292,7 @@ void runVoxelize(const VoxelizeArgs& args) {
         StoreManifest manifest;
         manifest.fingerprint =
             runFingerprint(a.input, sliceOptions, xs, grid, settings.reduce, settings.overlap, a.supersample, zoom);
+        manifest.samplingCode = samplingCodeHash();
         manifest.grid = grid;
         manifest.reduce = settings.reduce;
         manifest.runMetadata = encodeMetadata(meta);

@@ -1,10 +1,15 @@
 #include "cli/run_fingerprint.h"
 
 #include "core/error.h"
+#include "core/sampling.h"
+#include "gpu/shader_sources.h"
 #include "store/brick_store.h"
 
+#include <algorithm>
+#include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 namespace yv {
 namespace {
@@ -22,10 +27,29 @@ class Fingerprint {
 
 } // namespace
 
+std::uint64_t samplingCodeHash() {
+    Fingerprint f;
+    f.add(kCpuSamplingRuleVersion);
+    // "common.glsl,slice.vert,...": the names CMake embeds, in its order.
+    std::string_view names = YV_SHADER_NAMES;
+    while (!names.empty()) {
+        const std::size_t comma = std::min(names.find(','), names.size());
+        const std::string name(names.substr(0, comma));
+        names.remove_prefix(std::min(comma + 1, names.size()));
+        const char* text = shaderSource(name.c_str());
+        if (!text) throw Error("shader " + name + " is not embedded in this yarnvox (a build error)");
+        f.add(name.data(), name.size());
+        f.add(text, std::strlen(text));
+    }
+    return f.value();
+}
+
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
                              const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,
                              const ZoomPlan& zoom) {
     Fingerprint f;
+    f.add(YV_VERSION, std::strlen(YV_VERSION));
+    f.add(samplingCodeHash());
     std::ifstream in(inputPath, std::ios::binary);
     if (!in) throw Error(inputPath + ": cannot read the garment to fingerprint the run");
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -12,7 +12,12 @@
 
 namespace yv {
 
-/// Hash of everything that decides the bricks: the garment file's bytes, the
+/// Hash of the code that samples the yarns: the text of every embedded shader
+/// (YV_SHADER_NAMES, from CMake's YV_SHADERS) and kCpuSamplingRuleVersion.
+std::uint64_t samplingCodeHash();
+
+/// Hash of everything that decides the bricks: the yarnvox version
+/// (YV_VERSION), the sampling code (samplingCodeHash), the garment file's bytes, the
 /// slice options, the cross-section texture, the grid, the reduction, the overlap rule and
 /// supersampling, and the zoom regions (ids and bounds).
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,

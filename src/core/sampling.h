@@ -23,6 +23,12 @@ enum class Overlap { Clamp, Sum };
 
 inline const char* toString(Overlap o) { return o == Overlap::Clamp ? "clamp" : "sum"; }
 
+/// Version of the CPU side of the rule (src/cpu, this file, src/garment's
+/// slices): raise it with any change that can alter a brick's bits, so that
+/// `--resume` refuses regions an older rule made. The GL side needs no number:
+/// the run fingerprint hashes the embedded shader texts.
+constexpr std::uint32_t kCpuSamplingRuleVersion = 1;
+
 /// Fixed-point scale of accumulated volume fractions: 2^24 units per 1.0.
 /// Integer sums make results identical for any order and thread count.
 constexpr double kFixedScale = 16777216.0;

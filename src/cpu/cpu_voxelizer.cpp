@@ -61,6 +61,7 @@ BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const Vox
     tbb::enumerable_thread_specific<ThreadBricks> perThread;
     Progress progress("voxelize", plan.sliceCount, settings.quiet, "slices");
     std::atomic<bool> outside{false};
+    std::atomic<std::uint64_t> tasks{0};
 
     // Consecutive segments are close in space, so each task touches few bricks.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plan.segments.size(), 64),
@@ -88,6 +89,7 @@ BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const Vox
                               slices += seg.sliceCount;
                           }
                           progress.advance(slices);
+                          tasks.fetch_add(1, std::memory_order_relaxed);
                       });
     progress.finish();
     if (outside) throw Error("a slice sample fell outside the voxel grid (the grid does not contain the garment)");
@@ -122,7 +124,11 @@ BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const Vox
         }
     });
     perThread.clear();
-    if (counters) counters->samples = samples;
+    if (counters) {
+        counters->samples = samples;
+        counters->tasks = tasks;
+        counters->threads = threads.size();
+    }
     return resolveVolume(grid, reduce, settings.overlap, merged);
 }
 

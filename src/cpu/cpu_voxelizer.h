@@ -20,6 +20,8 @@ struct VoxelizeSettings {
 
 struct CpuVoxelizeCounters {
     std::uint64_t samples = 0; ///< samples that landed on fibre
+    std::uint64_t tasks = 0;   ///< slice-range tasks TBB ran (a test checks that the work was split)
+    std::uint64_t threads = 0; ///< threads that ran at least one of them
 };
 
 /// Voxelizes every slice of `plan` into `grid`. Throws yv::Error if a sample

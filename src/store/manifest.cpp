@@ -16,7 +16,8 @@
 namespace yv {
 namespace {
 
-constexpr std::uint64_t kVersion = 1;
+// 2: yarnvox_version and sampling_code lines.
+constexpr std::uint64_t kVersion = 2;
 constexpr const char* kManifestTitle = "yarnvox brick store";
 
 std::string num(double v) {
@@ -115,6 +116,8 @@ StoreManifest parseManifest(const std::string& path, const std::string& text) {
         p.fail("unsupported brick store version " + std::to_string(version) + ": expected " +
                std::to_string(kVersion) + " (written by another yarnvox version?)");
     StoreManifest m;
+    m.yarnvoxVersion = p.line("yarnvox_version", 1, "yarnvox_version X.Y.Z")[0];
+    m.samplingCode = p.u64(p.line("sampling_code", 1, "sampling_code 0xHEX")[0], 16);
     m.fingerprint = p.u64(p.line("fingerprint", 1, "fingerprint 0xHEX")[0], 16);
     const auto o = p.line("origin", 3, "origin X Y Z");
     m.grid.origin = {p.f64(o[0]), p.f64(o[1]), p.f64(o[2])};
@@ -150,6 +153,8 @@ void checkGrid(const VoxelGrid& g, const std::string& where) {
 std::string formatManifest(const StoreManifest& m) {
     std::string s = std::string(kManifestTitle) + "\n";
     s += "version " + std::to_string(kVersion) + "\n";
+    s += "yarnvox_version " + m.yarnvoxVersion + "\n";
+    s += "sampling_code " + hex64(m.samplingCode) + "\n";
     s += "fingerprint " + hex64(m.fingerprint) + "\n";
     s += "origin " + num(m.grid.origin.x) + " " + num(m.grid.origin.y) + " " + num(m.grid.origin.z) + "\n";
     s += "voxel_size " + num(m.grid.voxelSize) + "\n";
@@ -170,7 +175,12 @@ bool sameGrid(const VoxelGrid& a, const VoxelGrid& b) {
 std::string runDifference(const StoreManifest& disk, const StoreManifest& now) {
     std::string d;
     const auto add = [&](const std::string& s) { d += (d.empty() ? "" : "; ") + s; };
-    if (disk.fingerprint != now.fingerprint)
+    if (disk.yarnvoxVersion != now.yarnvoxVersion)
+        add("made by yarnvox " + disk.yarnvoxVersion + ", this is " + now.yarnvoxVersion);
+    else if (disk.samplingCode != now.samplingCode)
+        add("the sampling code differs (" + hex64(disk.samplingCode) + " on disk, " + hex64(now.samplingCode) +
+            " in this yarnvox): its regions may hold other values");
+    else if (disk.fingerprint != now.fingerprint)
         add("fingerprint " + hex64(disk.fingerprint) + " on disk, " + hex64(now.fingerprint) + " for this run");
     if (!sameGrid(disk.grid, now.grid))
         add("grid on disk has origin (" + num(disk.grid.origin.x) + ", " + num(disk.grid.origin.y) + ", " +

@@ -13,9 +13,14 @@
 namespace yv {
 
 /// What a work directory belongs to. The fingerprint is the caller's hash of
-/// everything that determines the bricks (garment, grid, options).
+/// everything that determines the bricks (garment, grid, options, and the
+/// yarnvox version and sampling code below, so those are named when they differ).
 struct StoreManifest {
     std::uint64_t fingerprint = 0;
+    /// The yarnvox version that made the regions (YV_VERSION by default).
+    std::string yarnvoxVersion = YV_VERSION;
+    /// The caller's hash of the code that samples the yarns (shaders, CPU rule).
+    std::uint64_t samplingCode = 0;
     VoxelGrid grid;
     Reduce reduce = Reduce::Mean;
     /// The caller's description of the run (e.g. the output's metadata, for a
@@ -32,7 +37,9 @@ std::string formatManifest(const StoreManifest& m);
 /// Parses manifest text strictly; throws yv::Error "PATH: line N: ..." otherwise.
 StoreManifest parseManifest(const std::string& path, const std::string& text);
 
-/// Why `disk` is not the run `now` describes (fingerprint, grid, reduce mode); empty when it is.
+/// Why `disk` is not the run `now` describes (yarnvox version, sampling code,
+/// fingerprint, grid, reduce mode); empty when it is. The fingerprint is only
+/// named when version and sampling code agree: it covers them.
 std::string runDifference(const StoreManifest& disk, const StoreManifest& now);
 
 /// Whether two grids are bit-for-bit the same.

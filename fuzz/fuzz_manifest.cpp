@@ -1,0 +1,18 @@
+// libFuzzer target: the work dir's manifest parser (src/store/manifest.cpp).
+#include "core/error.h"
+#include "store/manifest.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    try {
+        const yv::StoreManifest m = yv::parseManifest("fuzz/manifest", std::string(data, data + size));
+        // What parses must format and parse back to the same run.
+        const yv::StoreManifest back = yv::parseManifest("fuzz/manifest-again", yv::formatManifest(m));
+        if (!yv::runDifference(m, back).empty() || back.runMetadata != m.runMetadata) __builtin_trap();
+    } catch (const yv::Error&) {
+    }
+    return 0;
+}
