@@ -7,6 +7,9 @@
 layout(binding = 0) uniform usampler2D uCrossSection; // R8UI, texel 255 = solid fibre
 layout(binding = 0, offset = 0) uniform atomic_uint uFragmentCount;
 layout(std430, binding = 2) writeonly buffer Fragments { Fragment fragments[]; };
+// The counter's own word, then a flag set once a slot reaches 2^31: the list
+// never holds that many, and a count that wrapped past 2^32 would look small.
+layout(std430, binding = 3) buffer CounterState { uint counterWord; uint counterWrapped; };
 
 uniform uint uCapacity;       // fragments the list holds; the counter goes on past it
 uniform float uRadius;        // yarn radius, voxel units
@@ -72,6 +75,7 @@ void main() {
         ivec3 local = voxel & 7;
         uint key = (brickIndex << 9) | uint((local.x << 6) | (local.y << 3) | local.z);
         uint slot = atomicCounterIncrement(uFragmentCount);
+        if (slot >= 0x80000000u) counterWrapped = 1u;
         if (slot < uCapacity)
             fragments[slot] = Fragment(key, uint(round(weight * share * kFixedScale)), axis, floatBitsToUint(density));
     }

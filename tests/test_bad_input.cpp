@@ -217,7 +217,7 @@ TEST_CASE("bad input: non-finite and absurd option values name the option and th
         // The GL append counter is 32 bits; a device index is not negative.
         {"--resolution 32 --fragment-budget -5", "--fragment-budget", "-5"},
         {"--resolution 32 --fragment-budget 0", "--fragment-budget", "0"},
-        {"--resolution 32 --fragment-budget 5000000000", "--fragment-budget", "5000000000"},
+        {"--resolution 32 --fragment-budget 3000000000", "--fragment-budget", "3000000000"},
         {"--resolution 32 --device -3", "--device", "-3"},
     };
     for (const Case& c : cases) expectRefused(bcc, c.args, {c.option, c.value});

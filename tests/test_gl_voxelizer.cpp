@@ -228,3 +228,24 @@ TEST_CASE("GL agrees with the CPU when slice counts vary per segment (--slice-sp
     CHECK(std::abs(cmp.massRatio - 1.0) <= 0.01);
     CHECK(cmp.meanAngleDeg < 2.0);
 }
+
+TEST_CASE("GL: an append counter that wraps past 2^32 is caught and the pass redone, losing nothing", "[gl][overflow]") {
+    YV_REQUIRE_GL();
+    SliceOptions opt;
+    opt.radius = 0.3;
+    const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {1, 0.2, 0.1}, 3), opt);
+    const VoxelGrid grid = makeGrid(plan, 32, 0.0);
+    const CrossSection xs = makeDiskCrossSection();
+    GlVoxelizeCounters plain, wrapped;
+    const BrickVolume reference = voxelizeGl(plan, xs, grid, glSettings(), &plain);
+    GlVoxelizeSettings nearWrap = glSettings();
+    nearWrap.firstCounterStart = 0xffffff00u; // 256 slots before the 32-bit counter wraps
+    const BrickVolume volume = voxelizeGl(plan, xs, grid, nearWrap, &wrapped);
+    REQUIRE(plain.fragments > 1000); // the first pass goes past the wrap
+    CHECK(plain.overflows == 0);
+    CHECK(wrapped.overflows >= 1);
+    const test::VolumeComparison cmp = test::compareVolumes(reference, volume);
+    CHECK(cmp.iou == 1.0);
+    CHECK(cmp.massRatio == 1.0);
+    CHECK(volume.activeVoxelCount() == reference.activeVoxelCount());
+}

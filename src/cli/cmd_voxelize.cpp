@@ -506,11 +506,11 @@ void addVoxelizeCommand(CLI::App& app) {
         ->check(CLI::Range(1, 16));
     cmd->add_option("--device", a->device, "GL backend: EGL device index (default: first GPU, else llvmpipe)")
         ->check(CLI::Range(0, 1023));
-    // The GL append counter is 32 bits: a pass never appends 2^32 fragments.
+    // The GL append counter is 32 bits, and a pass that reaches 2^31 counts as overflowed.
     cmd->add_option("--fragment-budget", a->fragmentCapacity,
                     "GL backend: fragments one pass may append (default: from GPU limits and free memory); "
                     "zoom regions are sized to it")
-        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(0xffffffffu)));
+        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(0x7fffffffu)));
     cmd->add_option("--work-dir", a->workDir,
                     "GL backend: directory for the per-region brick files (default: OUT.vdb.work, removed after the merge)");
     cmd->add_flag("--resume", a->resume, "Re-use the complete, verified regions in --work-dir and compute the rest");

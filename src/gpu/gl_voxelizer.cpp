@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <unordered_map>
+#include <utility>
 
 namespace yv {
 namespace {
@@ -86,7 +87,7 @@ class GlBackend::Impl {
         // so a small garment does not hold the whole budget on the GPU.
         fragmentSlots_ = std::min<std::uint64_t>(capacity_, kInitialFragmentSlots);
         fragments_.reserve(fragmentSlots_ * sizeof(GpuFragment), &gpuBytes_);
-        counter_.reserve(4, &gpuBytes_);
+        counter_.reserve(8, &gpuBytes_); // the append counter, then the flag of a counter that wrapped
         counts_.reserve(16, &gpuBytes_);
         notePeak();
     }
@@ -147,7 +148,8 @@ class GlBackend::Impl {
         const std::uint64_t fragmentBytes = std::min(block, memory / 2);
         capacity_ = settings_.fragmentCapacity ? settings_.fragmentCapacity : fragmentBytes / sizeof(GpuFragment);
         capacity_ = std::min<std::uint64_t>(capacity_, block / sizeof(GpuFragment));
-        capacity_ = std::min<std::uint64_t>(capacity_, 0xffffffffu);
+        // Slots at 2^31 and beyond flag the pass as overflowed (append.frag).
+        capacity_ = std::min<std::uint64_t>(capacity_, 0x7fffffffu);
         // A brick slot holds its words, and the resolve's output for it in the worst case.
         const std::uint64_t wordBytes = std::uint64_t(words_) * kBrickVoxels * 4;
         brickBudget_ = std::min(block / std::max(wordBytes, kResolveBytesPerBrick),
@@ -245,7 +247,9 @@ class GlBackend::Impl {
         }
         if (instances > 0x7fffffff) return false;
         drawList_.upload(draw.data(), draw.size() * 4, &gpuBytes_);
-        counter_.clear(4);
+        counter_.clear(8);
+        if (const std::uint32_t start = std::exchange(counterStart_, 0); start != 0)
+            glNamedBufferSubData(counter_.id(), 0, 4, &start);
 
         const int viewport = std::max({size.x, size.y, size.z}) * S;
         glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_WIDTH, viewport);
@@ -270,6 +274,7 @@ class GlBackend::Impl {
         drawList_.bindStorage(1);
         fragments_.bindStorage(2);
         glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
+        counter_.bindStorage(3); // the wrap flag (the brick passes bind their own buffer there later)
         glBindTextureUnit(0, texture_);
         glBindVertexArray(vao_);
 
@@ -280,8 +285,12 @@ class GlBackend::Impl {
         checkGlError("raster pass");
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
-        GLuint fragmentCount = 0;
-        std::memcpy(&fragmentCount, small_.read(counter_.id(), 4, &gpuBytes_), 4);
+        GLuint count[2] = {0, 0};
+        std::memcpy(count, small_.read(counter_.id(), 8, &gpuBytes_), 8);
+        const GLuint fragmentCount = count[0];
+        // The 32-bit counter went past 2^31 (and may have wrapped to a small
+        // count): far beyond any list, so the pass is redone in pieces.
+        if (count[1] != 0) return false;
         if (fragmentCount > capacity_) return false;
         if (fragmentCount > fragmentSlots_) {
             // Within the budget but beyond the list as allocated: grow it and
@@ -398,6 +407,7 @@ class GlBackend::Impl {
     Reduce reduce_;
     int words_;
     std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
+    std::uint32_t counterStart_ = settings_.firstCounterStart;
     int regionCap_ = 1024;
     std::uint64_t fragmentSlots_ = 0; ///< fragments the list holds now (grows up to capacity_)
     std::uint32_t uniformSlices_ = 0; ///< slices per segment when all segments agree, else 0

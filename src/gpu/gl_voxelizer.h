@@ -25,6 +25,9 @@ struct GlVoxelizeSettings {
     /// GPU memory). Tests force it small to exercise overflow and retry.
     std::uint64_t fragmentCapacity = 0;
     bool verbose = false;
+    /// Where the first raster pass's 32-bit append counter starts (tests set
+    /// it near 2^32 to make it wrap; runs leave it at 0).
+    std::uint32_t firstCounterStart = 0;
 };
 
 struct GlVoxelizeCounters {
