@@ -8,6 +8,9 @@
 #include <openvdb/openvdb.h>
 
 #include <filesystem>
+#include <csignal>
+#include <sys/resource.h>
+#include <unistd.h>
 
 using namespace yv;
 
@@ -71,7 +74,35 @@ TEST_CASE("A write that fails leaves nothing behind", "[vdb]") {
     BrickVolume empty;
     empty.grid.dims = {8, 8, 8};
     CHECK_THROWS_AS(writeVdb("/nonexistent-dir/out.vdb", empty, VolumeMetadata{}), Error);
-    CHECK_FALSE(std::filesystem::exists("/nonexistent-dir/out.vdb.partial"));
+
+    // A write that fails half-way, in a directory that exists: a 64 KiB
+    // file-size limit (SIGXFSZ ignored, so writes past it fail with EFBIG as
+    // they fail with ENOSPC on a full disk). Nothing may be left: no output,
+    // no temporary file.
+    SliceOptions opt;
+    opt.radius = 0.2;
+    const SlicePlan plan = planSlices(test::straightYarn({0.5, -0.25, 1}, {1, 0.3, 0.1}, 4), opt);
+    const BrickVolume volume = voxelizeCpu(plan, makeFiberCrossSection(), makeGrid(plan, 128, 0.0), VoxelizeSettings{});
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("yv_test_fail_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "out.vdb").string();
+    struct rlimit previous {};
+    REQUIRE(getrlimit(RLIMIT_FSIZE, &previous) == 0);
+    const auto previousHandler = std::signal(SIGXFSZ, SIG_IGN);
+    struct rlimit limit = previous;
+    limit.rlim_cur = 64 * 1024;
+    REQUIRE(setrlimit(RLIMIT_FSIZE, &limit) == 0);
+    bool threw = false;
+    try {
+        writeVdb(path, volume, VolumeMetadata{});
+    } catch (const Error& e) {
+        threw = std::string(e.what()).find("cannot write the OpenVDB file") != std::string::npos;
+    }
+    setrlimit(RLIMIT_FSIZE, &previous);
+    std::signal(SIGXFSZ, previousHandler);
+    CHECK(threw);
+    CHECK(std::filesystem::is_empty(dir)); // neither out.vdb nor out.vdb.partial-*
+    std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("Every .vdb compression reads back through OpenVDB with the same values and topology", "[vdb]") {
