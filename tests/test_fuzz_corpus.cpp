@@ -80,3 +80,11 @@ TEST_CASE("Fuzz corpus: every region-file input is read or refused with an error
     });
     CHECK(accepted >= 3);
 }
+
+TEST_CASE("A PNG too short for the image its header claims is refused before the image is allocated", "[fuzz-corpus][png]") {
+    // 8192 x 8192 16-bit RGBA (512 MiB raw) in under 100 bytes: deflate cannot
+    // pack that tight, so the reader refuses it instead of allocating 128 MiB.
+    const fs::path p = fs::path(YV_SOURCE_DIR) / "tests" / "fuzz-corpus" / "png" / "huge-header-tiny-file.png";
+    CHECK_THROWS_WITH(yv::loadCrossSectionPng(p.string()),
+                      Catch::Contains("corrupt or truncated PNG") && Catch::Contains("cannot hold the 8192x8192 image"));
+}

@@ -4,6 +4,7 @@
 #include "core/world_units.h"
 
 #include <png.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -164,6 +165,15 @@ CrossSection loadCrossSectionPng(const std::string& path) {
     if (width != height || width < 2 || width > 8192)
         throw Error(path + ": cross-section must be square, 2 to 8192 pixels (is " + std::to_string(width) + "x" +
                     std::to_string(height) + ")");
+    // Deflate packs at most 1032 bytes into one: a file too short for the
+    // image its header claims is refused before the image is allocated (a
+    // 60-byte file must not cost 128 MiB).
+    const std::uint64_t rawBytes = std::uint64_t(height) * (png_get_rowbytes(r.png, r.info) + 1);
+    struct stat st {};
+    if (::fstat(::fileno(file.get()), &st) == 0 && S_ISREG(st.st_mode) &&
+        std::uint64_t(st.st_size) * 1032 + 65536 < rawBytes)
+        throw Error(path + ": corrupt or truncated PNG: " + std::to_string(st.st_size) + " bytes cannot hold the " +
+                    std::to_string(width) + "x" + std::to_string(height) + " image its header describes");
     CrossSection xs;
     xs.name = path;
     png_textp text = nullptr;

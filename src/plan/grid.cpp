@@ -19,6 +19,9 @@ void garmentBox(glm::dvec3 curveMin, glm::dvec3 curveMax, double radius, glm::dv
 /// Voxels a grid may have on one axis: brick keys hold 21 bits per axis of
 /// 8-voxel bricks (core/bricks.h), so voxel coordinates stay below 2^24.
 constexpr double kMaxAxisVoxels = double(1 << 24);
+// shaders/append.frag forms a fragment's global pixel (voxel index times
+// --supersample, at most 16) in a 32-bit int before any float: it cannot wrap.
+static_assert(kMaxAxisVoxels * 16 < 2147483648.0);
 
 /// Refuses `voxels` on one axis when they do not fit (or are not a number:
 /// a NaN must not reach the int conversion).
