@@ -102,7 +102,7 @@ TEST_CASE("A run killed at random points again and again, each time resumed, end
     CHECK(same);
 }
 
-TEST_CASE("SIGINT stops at a region boundary, says how far and how to go on; going on gives the uninterrupted file", "[gl][out-of-core][cli][faults]") {
+TEST_CASE("SIGINT stops at a region boundary, says how far and how to go on, and going on gives the uninterrupted file", "[gl][out-of-core][cli][faults]") {
     YV_REQUIRE_GL();
     FaultRun run("sigint");
     const fs::path work = run.dir / "work", out = run.dir / "out.vdb", log = run.dir / "log.txt";
