@@ -7,6 +7,7 @@
 #include "test_helpers.h"
 #include "vdb/merge.h"
 #include "vdb/vdb_writer.h"
+#include "vdb_bytes.h"
 
 #include <catch2/catch.hpp>
 #include <openvdb/openvdb.h>
@@ -725,19 +726,6 @@ void writeSplit(BrickStore& store, const BrickVolume& volume, int splitX) {
     store.writeRegion(1, {splitX, 0, 0}, dims, right);
 }
 
-/// File bytes with OpenVDB's per-write random UUID blanked out.
-std::vector<std::uint8_t> bytesWithoutUuid(const std::string& path) {
-    openvdb::io::File file(path);
-    file.open();
-    const std::string uuid = file.getUniqueTag();
-    file.close();
-    std::vector<std::uint8_t> bytes = fileBytes(path);
-    const auto at = std::search(bytes.begin(), bytes.end(), uuid.begin(), uuid.end());
-    REQUIRE(at != bytes.end());
-    std::fill(at, at + std::ptrdiff_t(uuid.size()), 0);
-    return bytes;
-}
-
 } // namespace
 
 TEST_CASE("Merging a store writes the same .vdb as writeVdb of the same bricks", "[store][vdb]") {
@@ -783,13 +771,13 @@ TEST_CASE("Merging a store writes the same .vdb as writeVdb of the same bricks",
     CHECK(b.meta->str() == a.meta->str());
 
     // The whole file, OpenVDB's random UUID aside, is the same, whatever the thread count.
-    CHECK(bytesWithoutUuid(merged) == bytesWithoutUuid(direct));
+    CHECK(test::vdbBytesWithoutUuid(merged) == test::vdbBytesWithoutUuid(direct));
     const std::string serial = scratch.sub("serial.vdb");
     {
         tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
         mergeStoreToVdb(dir, serial, meta);
     }
-    CHECK(bytesWithoutUuid(serial) == bytesWithoutUuid(merged));
+    CHECK(test::vdbBytesWithoutUuid(serial) == test::vdbBytesWithoutUuid(merged));
 
     const BrickVolume loaded = loadStore(dir);
     REQUIRE(loaded.bricks.size() == volume.bricks.size());

@@ -2,6 +2,7 @@
 #include "garment/cross_section.h"
 #include "garment/generate.h"
 #include "test_helpers.h"
+#include "vdb_bytes.h"
 #include "vdb/vdb_writer.h"
 
 #include <catch2/catch.hpp>
@@ -18,16 +19,6 @@ using namespace yv;
 namespace fs = std::filesystem;
 
 namespace {
-
-/// File bytes with the 36-character UUID OpenVDB writes into the header
-/// (after the magic number, the three version numbers and the offsets flag) blanked out.
-std::vector<std::uint8_t> bytesWithoutUuid(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::vector<std::uint8_t> bytes(std::istreambuf_iterator<char>(in), {});
-    REQUIRE(bytes.size() > 57);
-    std::fill(bytes.begin() + 21, bytes.begin() + 57, 0);
-    return bytes;
-}
 
 struct StraightYarnCase {
     SlicePlan plan;
@@ -177,7 +168,7 @@ TEST_CASE("Results are bit-identical for any thread count: the same .vdb bytes f
                              << " threads");
             CHECK(counters.tasks >= 8);
             if (threads > 1) CHECK(counters.threads >= 2);
-            const std::vector<std::uint8_t> bytes = bytesWithoutUuid(vdb);
+            const std::vector<std::uint8_t> bytes = test::vdbBytesWithoutUuid(vdb);
             const bool sameBytes = first.empty() || bytes == first; // not CHECKed directly: megabytes to print
             CHECK(sameBytes);
             if (first.empty()) first = bytes;

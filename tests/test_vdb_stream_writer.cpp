@@ -21,8 +21,6 @@ namespace {
 
 fs::path scratch(const std::string& name) { return fs::temp_directory_path() / ("yv_stream_" + name); }
 
-std::vector<std::uint8_t> bytesWithoutUuid(const fs::path& path) { return test::vdbBytesWithoutUuid(path); }
-
 /// Bricks that exercise the tree: several root children (past voxel 4096 on
 /// every axis), internal nodes with one and with many children, full leaves,
 /// single voxels at both ends of a leaf, random masks and values (some of
@@ -189,7 +187,7 @@ TEST_CASE("The streaming writer gives OpenVDB's own bytes for every compression 
             options.precision = p;
             writeVdb(ours.string(), volume, someMetadata(), options);
             writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half);
-            const auto a = bytesWithoutUuid(ours), b = bytesWithoutUuid(theirs);
+            const auto a = test::vdbBytesWithoutUuid(ours), b = test::vdbBytesWithoutUuid(theirs);
             CHECK(a.size() == b.size());
             const auto mismatch = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
             INFO("first difference at byte " << (mismatch.first - a.begin()));
@@ -209,7 +207,7 @@ TEST_CASE("The streaming writer's empty volume is OpenVDB's empty volume", "[vdb
     const fs::path ours = scratch("empty-ours.vdb"), theirs = scratch("empty-theirs.vdb");
     writeVdb(ours.string(), empty, someMetadata());
     writeWithOpenVdb(theirs, empty, ours, VdbCompression::ActiveMask, false);
-    const bool sameBytes = bytesWithoutUuid(ours) == bytesWithoutUuid(theirs);
+    const bool sameBytes = test::vdbBytesWithoutUuid(ours) == test::vdbBytesWithoutUuid(theirs);
     CHECK(sameBytes);
     if (sameBytes) {
         fs::remove(ours);
@@ -234,7 +232,7 @@ TEST_CASE("The streaming writer's bytes do not depend on batch order", "[vdb][st
         CHECK(assembler.brickCount() == volume.bricks.size());
         assembler.write(someMetadata());
     }
-    const bool sameBytes = bytesWithoutUuid(whole) == bytesWithoutUuid(batches);
+    const bool sameBytes = test::vdbBytesWithoutUuid(whole) == test::vdbBytesWithoutUuid(batches);
     CHECK(sameBytes);
     fs::remove(whole);
     fs::remove(batches);

@@ -3,6 +3,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/stats.h"
+#include "core/text.h"
 #include "inspect/inspect_store.h"
 #include "inspect/inspect_vdb.h"
 
@@ -26,10 +27,6 @@ std::string bytesText(double b) {
     char buf[32];
     std::snprintf(buf, sizeof buf, u ? "%.2f %s" : "%.0f %s", b, units[u]);
     return buf;
-}
-
-std::string coordText(glm::ivec3 v) {
-    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
 }
 
 JsonObject statisticsJson(const VoxelStatistics& v, double voxelVolume) {
