@@ -22,7 +22,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
-#include <numeric>
 
 namespace yv {
 namespace {
