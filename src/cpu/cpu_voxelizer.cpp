@@ -58,6 +58,7 @@ BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const Vox
         throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.supersample) + ")");
     const Reduce reduce = settings.reduce;
     const double radius = plan.options.radius;
+    const double support = textureSupport(xs);
     tbb::enumerable_thread_specific<ThreadBricks> perThread;
     Progress progress("voxelize", plan.sliceCount, settings.quiet, "slices");
     std::atomic<bool> outside{false};
@@ -72,7 +73,7 @@ BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const Vox
                               const SegmentRecord& seg = plan.segments[s];
                               for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
                                   const Slice slice = placeSlice(seg, k);
-                                  sampleSlice(slice, radius, xs, grid, settings.supersample,
+                                  sampleSlice(slice, radius, xs, support, grid, settings.supersample,
                                               [&](const SliceSample& smp) {
                                                   const glm::ivec3 v = smp.voxel;
                                                   if (glm::any(glm::lessThan(v, glm::ivec3(0))) ||

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "gpu/brick_resolver.h"
+#include "gpu/cross_section_texture.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_buffer.h"
 #include "gpu/gl_program.h"
@@ -73,7 +74,7 @@ class GlBackend::Impl {
         chooseBudgets(info);
         uploadSegments();
         uploadCrossSection(xs);
-        raster_ = GlProgram::graphics("slice.vert", "append.frag");
+        raster_ = GlProgram::graphics("slice.vert", "append.frag", {crossSectionDefine(xs)});
         flag_ = GlProgram::compute("brick_flag.comp");
         scan_ = GlProgram::compute("brick_scan.comp");
         const std::vector<std::string> defines =
@@ -195,13 +196,8 @@ class GlBackend::Impl {
     }
 
     void uploadCrossSection(const CrossSection& xs) {
-        disk_ = xs.analyticDisk;
-        glCreateTextures(GL_TEXTURE_2D, 1, &texture_);
-        glTextureStorage2D(texture_, 1, GL_R8UI, xs.size, xs.size);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glTextureSubImage2D(texture_, 0, 0, 0, xs.size, xs.size, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data());
-        glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        support_ = textureSupport(xs);
+        texture_ = uploadCrossSectionTexture(xs);
         gpuBytes_ += std::uint64_t(xs.size) * xs.size;
         checkGlError("uploading the cross-section");
     }
@@ -265,7 +261,7 @@ class GlBackend::Impl {
         glUniform1ui(raster_.uniform("uUniformSlices"), uniformSlices_);
         glUniform1f(raster_.uniform("uRadius"), float(plan_.options.radius / grid_.voxelSize));
         glUniform1i(raster_.uniform("uSupersample"), S);
-        glUniform1i(raster_.uniform("uDisk"), disk_ ? 1 : 0);
+        glUniform1f(raster_.uniform("uSupport"), float(support_));
         glUniform3i(raster_.uniform("uRegionMin"), item.min.x, item.min.y, item.min.z);
         glUniform3i(raster_.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
         glUniform2f(raster_.uniform("uViewport"), float(viewport), float(viewport));
@@ -415,7 +411,7 @@ class GlBackend::Impl {
     ReadbackBuffer small_, readback_;
     GlBuffer segments_, drawList_, fragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
     GLuint texture_ = 0, vao_ = 0, fbo_ = 0;
-    bool disk_ = false; ///< the cross-section is the uniform disk
+    double support_ = 0.0; ///< textureSupport() of the cross-section
     GlProgram raster_, flag_, scan_, scatter_, maxOrient_;
     std::unique_ptr<GlBrickResolver> resolver_;
     PackedBricks packed_;                    ///< the current region's resolved bricks
