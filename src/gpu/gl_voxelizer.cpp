@@ -76,6 +76,7 @@ class GlBackend::Impl {
         uploadCrossSection(xs);
         raster_ = GlProgram::graphics("slice.vert", "append.frag", {crossSectionDefine(xs)});
         flag_ = GlProgram::compute("brick_flag.comp");
+        clear_ = GlProgram::compute("buffer_clear.comp");
         scan_ = GlProgram::compute("brick_scan.comp");
         const std::vector<std::string> defines =
             reduce_ == Reduce::Max ? std::vector<std::string>{"REDUCE_MAX 1"} : std::vector<std::string>{};
@@ -303,7 +304,7 @@ class GlBackend::Impl {
         const std::uint64_t blocks = (regionBricks + 1023) / 1024;
         flags_.reserve(regionBricks * 4, &gpuBytes_);
         blockSums_.reserve(blocks * 4, &gpuBytes_);
-        flags_.clear(regionBricks * 4);
+        zero(flags_, regionBricks * 4);
         flags_.bindStorage(3);
         fragments_.bindStorage(2);
         flag_.use();
@@ -332,7 +333,7 @@ class GlBackend::Impl {
 
         const std::uint64_t brickWords = std::uint64_t(activeBricks) * words_ * kBrickVoxels;
         brickWords_.reserve(brickWords * 4, &gpuBytes_);
-        brickWords_.clear(brickWords * 4);
+        zero(brickWords_, brickWords * 4);
         brickWords_.bindStorage(7);
         scatter_.use();
         glUniform1ui(scatter_.uniform("uCount"), fragmentCount);
@@ -360,6 +361,16 @@ class GlBackend::Impl {
         counters_.fragments += fragmentCount;
         ++counters_.passes;
         return true;
+    }
+
+    /// Zeroes the first `bytes` (a multiple of 4) of `buffer` with a dispatch
+    /// (see buffer_clear.comp for why not glClearNamedBufferSubData).
+    void zero(GlBuffer& buffer, std::uint64_t bytes) {
+        clear_.use();
+        glUniform1ui(clear_.uniform("uWords"), static_cast<GLuint>(bytes / 4));
+        buffer.bindStorage(0);
+        glDispatchCompute(groupsFor(bytes / 4, maxGroups_), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
 
     /// Reads back the raw words of a brick drawn in several passes and adds
@@ -412,7 +423,7 @@ class GlBackend::Impl {
     GlBuffer segments_, drawList_, fragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
     GLuint texture_ = 0, vao_ = 0, fbo_ = 0;
     double support_ = 0.0; ///< textureSupport() of the cross-section
-    GlProgram raster_, flag_, scan_, scatter_, maxOrient_;
+    GlProgram raster_, clear_, flag_, scan_, scatter_, maxOrient_;
     std::unique_ptr<GlBrickResolver> resolver_;
     PackedBricks packed_;                    ///< the current region's resolved bricks
     std::vector<BrickAccumulator> partials_; ///< the current region's bricks drawn in several passes
