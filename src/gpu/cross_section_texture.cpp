@@ -18,8 +18,10 @@ GLuint uploadCrossSectionTexture(const CrossSection& xs) {
     return texture;
 }
 
-std::string crossSectionDefine(const CrossSection& xs) {
-    return std::string("CROSS_SECTION_DISK ") + (xs.analyticDisk ? "1" : "0");
+std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads, const std::string& platform) {
+    const bool gather = reads == TexelReads::Gather || (reads == TexelReads::Auto && platform == "surfaceless");
+    return {std::string("CROSS_SECTION_DISK ") + (xs.analyticDisk ? "1" : "0"),
+            std::string("CROSS_SECTION_GATHER ") + (gather ? "1" : "0")};
 }
 
 } // namespace yv

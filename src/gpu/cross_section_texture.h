@@ -7,6 +7,7 @@
 #include <epoxy/gl.h>
 
 #include <string>
+#include <vector>
 
 namespace yv {
 
@@ -15,8 +16,14 @@ namespace yv {
 /// clamps at the border as CrossSection::bilinear does). The caller deletes it.
 GLuint uploadCrossSectionTexture(const CrossSection& xs);
 
-/// The #define that picks the sampling shader's variant: the analytic disk's
-/// exact coverage, or the texture. Each variant compiles only the code it runs.
-std::string crossSectionDefine(const CrossSection& xs);
+/// How the sampling shader reads a bilinear lookup's four texels: one
+/// textureGather, or four texelFetch (the same texels; common.glsl says which
+/// is faster where). Auto: the gather on llvmpipe, fetches on a GPU.
+enum class TexelReads { Auto, Fetch, Gather };
+
+/// The #defines that pick the sampling shader's variant: the analytic disk's
+/// exact coverage or the texture (each variant compiles only the code it
+/// runs), and the texel reads, Auto resolved for `platform` (GlInfo::platform).
+std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads, const std::string& platform);
 
 } // namespace yv

@@ -166,7 +166,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     });
     checkGlError("clearing the 3D textures");
 
-    GlProgram program = GlProgram::graphics("slice.vert", "dense.frag", {crossSectionDefine(xs)});
+    GlProgram program = GlProgram::graphics("slice.vert", "dense.frag", crossSectionDefines(xs, settings.texelReads, info.platform));
     glCreateVertexArrays(1, &gl.vao);
     glCreateFramebuffers(1, &gl.fbo);
     glNamedFramebufferParameteri(gl.fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, GLint(viewport));

@@ -74,7 +74,7 @@ class GlBackend::Impl {
         chooseBudgets(info);
         uploadSegments();
         uploadCrossSection(xs);
-        raster_ = GlProgram::graphics("slice.vert", "append.frag", {crossSectionDefine(xs)});
+        raster_ = GlProgram::graphics("slice.vert", "append.frag", crossSectionDefines(xs, settings.texelReads, info.platform));
         flag_ = GlProgram::compute("brick_flag.comp");
         clear_ = GlProgram::compute("buffer_clear.comp");
         scan_ = GlProgram::compute("brick_scan.comp");

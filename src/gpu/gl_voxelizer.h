@@ -6,6 +6,7 @@
 #include "core/bricks.h"
 #include "core/packed_bricks.h"
 #include "cpu/cpu_voxelizer.h"
+#include "gpu/cross_section_texture.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
@@ -25,6 +26,9 @@ struct GlVoxelizeSettings {
     /// GPU memory). Tests force it small to exercise overflow and retry.
     std::uint64_t fragmentCapacity = 0;
     bool verbose = false;
+    /// How the sampling shader reads the cross-section's texels: as suits the
+    /// platform (Auto), or forced (tests compare the two).
+    TexelReads texelReads = TexelReads::Auto;
     /// Where the first raster pass's 32-bit append counter starts (tests set
     /// it near 2^32 to make it wrap; runs leave it at 0).
     std::uint32_t firstCounterStart = 0;
