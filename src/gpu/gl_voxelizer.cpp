@@ -109,6 +109,7 @@ class GlBackend::Impl {
                 progress.advance(1);
                 continue;
             }
+            packed_ = sink.emptyPackedBricks();
             // Pieces of one region are finished before the next region starts,
             // so the sink gets each region whole, once.
             std::vector<WorkItem> stack{WorkItem{region.min, region.max, region.segments}};
