@@ -5,21 +5,43 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include <algorithm>
 #include <bit>
+#include <cstring>
 #include <limits>
 #include <string>
 
 namespace yv {
+
+namespace {
+
+/// memcpy in 4 MiB pieces on TBB's threads: a fresh destination's page faults
+/// and the copy itself then spread over the cores.
+void copyInParallel(void* to, const void* from, std::size_t bytes) {
+    constexpr std::size_t kPiece = std::size_t(4) << 20;
+    if (bytes <= kPiece) {
+        if (bytes) std::memcpy(to, from, bytes);
+        return;
+    }
+    tbb::parallel_for(std::size_t(0), (bytes + kPiece - 1) / kPiece, [&](std::size_t piece) {
+        const std::size_t at = piece * kPiece;
+        std::memcpy(static_cast<char*>(to) + at, static_cast<const char*>(from) + at, std::min(kPiece, bytes - at));
+    });
+}
+
+} // namespace
 
 void PackedBricks::append(const PackedBrickHeader* h, std::size_t brickCount, const PackedVoxel* v,
                           std::size_t voxelCount) {
     // firstVoxel is 32 bits: a region (at most 1024^3 voxels) always fits.
     YV_CHECK(voxels.size() + voxelCount <= std::numeric_limits<std::uint32_t>::max());
     const auto shift = static_cast<std::uint32_t>(voxels.size());
-    const std::size_t first = headers.size();
-    headers.insert(headers.end(), h, h + brickCount);
-    for (std::size_t i = first; i < headers.size(); ++i) headers[i].firstVoxel += shift;
-    voxels.insert(voxels.end(), v, v + voxelCount);
+    const std::size_t firstBrick = headers.size(), firstVoxel = voxels.size();
+    headers.resize(firstBrick + brickCount, boost::container::default_init);
+    voxels.resize(firstVoxel + voxelCount, boost::container::default_init);
+    copyInParallel(headers.data() + firstBrick, h, brickCount * sizeof(PackedBrickHeader));
+    copyInParallel(voxels.data() + firstVoxel, v, voxelCount * sizeof(PackedVoxel));
+    for (std::size_t i = firstBrick; i < headers.size(); ++i) headers[i].firstVoxel += shift;
 }
 
 ResolveTally tallyOf(const PackedBrickHeader& h) {

@@ -8,6 +8,8 @@
 #include "core/bricks.h"
 #include "plan/grid.h"
 
+#include <boost/container/vector.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -39,13 +41,16 @@ struct PackedVoxel {
 };
 static_assert(sizeof(PackedVoxel) == 16, "PackedVoxel must match shaders/brick_resolve.comp");
 
-/// A region's resolved bricks, packed.
+/// A region's resolved bricks, packed. Boost's vector grows without zeroing
+/// what append() then overwrites: a region's readback is gigabytes, and
+/// zeroing it first on one thread touched every page twice.
 struct PackedBricks {
-    std::vector<PackedBrickHeader> headers; ///< bricks with an active voxel, in the order they were resolved
-    std::vector<PackedVoxel> voxels;        ///< each brick's active voxels, bricks one after another
+    boost::container::vector<PackedBrickHeader> headers; ///< bricks with an active voxel, in the order they were resolved
+    boost::container::vector<PackedVoxel> voxels;        ///< each brick's active voxels, bricks one after another
 
     /// Appends bricks whose firstVoxel counts from `voxels` (as one GPU pass
-    /// wrote them), shifting them past the voxels already held.
+    /// wrote them), shifting them past the voxels already held. Large
+    /// appends are copied on several threads (the pages they land in too).
     void append(const PackedBrickHeader* h, std::size_t brickCount, const PackedVoxel* v, std::size_t voxelCount);
     std::size_t bytes() const {
         return headers.capacity() * sizeof(PackedBrickHeader) + voxels.capacity() * sizeof(PackedVoxel);
