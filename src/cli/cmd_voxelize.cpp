@@ -22,6 +22,7 @@
 #include "plan/zoom_plan.h"
 #include "store/brick_store.h"
 #include "store/region_writer.h"
+#include "vdb/lod_pyramid.h"
 #include "vdb/merge.h"
 #include "vdb/vdb_writer.h"
 
@@ -40,7 +41,7 @@ namespace {
 struct VoxelizeArgs {
     std::string input, output, backend = "auto", method = "sparse", crossSection = "fibers", reduce = "mean",
         overlap = "clamp", compression = "mask", precision = "float", statsPath, workDir;
-    int resolution = 0, slicesPerSegment = 0, supersample = 1, device = -1;
+    int resolution = 0, slicesPerSegment = 0, supersample = 1, device = -1, lod = 0;
     double voxelSize = 0.0, yarnRadius = 0.0, spacing = 0.0, twist = 0.0;
     std::uint64_t fragmentCapacity = 0;
     bool quiet = false, verbose = false, resume = false, keepWorkDir = false;
@@ -211,6 +212,7 @@ void runVoxelize(const VoxelizeArgs& args) {
     VdbWriteOptions writeOptions;
     writeOptions.compression = parseVdbCompression(a.compression);
     writeOptions.precision = parseVdbPrecision(a.precision);
+    writeOptions.lodLevels = checkedLodLevels(a.lod, grid);
     writeOptions.timings = &writeTimings;
 
     // The checks before slicing refuse what cannot leave a voxel; a yarn that
@@ -501,6 +503,11 @@ void addVoxelizeCommand(CLI::App& app) {
                     "within 2^-11 relative)")
         ->capture_default_str()
         ->check(CLI::IsMember({"float", "half"}));
+    cmd->add_option("--lod", a->lod,
+                    "Level-of-detail grids: adds density_lod1..N and orientation_lod1..N, each level half the "
+                    "resolution of the one before (mean density, structure-tensor axis)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 20));
     cmd->add_option("--supersample", a->supersample, "Samples per voxel face along each axis")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
