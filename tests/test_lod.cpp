@@ -347,6 +347,12 @@ TEST_CASE("CLI: voxelize --lod writes the pyramid, and refuses levels the grid c
         CHECK(std::abs(gridMass(*d) - mass0) / mass0 < 1e-6);
     }
     file.close();
+    // OpenVDB's own tool reads every grid.
+    const test::RunResult print = test::runShell("vdb_print -l " + vdb.string());
+    INFO(print.output);
+    CHECK(print.exitCode == 0);
+    for (const char* name : {"Name: density_lod3", "Name: orientation_lod3", "lod_level: 3", "class: fog volume"})
+        CHECK(print.output.find(name) != std::string::npos);
 
     const fs::path refused = scratch("refused.vdb");
     fs::remove(refused);
