@@ -369,3 +369,32 @@ TEST_CASE("CLI: voxelize --lod writes the pyramid, and refuses levels the grid c
     CHECK(negative.exitCode != 0);
     CHECK_FALSE(fs::exists(refused));
 }
+
+TEST_CASE("CLI: merge --lod gives the file voxelize --lod gave, and refuses levels the grid cannot have", "[gl][cli][lod]") {
+    YV_REQUIRE_GL();
+    const fs::path bcc = scratch("plain.bcc"), work = scratch("plain.work"), direct = scratch("direct.vdb"),
+                   merged = scratch("merged.vdb"), refused = scratch("merge-refused.vdb");
+    fs::remove_all(work);
+    for (const fs::path& p : {direct, merged, refused}) fs::remove(p);
+    REQUIRE(test::runYarnvox("gen --pattern plain --crossings 16 -o " + bcc.string()).exitCode == 0);
+    const test::RunResult voxelize = test::runYarnvox("voxelize " + bcc.string() + " -o " + direct.string() +
+                                                      " --backend gl --resolution 32 --lod 2 --quiet --work-dir " +
+                                                      work.string());
+    INFO(voxelize.output);
+    REQUIRE(voxelize.exitCode == 0);
+    const test::RunResult merge = test::runYarnvox("merge " + work.string() + " -o " + merged.string() + " --lod 2 --quiet");
+    INFO(merge.output);
+    REQUIRE(merge.exitCode == 0);
+    const bool sameBytes = test::vdbBytesWithoutUuid(direct) == test::vdbBytesWithoutUuid(merged);
+    CHECK(sameBytes);
+    openvdb::initialize();
+    CHECK(readGrid(merged, "density_lod2")->activeVoxelCount() > 0);
+
+    const test::RunResult bad = test::runYarnvox("merge " + work.string() + " -o " + refused.string() + " --lod 9");
+    INFO(bad.output);
+    CHECK(bad.exitCode == 1);
+    CHECK(bad.output.find("yarnvox: error: --lod 9: the grid is ") == 0);
+    CHECK(std::count(bad.output.begin(), bad.output.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(refused));
+    fs::remove_all(work);
+}
