@@ -252,10 +252,10 @@ void addBatch(PyramidLevel& level, EncodedBatch&& batch, std::uint32_t source) {
 /// more than a piece of resolved bricks (about 8 MB).
 constexpr std::size_t kPyramidPiece = 1024;
 
-/// Builds level `to` from the octants the bricks of level `to - 1` gave:
-/// each parent is its children's octants put in place, then resolved and
-/// encoded; with `next`, each parent's own octant for level `to + 1` goes to
-/// the scratch file too.
+/// Builds `level` from the octants the bricks of the level below gave
+/// (`octants`, sorted here by parent): each parent is its children's octants
+/// put in place, then resolved and encoded; with `next`, each parent's own
+/// octant for the level above goes to the scratch file and into `next`.
 void buildLevel(PyramidLevel& level, SpillFile& spill, std::vector<OctantRecord>& octants,
                 std::vector<OctantRecord>* next) {
     tbb::parallel_sort(octants.begin(), octants.end(), [](const OctantRecord& a, const OctantRecord& b) {
