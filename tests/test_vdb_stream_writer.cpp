@@ -75,10 +75,45 @@ openvdb::math::Transform::Ptr transformOf(const VoxelGrid& grid) {
     return t;
 }
 
+/// Level `level`'s grids as OpenVDB trees, with the values `ours` holds
+/// (test_lod.cpp checks those against a brute-force reduction; here the
+/// file's bytes are what is compared) and the names, class, vector type,
+/// level and transform (voxel size 2^L h, voxel (0, 0, 0) centred at the
+/// grid's origin plus half of it) the test expects.
+openvdb::GridPtrVec lodGridsFrom(const fs::path& ours, const VoxelGrid& grid, int level, bool half) {
+    openvdb::io::File file(ours.string());
+    file.open();
+    const std::string suffix = "_lod" + std::to_string(level);
+    auto readDensity = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("density" + suffix));
+    auto readOrientation = openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid("orientation" + suffix));
+    file.close();
+    REQUIRE(readDensity);
+    REQUIRE(readOrientation);
+    auto density = openvdb::FloatGrid::create(0.0f);
+    auto orientation = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    for (auto it = readDensity->cbeginValueOn(); it; ++it) density->tree().setValueOn(it.getCoord(), *it);
+    for (auto it = readOrientation->cbeginValueOn(); it; ++it) orientation->tree().setValueOn(it.getCoord(), *it);
+    density->setName("density" + suffix);
+    density->setGridClass(openvdb::GRID_FOG_VOLUME);
+    orientation->setName("orientation" + suffix);
+    orientation->setVectorType(openvdb::VEC_INVARIANT);
+    const double h = grid.voxelSize * (1 << level);
+    auto transform = openvdb::math::Transform::createLinearTransform(h);
+    const glm::dvec3 c = grid.origin + 0.5 * h;
+    transform->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
+    for (openvdb::GridBase::Ptr g : {openvdb::GridBase::Ptr(density), openvdb::GridBase::Ptr(orientation)}) {
+        g->insertMeta("lod_level", openvdb::Int32Metadata(level));
+        g->setTransform(transform);
+        g->setSaveFloatAsHalf(half);
+    }
+    return {density, orientation};
+}
+
 /// The same grids built as OpenVDB trees and written by OpenVDB's io::File,
-/// with the file metadata of `ours` (whose serialisation is also compared).
+/// with the file metadata of `ours` (whose serialisation is also compared);
+/// with `lodLevels`, the pyramid's grids after them (lodGridsFrom).
 void writeWithOpenVdb(const fs::path& path, const BrickVolume& volume, const fs::path& ours, VdbCompression c,
-                      bool half) {
+                      bool half, int lodLevels = 0) {
     auto density = openvdb::FloatGrid::create(0.0f);
     auto orientation = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
     for (const VoxelBrick& b : volume.bricks) {
@@ -112,15 +147,21 @@ void writeWithOpenVdb(const fs::path& path, const BrickVolume& volume, const fs:
     if (c == VdbCompression::ActiveMask) flags = openvdb::io::COMPRESS_ACTIVE_MASK;
     openvdb::io::File file(path.string());
     file.setCompression(flags);
-    file.write({density, orientation}, *meta);
+    openvdb::GridPtrVec grids{density, orientation};
+    for (int level = 1; level <= lodLevels; ++level)
+        for (const openvdb::GridBase::Ptr& g : lodGridsFrom(ours, volume.grid, level, half)) grids.push_back(g);
+    file.write(grids, *meta);
 }
 
 /// Every value of both files' grids, read back through OpenVDB, is the same.
-void checkSameGrids(const fs::path& a, const fs::path& b) {
+void checkSameGrids(const fs::path& a, const fs::path& b, int lodLevels = 0) {
     openvdb::io::File fa(a.string()), fb(b.string());
     fa.open();
     fb.open();
-    for (const char* name : {"density", "orientation"}) {
+    std::vector<std::string> names{"density", "orientation"};
+    for (int level = 1; level <= lodLevels; ++level)
+        for (const char* base : {"density_lod", "orientation_lod"}) names.push_back(base + std::to_string(level));
+    for (const std::string& name : names) {
         INFO(name);
         openvdb::GridBase::Ptr ga = fa.readGrid(name), gb = fb.readGrid(name);
         CHECK(ga->transform() == gb->transform());
@@ -194,6 +235,31 @@ TEST_CASE("The streaming writer gives OpenVDB's own bytes for every compression 
             const bool sameBytes = a == b;
             CHECK(sameBytes);
             checkSameGrids(ours, theirs);
+        }
+    fs::remove(ours);
+    fs::remove(theirs);
+}
+
+TEST_CASE("With --lod the file is OpenVDB's own for the same grids, for every compression and precision", "[vdb][stream][lod]") {
+    openvdb::initialize();
+    const BrickVolume volume = treeShapedVolume();
+    const fs::path ours = scratch("lod-ours.vdb"), theirs = scratch("lod-theirs.vdb");
+    for (VdbCompression c : {VdbCompression::ActiveMask, VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::None})
+        for (VdbPrecision p : {VdbPrecision::Float, VdbPrecision::Half}) {
+            INFO(toString(c) << ", " << toString(p));
+            VdbWriteOptions options;
+            options.compression = c;
+            options.precision = p;
+            options.lodLevels = 3;
+            writeVdb(ours.string(), volume, someMetadata(), options);
+            writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half, options.lodLevels);
+            const auto a = test::vdbBytesWithoutUuid(ours), b = test::vdbBytesWithoutUuid(theirs);
+            CHECK(a.size() == b.size());
+            const auto mismatch = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
+            INFO("first difference at byte " << (mismatch.first - a.begin()));
+            const bool sameBytes = a == b;
+            CHECK(sameBytes);
+            checkSameGrids(ours, theirs, options.lodLevels);
         }
     fs::remove(ours);
     fs::remove(theirs);

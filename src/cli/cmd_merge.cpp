@@ -17,6 +17,7 @@ namespace yv {
 void addMergeCommand(CLI::App& app) {
     struct Args {
         std::string workDir, output, compression = "mask", precision = "float";
+        int lod = 0;
         bool quiet = false;
     };
     auto args = std::make_shared<Args>();
@@ -29,6 +30,9 @@ void addMergeCommand(CLI::App& app) {
     cmd->add_option("--precision", args->precision, "float or half: how the grids' values are stored (as voxelize's option)")
         ->capture_default_str()
         ->check(CLI::IsMember({"float", "half"}));
+    cmd->add_option("--lod", args->lod, "Level-of-detail grids density_lod1..N and orientation_lod1..N (as voxelize's option)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 20));
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
     cmd->callback([args] {
         const auto start = std::chrono::steady_clock::now();
@@ -37,6 +41,7 @@ void addMergeCommand(CLI::App& app) {
         VdbWriteOptions options;
         options.compression = parseVdbCompression(args->compression);
         options.precision = parseVdbPrecision(args->precision);
+        options.lodLevels = args->lod; // checked against the store's grid by the writer, before any region is read
         mergeStoreToVdb(args->workDir, args->output, decodeMetadata(manifest.runMetadata), options);
         if (!args->quiet)
             std::printf("merged %s -> %s in %.2f s\n", args->workDir.c_str(), args->output.c_str(),

@@ -85,6 +85,11 @@ void addVoxelizeCommand(CLI::App& app) {
                     "within 2^-11 relative)")
         ->capture_default_str()
         ->check(CLI::IsMember({"float", "half"}));
+    cmd->add_option("--lod", a->lod,
+                    "Level-of-detail grids: adds density_lod1..N and orientation_lod1..N, each level half the "
+                    "resolution of the one before (mean density, structure-tensor axis)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 20));
     cmd->add_option("--supersample", a->supersample, "Samples per voxel face along each axis")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));

@@ -21,6 +21,7 @@
 #include "plan/zoom_plan.h"
 #include "store/brick_store.h"
 #include "store/region_writer.h"
+#include "vdb/lod_pyramid.h"
 #include "vdb/merge.h"
 #include "vdb/vdb_writer.h"
 
@@ -222,6 +223,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     VdbWriteOptions writeOptions;
     writeOptions.compression = parseVdbCompression(a.compression);
     writeOptions.precision = parseVdbPrecision(a.precision);
+    writeOptions.lodLevels = checkedLodLevels(a.lod, grid);
     writeOptions.timings = &writeTimings;
 
     // The checks before slicing refuse what cannot leave a voxel; a yarn that

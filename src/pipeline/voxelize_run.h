@@ -27,6 +27,7 @@ struct VoxelizeRequest {
     int resolution = 0, slicesPerSegment = 0, supersample = 1, device = -1;
     double voxelSize = 0.0, yarnRadius = 0.0, spacing = 0.0, twist = 0.0;
     std::uint64_t fragmentCapacity = 0; ///< --fragment-budget
+    int lod = 0;                        ///< --lod: level-of-detail grids in the .vdb
     bool quiet = false, verbose = false, resume = false, keepWorkDir = false;
 };
 

@@ -169,17 +169,23 @@ LeafLoadInfo LeafEncoder::encode(const VoxelBrick& brick, ByteVector& out) const
     return info;
 }
 
-openvdb::GridBase::Ptr makeSkeletonGrid(GridKind kind, const openvdb::math::Transform::Ptr& transform, bool half) {
+std::string gridName(GridKind kind, int lodLevel) {
+    const std::string base = kind == GridKind::Density ? "density" : "orientation";
+    return lodLevel == 0 ? base : base + "_lod" + std::to_string(lodLevel);
+}
+
+openvdb::GridBase::Ptr makeSkeletonGrid(GridKind kind, const openvdb::math::Transform::Ptr& transform, bool half,
+                                        int lodLevel) {
     openvdb::GridBase::Ptr grid;
     if (kind == GridKind::Density) {
         grid = openvdb::FloatGrid::create(0.0f);
-        grid->setName("density");
         grid->setGridClass(openvdb::GRID_FOG_VOLUME);
     } else {
         grid = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-        grid->setName("orientation");
         grid->setVectorType(openvdb::VEC_INVARIANT); // an axis: not transformed like a position
     }
+    grid->setName(gridName(kind, lodLevel));
+    if (lodLevel > 0) grid->insertMeta("lod_level", openvdb::Int32Metadata(lodLevel));
     grid->setTransform(transform);
     grid->setSaveFloatAsHalf(half);
     return grid;

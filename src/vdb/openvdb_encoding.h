@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace yv {
@@ -65,10 +66,16 @@ class LeafEncoder {
     std::unique_ptr<Impl> impl_;
 };
 
+/// A grid's name: "density" or "orientation", with "_lodL" for level L > 0.
+std::string gridName(GridKind kind, int lodLevel);
+
 /// A grid with no voxels carrying everything else of the output grid: name,
-/// class, vector type, transform, half flag. Its metadata and transform are
-/// what is written.
-openvdb::GridBase::Ptr makeSkeletonGrid(GridKind kind, const openvdb::math::Transform::Ptr& transform, bool half);
+/// class (density: fog volume), vector type (orientation: invariant, an axis
+/// that is not transformed like a position), transform, half flag, and for
+/// level-of-detail grids their level ("lod_level"). Its metadata and
+/// transform are what is written.
+openvdb::GridBase::Ptr makeSkeletonGrid(GridKind kind, const openvdb::math::Transform::Ptr& transform, bool half,
+                                        int lodLevel = 0);
 
 /// The compression OpenVDB's archive with `archiveFlags` uses for `skeleton`.
 std::uint32_t gridCompression(std::uint32_t archiveFlags, const openvdb::GridBase& skeleton);

@@ -3,6 +3,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "vdb/lod_pyramid.h"
 #include "vdb/openvdb_encoding.h"
 #include "vdb/spill_file.h"
 #include "vdb/tree_order.h"
@@ -153,6 +154,165 @@ void copyLeafRecords(const std::vector<LeafRecord>& leaves, GridKind kind, const
     });
 }
 
+/// One level of the pyramid (0: the volume itself): its transform, its two
+/// grids' encodings, and its leaves in the scratch file.
+struct PyramidLevel {
+    openvdb::math::Transform::Ptr transform;
+    openvdb::GridBase::Ptr skeleton[2];
+    GridEncoding encoding[2];
+    std::unique_ptr<LeafEncoder> encoders[2];
+    std::vector<LeafRecord> leaves;
+    openvdb::CoordBBox activeBounds;
+    std::uint64_t activeVoxels = 0;
+};
+
+/// Where the octant a brick gives its parent lies in the scratch file
+/// (lod_pyramid.h): 16 bytes per brick of the level below.
+struct OctantRecord {
+    std::uint64_t childKey = 0;
+    std::uint64_t place = 0; ///< offset << 16 | bytes (an octant is at most 2056 bytes)
+    std::uint64_t at() const { return place >> 16; }
+    std::uint32_t bytes() const { return std::uint32_t(place & 0xffff); }
+};
+
+/// Leaves encoded from one batch of bricks, in tree order within the batch.
+struct EncodedBatch {
+    std::vector<LeafRecord> records;
+    openvdb::CoordBBox bounds;
+    std::uint64_t activeVoxels = 0;
+};
+
+/// Encodes `bricks` into leaf records of `level`'s two grids in the scratch
+/// file, in pieces; with `octants`, also puts each brick's octant for the
+/// next level there.
+EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, std::span<const VoxelBrick> bricks,
+                         std::vector<OctantRecord>* octants) {
+    // In tree order within the batch: the write then reads runs of neighbours with one call.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> order(bricks.size());
+    for (std::size_t i = 0; i < bricks.size(); ++i) order[i] = {treeOrderKey(brickCoord(bricks[i].key)), std::uint32_t(i)};
+    std::sort(order.begin(), order.end());
+
+    EncodedBatch batch;
+    batch.records.resize(bricks.size());
+    for (std::size_t first = 0; first < bricks.size(); first += kEncodePiece) {
+        const std::size_t count = std::min(kEncodePiece, bricks.size() - first);
+        std::vector<ByteVector> encoded[3];
+        for (auto& e : encoded) e.resize(count);
+        std::vector<openvdb::CoordBBox> pieceBounds(count);
+        tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+            const VoxelBrick& b = bricks[order[first + i].second];
+            LeafRecord& r = batch.records[first + i];
+            r.load[0] = level.encoders[0]->encode(b, encoded[0][i]);
+            r.load[1] = level.encoders[1]->encode(b, encoded[1][i]);
+            if (octants) appendOctant(b, encoded[2][i]);
+            const glm::ivec3 o = brickCoord(b.key) * kBrickSize;
+            for (int v = 0; v < kBrickVoxels; ++v)
+                if (b.isActive(v)) pieceBounds[i].expand(openvdb::Coord(o.x + (v >> 6), o.y + ((v >> 3) & 7), o.z + (v & 7)));
+        });
+        // One write per grid (and for the octants) and piece into the scratch file.
+        for (int g = 0; g < (octants ? 3 : 2); ++g) {
+            std::size_t total = 0;
+            for (const ByteVector& e : encoded[g]) total += e.size();
+            ByteVector joined;
+            joined.reserve(total);
+            for (const ByteVector& e : encoded[g]) joined.insert(joined.end(), e.begin(), e.end());
+            std::uint64_t at = spill.append(joined);
+            for (std::size_t i = 0; i < count; ++i) {
+                LeafRecord& r = batch.records[first + i];
+                if (g == 2) {
+                    YV_CHECK(encoded[g][i].size() < 0x10000);
+                    octants->push_back({bricks[order[first + i].second].key, at << 16 | encoded[g][i].size()});
+                } else {
+                    (g == 0 ? r.densityAt : r.orientationAt) = at;
+                    (g == 0 ? r.densityBytes : r.orientationBytes) = std::uint32_t(encoded[g][i].size());
+                }
+                at += encoded[g][i].size();
+            }
+        }
+        for (std::size_t i = 0; i < count; ++i) {
+            const VoxelBrick& b = bricks[order[first + i].second];
+            LeafRecord& r = batch.records[first + i];
+            r.order = order[first + i].first;
+            std::copy(b.activeMask.begin(), b.activeMask.end(), r.mask.begin());
+            batch.activeVoxels += std::uint64_t(b.activeCount());
+            if (!pieceBounds[i].empty()) batch.bounds.expand(pieceBounds[i]);
+        }
+    }
+    return batch;
+}
+
+void addBatch(PyramidLevel& level, EncodedBatch&& batch, std::uint32_t source) {
+    for (LeafRecord& r : batch.records) r.source = source;
+    level.leaves.insert(level.leaves.end(), batch.records.begin(), batch.records.end());
+    if (!batch.bounds.empty()) level.activeBounds.expand(batch.bounds);
+    level.activeVoxels += batch.activeVoxels;
+}
+
+/// Coarse bricks are built in pieces of this many, so a level never holds
+/// more than a piece of resolved bricks (about 8 MB).
+constexpr std::size_t kPyramidPiece = 1024;
+
+/// Builds `level` from the octants the bricks of the level below gave
+/// (`octants`, sorted here by parent): each parent is its children's octants
+/// put in place, then resolved and encoded; with `next`, each parent's own
+/// octant for the level above goes to the scratch file and into `next`.
+void buildLevel(PyramidLevel& level, SpillFile& spill, std::vector<OctantRecord>& octants,
+                std::vector<OctantRecord>* next) {
+    tbb::parallel_sort(octants.begin(), octants.end(), [](const OctantRecord& a, const OctantRecord& b) {
+        const std::uint64_t pa = parentBrickKey(a.childKey), pb = parentBrickKey(b.childKey);
+        return pa != pb ? pa < pb : a.childKey < b.childKey;
+    });
+    std::vector<std::size_t> groups; // where each parent's octants start
+    for (std::size_t i = 0; i < octants.size(); ++i)
+        if (i == 0 || parentBrickKey(octants[i].childKey) != parentBrickKey(octants[i - 1].childKey)) groups.push_back(i);
+    groups.push_back(octants.size());
+    const std::size_t parents = groups.size() - 1;
+
+    tbb::enumerable_thread_specific<std::unique_ptr<CoarseBrick>> scratch;
+    tbb::enumerable_thread_specific<ByteVector> buffers;
+    std::vector<VoxelBrick> bricks;
+    std::vector<ByteVector> nextOctants;
+    std::vector<std::uint8_t> keep;
+    for (std::size_t first = 0; first < parents; first += kPyramidPiece) {
+        const std::size_t count = std::min(kPyramidPiece, parents - first);
+        bricks.resize(count);
+        keep.assign(count, 0);
+        nextOctants.assign(next ? count : 0, ByteVector());
+        tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+            std::unique_ptr<CoarseBrick>& sums = scratch.local();
+            if (!sums) sums = std::make_unique<CoarseBrick>();
+            ByteVector& buffer = buffers.local();
+            const std::size_t g = first + i;
+            sums->clear(parentBrickKey(octants[groups[g]].childKey));
+            for (std::size_t k = groups[g]; k < groups[g + 1]; ++k) {
+                buffer.resize(octants[k].bytes());
+                spill.read(octants[k].at(), buffer);
+                placeOctant(buffer, octants[k].childKey, *sums);
+            }
+            keep[i] = resolveCoarseBrick(*sums, bricks[i]);
+            if (next && keep[i]) appendOctant(*sums, bricks[i], nextOctants[i]);
+        });
+        if (next) {
+            ByteVector joined;
+            for (std::size_t i = 0; i < count; ++i) joined.insert(joined.end(), nextOctants[i].begin(), nextOctants[i].end());
+            std::uint64_t at = spill.append(joined);
+            for (std::size_t i = 0; i < count; ++i) {
+                if (!keep[i]) continue;
+                YV_CHECK(nextOctants[i].size() < 0x10000);
+                next->push_back({bricks[i].key, at << 16 | nextOctants[i].size()});
+                at += nextOctants[i].size();
+            }
+        }
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < count; ++i)
+            if (keep[i]) {
+                if (kept != i) bricks[kept] = bricks[i];
+                ++kept;
+            }
+        addBatch(level, encodeBatch(level, spill, std::span(bricks.data(), kept), nullptr), 0);
+    }
+}
+
 } // namespace
 
 const char* toString(VdbCompression c) {
@@ -184,17 +344,12 @@ struct VdbAssembler::Impl {
     VoxelGrid grid;
     Reduce reduce = Reduce::Mean;
     VdbWriteOptions options;
-    openvdb::math::Transform::Ptr transform;
-    openvdb::GridBase::Ptr skeleton[2];
-    GridEncoding encoding[2];
-    std::unique_ptr<LeafEncoder> encoders[2];
+    std::vector<PyramidLevel> levels; ///< level 0, then --lod's coarser ones
     std::unique_ptr<SpillFile> spill;
 
     mutable std::mutex mutex;
-    std::vector<LeafRecord> leaves;
+    std::vector<OctantRecord> octants; ///< what each level-0 brick gives level 1 (with --lod)
     std::vector<std::string> sources;
-    openvdb::CoordBBox activeBounds;
-    std::uint64_t activeVoxels = 0;
     double encodeSeconds = 0.0;
     bool written = false;
 };
@@ -207,17 +362,22 @@ VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduc
     m.grid = grid;
     m.reduce = reduce;
     m.options = options;
-    const double h = grid.voxelSize;
-    m.transform = openvdb::math::Transform::createLinearTransform(h);
-    const glm::dvec3 c = grid.origin + 0.5 * h;
-    m.transform->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
+    m.levels.resize(std::size_t(checkedLodLevels(options.lodLevels, grid)) + 1);
     const bool half = options.precision == VdbPrecision::Half;
-    for (GridKind kind : {GridKind::Density, GridKind::Orientation}) {
-        const int g = int(kind);
-        m.skeleton[g] = makeSkeletonGrid(kind, m.transform, half);
-        const std::uint32_t flags = archiveFlags(options.compression);
-        m.encoding[g] = {kind, gridCompression(flags, *m.skeleton[g]), flags, half};
-        m.encoders[g] = std::make_unique<LeafEncoder>(m.encoding[g]);
+    const std::uint32_t flags = archiveFlags(options.compression);
+    for (std::size_t l = 0; l < m.levels.size(); ++l) {
+        PyramidLevel& level = m.levels[l];
+        // Level l's voxel (i, j, k) covers level 0's voxels 2^l (i, j, k) to 2^l (i + 1, j + 1, k + 1) - 1.
+        const double h = grid.voxelSize * double(1u << l);
+        level.transform = openvdb::math::Transform::createLinearTransform(h);
+        const glm::dvec3 c = grid.origin + 0.5 * h;
+        level.transform->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
+        for (GridKind kind : {GridKind::Density, GridKind::Orientation}) {
+            const int g = int(kind);
+            level.skeleton[g] = makeSkeletonGrid(kind, level.transform, half, int(l));
+            level.encoding[g] = {kind, gridCompression(flags, *level.skeleton[g]), flags, half};
+            level.encoders[g] = std::make_unique<LeafEncoder>(level.encoding[g]);
+        }
     }
     const std::filesystem::path dir = std::filesystem::path(m.path).parent_path();
     m.spill = std::make_unique<SpillFile>(dir.string(), "the OpenVDB file " + m.path + " (its leaves, before they are put in order)");
@@ -228,68 +388,21 @@ VdbAssembler::~VdbAssembler() = default;
 void VdbAssembler::add(std::span<const VoxelBrick> bricks, const std::string& source) {
     Impl& m = *impl_;
     const auto start = std::chrono::steady_clock::now();
-    // In tree order within the batch: the write then reads runs of neighbours with one call.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> order(bricks.size());
-    for (std::size_t i = 0; i < bricks.size(); ++i) order[i] = {treeOrderKey(brickCoord(bricks[i].key)), std::uint32_t(i)};
-    std::sort(order.begin(), order.end());
-
-    std::vector<LeafRecord> records(bricks.size());
-    openvdb::CoordBBox bounds;
-    std::uint64_t active = 0;
-    for (std::size_t first = 0; first < bricks.size(); first += kEncodePiece) {
-        const std::size_t count = std::min(kEncodePiece, bricks.size() - first);
-        std::vector<ByteVector> encoded[2];
-        encoded[0].resize(count);
-        encoded[1].resize(count);
-        std::vector<openvdb::CoordBBox> pieceBounds(count);
-        tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
-            const VoxelBrick& b = bricks[order[first + i].second];
-            LeafRecord& r = records[first + i];
-            r.load[0] = m.encoders[0]->encode(b, encoded[0][i]);
-            r.load[1] = m.encoders[1]->encode(b, encoded[1][i]);
-            const glm::ivec3 o = brickCoord(b.key) * kBrickSize;
-            for (int v = 0; v < kBrickVoxels; ++v)
-                if (b.isActive(v)) pieceBounds[i].expand(openvdb::Coord(o.x + (v >> 6), o.y + ((v >> 3) & 7), o.z + (v & 7)));
-        });
-        // One write per grid and piece into the scratch file.
-        for (int g = 0; g < 2; ++g) {
-            std::size_t total = 0;
-            for (const ByteVector& e : encoded[g]) total += e.size();
-            ByteVector joined;
-            joined.reserve(total);
-            for (const ByteVector& e : encoded[g]) joined.insert(joined.end(), e.begin(), e.end());
-            std::uint64_t at = m.spill->append(joined);
-            for (std::size_t i = 0; i < count; ++i) {
-                LeafRecord& r = records[first + i];
-                (g == 0 ? r.densityAt : r.orientationAt) = at;
-                (g == 0 ? r.densityBytes : r.orientationBytes) = std::uint32_t(encoded[g][i].size());
-                at += encoded[g][i].size();
-            }
-        }
-        for (std::size_t i = 0; i < count; ++i) {
-            const VoxelBrick& b = bricks[order[first + i].second];
-            LeafRecord& r = records[first + i];
-            r.order = order[first + i].first;
-            std::copy(b.activeMask.begin(), b.activeMask.end(), r.mask.begin());
-            active += std::uint64_t(b.activeCount());
-            if (!pieceBounds[i].empty()) bounds.expand(pieceBounds[i]);
-        }
-    }
+    std::vector<OctantRecord> octants;
+    EncodedBatch batch = encodeBatch(m.levels[0], *m.spill, bricks, m.levels.size() > 1 ? &octants : nullptr);
     const double seconds = secondsSince(start);
     std::lock_guard lock(m.mutex);
     YV_CHECK(!m.written);
     const auto tag = static_cast<std::uint32_t>(m.sources.size());
     m.sources.push_back(source);
-    for (LeafRecord& r : records) r.source = tag;
-    m.leaves.insert(m.leaves.end(), records.begin(), records.end());
-    if (!bounds.empty()) m.activeBounds.expand(bounds);
-    m.activeVoxels += active;
+    addBatch(m.levels[0], std::move(batch), tag);
+    m.octants.insert(m.octants.end(), octants.begin(), octants.end());
     m.encodeSeconds += seconds;
 }
 
 std::size_t VdbAssembler::brickCount() const {
     std::lock_guard lock(impl_->mutex);
-    return impl_->leaves.size();
+    return impl_->levels[0].leaves.size();
 }
 
 void VdbAssembler::write(const VolumeMetadata& metadata) {
@@ -299,25 +412,32 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     std::lock_guard lock(m.mutex);
     YV_CHECK(!m.written);
     m.written = true;
-    auto& leaves = m.leaves;
-    tbb::parallel_sort(leaves.begin(), leaves.end(), [](const LeafRecord& a, const LeafRecord& b) {
+    const auto treeOrder = [](const LeafRecord& a, const LeafRecord& b) {
         return a.order != b.order ? a.order < b.order : a.source < b.source;
-    });
-    GridStatistics stats;
-    stats.activeBounds = m.activeBounds;
-    stats.activeVoxels = m.activeVoxels;
-    stats.leaves = leaves.size();
-    for (std::size_t i = 0; i < leaves.size(); ++i) {
-        if (i > 0 && leaves[i].order == leaves[i - 1].order) {
+    };
+    tbb::parallel_sort(m.levels[0].leaves.begin(), m.levels[0].leaves.end(), treeOrder);
+    for (std::size_t i = 1; i < m.levels[0].leaves.size(); ++i) {
+        const std::vector<LeafRecord>& leaves = m.levels[0].leaves;
+        if (leaves[i].order == leaves[i - 1].order) {
             const std::string& a = m.sources[leaves[i - 1].source];
             const std::string& b = m.sources[leaves[i].source];
             const std::string from = a.empty() && b.empty() ? "" : " (from " + a + " and " + b + ")";
             throw Error(path + ": brick at voxel " + coordText(treeOrderCoord(leaves[i].order) * kBrickSize) +
                         " given twice" + from + ": cannot build one volume");
         }
-        stats.upperNodes += i == 0 || rootChildOfOrder(leaves[i].order) != rootChildOfOrder(leaves[i - 1].order);
-        stats.lowerNodes += i == 0 || lowerNodeOfOrder(leaves[i].order) != lowerNodeOfOrder(leaves[i - 1].order);
     }
+    // The pyramid, level by level from the octants each level's bricks left
+    // in the scratch file: only the octants' places are held.
+    const auto pyramidStart = std::chrono::steady_clock::now();
+    std::vector<OctantRecord> octants = std::move(m.octants), next;
+    for (std::size_t l = 1; l < m.levels.size(); ++l) {
+        buildLevel(m.levels[l], *m.spill, octants, l + 1 < m.levels.size() ? &next : nullptr);
+        std::vector<OctantRecord>().swap(octants);
+        std::swap(octants, next);
+        tbb::parallel_sort(m.levels[l].leaves.begin(), m.levels[l].leaves.end(), treeOrder);
+    }
+    const double pyramidSeconds = secondsSince(pyramidStart);
+    m.encodeSeconds += pyramidSeconds;
 
     const VoxelGrid& grid = m.grid;
     openvdb::MetaMap fileMeta;
@@ -336,29 +456,44 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     fileMeta.insertMeta("overlap", openvdb::StringMetadata(metadata.overlap));
     fileMeta.insertMeta("slice_spacing", openvdb::DoubleMetadata(metadata.sliceSpacing));
     fileMeta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
+    if (m.levels.size() > 1) fileMeta.insertMeta("lod_levels", openvdb::Int32Metadata(int(m.levels.size()) - 1));
 
-    // The layout: header, then per grid its prefix, topology and leaf records.
-    const ByteVector header = fileHeaderBytes(fileMeta, 2);
-    ByteVector prefix[2], topology[2];
-    std::size_t positionsAt[2] = {0, 0};
-    std::uint64_t recordBytes[2] = {0, 0};
-    for (const LeafRecord& r : leaves) {
-        recordBytes[0] += r.densityBytes;
-        recordBytes[1] += r.orientationBytes;
-    }
-    std::uint64_t gridStart[2], recordsAt[2];
+    // The layout: header, then per grid (level by level, density then
+    // orientation) its prefix, topology and leaf records.
+    const std::size_t gridCount = 2 * m.levels.size();
+    const ByteVector header = fileHeaderBytes(fileMeta, std::int32_t(gridCount));
+    std::vector<ByteVector> prefix(gridCount), topology(gridCount);
+    std::vector<std::uint64_t> gridStart(gridCount), recordsAt(gridCount);
     std::uint64_t at = header.size();
-    for (int g = 0; g < 2; ++g) {
-        std::vector<LeafLoadInfo> load(leaves.size());
-        for (std::size_t i = 0; i < leaves.size(); ++i) load[i] = leaves[i].load[g];
-        prefix[g] = gridPrefixBytes(*m.skeleton[g], m.encoding[g], stats, load, positionsAt[g]);
-        topology[g] = topologyBytes(leaves, m.encoding[g], stats);
-        gridStart[g] = at;
-        recordsAt[g] = at + prefix[g].size() + topology[g].size();
-        at = recordsAt[g] + recordBytes[g];
-        patchStreamPositions(prefix[g], positionsAt[g], *m.skeleton[g], m.encoding[g].half,
-                             std::int64_t(gridStart[g] + positionsAt[g] + 24), std::int64_t(recordsAt[g]),
-                             std::int64_t(at));
+    for (std::size_t l = 0; l < m.levels.size(); ++l) {
+        const PyramidLevel& level = m.levels[l];
+        const std::vector<LeafRecord>& leaves = level.leaves;
+        GridStatistics stats;
+        stats.activeBounds = level.activeBounds;
+        stats.activeVoxels = level.activeVoxels;
+        stats.leaves = leaves.size();
+        std::uint64_t recordBytes[2] = {0, 0};
+        for (std::size_t i = 0; i < leaves.size(); ++i) {
+            YV_CHECK(i == 0 || leaves[i].order != leaves[i - 1].order);
+            stats.upperNodes += i == 0 || rootChildOfOrder(leaves[i].order) != rootChildOfOrder(leaves[i - 1].order);
+            stats.lowerNodes += i == 0 || lowerNodeOfOrder(leaves[i].order) != lowerNodeOfOrder(leaves[i - 1].order);
+            recordBytes[0] += leaves[i].densityBytes;
+            recordBytes[1] += leaves[i].orientationBytes;
+        }
+        for (int g = 0; g < 2; ++g) {
+            const std::size_t n = 2 * l + std::size_t(g);
+            std::vector<LeafLoadInfo> load(leaves.size());
+            for (std::size_t i = 0; i < leaves.size(); ++i) load[i] = leaves[i].load[g];
+            std::size_t positionsAt = 0;
+            prefix[n] = gridPrefixBytes(*level.skeleton[g], level.encoding[g], stats, load, positionsAt);
+            topology[n] = topologyBytes(leaves, level.encoding[g], stats);
+            gridStart[n] = at;
+            recordsAt[n] = at + prefix[n].size() + topology[n].size();
+            at = recordsAt[n] + recordBytes[g];
+            patchStreamPositions(prefix[n], positionsAt, *level.skeleton[g], level.encoding[g].half,
+                                 std::int64_t(gridStart[n] + positionsAt + 24), std::int64_t(recordsAt[n]),
+                                 std::int64_t(at));
+        }
     }
     const auto laidOut = std::chrono::steady_clock::now();
 
@@ -371,11 +506,11 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     if (fd.get() < 0) throw Error(path + ": cannot create " + tmp + ": " + errnoText(errno));
     try {
         writeAllAt(fd.get(), header, 0, cannotWrite);
-        for (int g = 0; g < 2; ++g) {
-            writeAllAt(fd.get(), prefix[g], gridStart[g], cannotWrite);
-            writeAllAt(fd.get(), topology[g], gridStart[g] + prefix[g].size(), cannotWrite);
-            ByteVector().swap(topology[g]);
-            copyLeafRecords(leaves, GridKind(g), *m.spill, fd.get(), recordsAt[g], cannotWrite);
+        for (std::size_t n = 0; n < gridCount; ++n) {
+            writeAllAt(fd.get(), prefix[n], gridStart[n], cannotWrite);
+            writeAllAt(fd.get(), topology[n], gridStart[n] + prefix[n].size(), cannotWrite);
+            ByteVector().swap(topology[n]);
+            copyLeafRecords(m.levels[n / 2].leaves, GridKind(n % 2), *m.spill, fd.get(), recordsAt[n], cannotWrite);
         }
         // Data on disk before the name: a crash never leaves a complete-looking file.
         if (::fsync(fd.get()) != 0) throw Error(path + ": cannot make the OpenVDB file durable: " + errnoText(errno));
@@ -393,7 +528,7 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     if (Fd dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)); dirFd.get() >= 0) fsyncDir(dirFd.get(), dir);
     if (m.options.timings) {
         m.options.timings->encodeSeconds += m.encodeSeconds;
-        m.options.timings->topologySeconds += std::chrono::duration<double>(laidOut - start).count();
+        m.options.timings->topologySeconds += std::chrono::duration<double>(laidOut - start).count() - pyramidSeconds;
         m.options.timings->writeSeconds += secondsSince(laidOut);
     }
 }

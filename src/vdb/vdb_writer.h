@@ -1,5 +1,6 @@
 // OpenVDB output: a float grid "density" (fog volume, background 0) and a
-// vec3 grid "orientation" sharing one transform, written leaf by leaf.
+// vec3 grid "orientation" sharing one transform, written leaf by leaf; with
+// --lod, the same two grids again at each coarser level.
 #pragma once
 
 #include "core/bricks.h"
@@ -47,7 +48,8 @@ VdbPrecision parseVdbPrecision(const std::string& name);
 /// Where the time of a write went.
 struct VdbWriteTimings {
     double readSeconds = 0.0;     ///< merge: regions read, verified and handed to the writer
-    double encodeSeconds = 0.0;   ///< leaves compressed and put in the scratch file, summed over threads
+    double encodeSeconds = 0.0;   ///< leaves compressed and put in the scratch file, summed over threads,
+                                  ///< and the level-of-detail pyramid built (--lod)
     double topologySeconds = 0.0; ///< leaves sorted into tree order, topology made
     double writeSeconds = 0.0;    ///< the file written in parallel, fsync and rename
 };
@@ -55,12 +57,17 @@ struct VdbWriteTimings {
 struct VdbWriteOptions {
     VdbCompression compression = VdbCompression::ActiveMask;
     VdbPrecision precision = VdbPrecision::Float;
+    /// --lod: grids density_lodL and orientation_lodL for L = 1..lodLevels,
+    /// each at half the resolution of the level before (vdb/lod_pyramid.h);
+    /// at most maxLodLevels(grid).
+    int lodLevels = 0;
     VdbWriteTimings* timings = nullptr; ///< added to when given
 };
 
 /// Writes `volume` to `path` through a temporary file and a rename, so a
 /// failed run never leaves a file that looks finished. Voxel (i, j, k) of the
-/// grid has index (i, j, k) and its centre at grid.origin + (i + 0.5) h.
+/// grid has index (i, j, k) and its centre at grid.origin + (i + 0.5) h; in
+/// level L of the pyramid, h is replaced by 2^L h.
 void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata,
               const VdbWriteOptions& options = {});
 
@@ -72,6 +79,7 @@ void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMe
 /// for the same grids (but its random UUID), whatever the batch order or thread count.
 class VdbAssembler {
   public:
+    /// Throws yv::Error when `grid` cannot have options.lodLevels levels (checkedLodLevels).
     VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduce, const VdbWriteOptions& options = {});
     ~VdbAssembler();
     VdbAssembler(const VdbAssembler&) = delete;
@@ -81,7 +89,9 @@ class VdbAssembler {
     void add(std::span<const VoxelBrick> bricks, const std::string& source = "");
     /// Bricks added so far.
     std::size_t brickCount() const;
-    /// Writes the file; throws yv::Error when a brick was added twice. Call once.
+    /// Builds the level-of-detail grids (options.lodLevels) from the bricks'
+    /// octants in the scratch file and writes the file; throws yv::Error when
+    /// a brick was added twice. Call once.
     void write(const VolumeMetadata& metadata);
 
   private:

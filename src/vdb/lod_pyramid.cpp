@@ -1,0 +1,151 @@
+#include "vdb/lod_pyramid.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+namespace yv {
+namespace {
+
+/// Where the octant of `childKey` starts in its parent brick, in voxels.
+glm::ivec3 octantOrigin(std::uint64_t childKey) { return (brickCoord(childKey) & 1) * (kBrickSize / 2); }
+
+/// Sums over each 2^3 block of a brick: block (x, y, z) of the 4^3 covers
+/// voxels (2x..2x+1, ...). `density(v)` and `tensor(v, t)` read voxel v.
+template <typename DensityFn, typename TensorFn>
+void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active, DensityFn density,
+                      TensorFn tensor, std::vector<std::uint8_t>& out) {
+    constexpr int kBlocks = 64;
+    std::uint64_t mask = 0;
+    double densities[kBlocks];
+    float tensors[kBlocks][6];
+    int n = 0;
+    for (int bx = 0; bx < 4; ++bx)
+        for (int by = 0; by < 4; ++by)
+            for (int bz = 0; bz < 4; ++bz) {
+                double d = 0.0, t[6] = {0, 0, 0, 0, 0, 0};
+                bool any = false;
+                // Children in OpenVDB's voxel order: the same sum on every run.
+                for (int c = 0; c < 8; ++c) {
+                    const int v = brickOffset(2 * bx + (c >> 2), 2 * by + ((c >> 1) & 1), 2 * bz + (c & 1));
+                    if (!((active[v >> 6] >> (v & 63)) & 1)) continue;
+                    any = true;
+                    d += density(v);
+                    double tv[6];
+                    tensor(v, tv);
+                    for (int i = 0; i < 6; ++i) t[i] += tv[i];
+                }
+                if (!any) continue;
+                const int block = (bx << 4) | (by << 2) | bz;
+                mask |= std::uint64_t(1) << block;
+                densities[n] = d;
+                for (int i = 0; i < 6; ++i) tensors[n][i] = static_cast<float>(t[i]);
+                ++n;
+            }
+    const std::size_t at = out.size();
+    out.resize(at + sizeof mask + n * (sizeof(double) + 6 * sizeof(float)));
+    std::uint8_t* p = out.data() + at;
+    std::memcpy(p, &mask, sizeof mask);
+    p += sizeof mask;
+    std::memcpy(p, densities, n * sizeof(double));
+    p += n * sizeof(double);
+    std::memcpy(p, tensors, n * 6 * sizeof(float));
+}
+
+} // namespace
+
+int maxLodLevels(const VoxelGrid& grid) {
+    const int longest = std::max({grid.dims.x, grid.dims.y, grid.dims.z});
+    int levels = 0;
+    while ((longest >> (levels + 1)) >= kBrickSize) ++levels;
+    return levels;
+}
+
+int checkedLodLevels(int levels, const VoxelGrid& grid) {
+    const int most = maxLodLevels(grid);
+    if (levels < 0 || levels > most) {
+        const int longest = std::max({grid.dims.x, grid.dims.y, grid.dims.z});
+        throw Error("--lod " + std::to_string(levels) + ": the grid is " + std::to_string(longest) +
+                    " voxels on its longest axis, and every level must keep at least " + std::to_string(kBrickSize) +
+                    " (one brick): give --lod 0 to " + std::to_string(most));
+    }
+    return levels;
+}
+
+void CoarseBrick::clear(std::uint64_t k) {
+    key = k;
+    touched.fill(0);
+    densitySum.fill(0.0);
+    for (auto& t : tensor) t.fill(0.0);
+}
+
+void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out) {
+    appendOctantSums(
+        brick.activeMask, [&](int v) { return double(brick.density[v]); },
+        [&](int v, double t[6]) {
+            const double d = brick.density[v];
+            const glm::dvec3 a(brick.orientation[v]);
+            t[0] = d * a.x * a.x;
+            t[1] = d * a.y * a.y;
+            t[2] = d * a.z * a.z;
+            t[3] = d * a.x * a.y;
+            t[4] = d * a.x * a.z;
+            t[5] = d * a.y * a.z;
+        },
+        out);
+}
+
+void appendOctant(const CoarseBrick& sums, const VoxelBrick& resolved, std::vector<std::uint8_t>& out) {
+    appendOctantSums(
+        resolved.activeMask, [&](int v) { return double(resolved.density[v]); },
+        [&](int v, double t[6]) { std::copy(sums.tensor[v].begin(), sums.tensor[v].end(), t); }, out);
+}
+
+void placeOctant(std::span<const std::uint8_t> bytes, std::uint64_t childKey, CoarseBrick& parent) {
+    std::uint64_t mask = 0;
+    if (bytes.size() < sizeof mask) throw Error("level-of-detail scratch record too short");
+    std::memcpy(&mask, bytes.data(), sizeof mask);
+    const int n = std::popcount(mask);
+    if (bytes.size() != sizeof mask + n * (sizeof(double) + 6 * sizeof(float)))
+        throw Error("level-of-detail scratch record of " + std::to_string(bytes.size()) + " bytes for " +
+                    std::to_string(n) + " voxels");
+    const std::uint8_t* densities = bytes.data() + sizeof mask;
+    const std::uint8_t* tensors = densities + n * sizeof(double);
+    const glm::ivec3 o = octantOrigin(childKey);
+    int i = 0;
+    for (int block = 0; block < 64; ++block) {
+        if (!((mask >> block) & 1)) continue;
+        const int v = brickOffset(o.x + (block >> 4), o.y + ((block >> 2) & 3), o.z + (block & 3));
+        double d;
+        float t[6];
+        std::memcpy(&d, densities + i * sizeof(double), sizeof d);
+        std::memcpy(t, tensors + i * 6 * sizeof(float), sizeof t);
+        parent.touched[v >> 6] |= std::uint64_t(1) << (v & 63);
+        parent.densitySum[v] = d;
+        for (int k = 0; k < 6; ++k) parent.tensor[v][k] = t[k];
+        ++i;
+    }
+}
+
+bool resolveCoarseBrick(const CoarseBrick& sums, VoxelBrick& out) {
+    out.key = sums.key;
+    out.activeMask.fill(0);
+    bool any = false;
+    for (int v = 0; v < kBrickVoxels; ++v) {
+        out.density[v] = 0.0f;
+        out.orientation[v] = glm::vec3(0.0f);
+        if (!((sums.touched[v >> 6] >> (v & 63)) & 1)) continue;
+        // The mean over all 8 children: empty ones count as 0.
+        const float density = static_cast<float>(sums.densitySum[v] / 8.0);
+        if (!(density > 0.0f)) continue;
+        out.density[v] = density;
+        out.orientation[v] = glm::vec3(canonicalAxis(principalAxis(sums.tensor[v].data())));
+        out.activeMask[v >> 6] |= std::uint64_t(1) << (v & 63);
+        any = true;
+    }
+    return any;
+}
+
+} // namespace yv

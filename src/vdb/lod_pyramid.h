@@ -1,0 +1,61 @@
+// The level-of-detail pyramid (--lod): level L halves level L-1's
+// resolution. A coarse voxel's density is the mean of its 8 children (empty
+// children count as 0), so density times voxel volume, the fibre volume, is
+// kept level to level; its orientation is the principal axis of the sum of
+// its children's structure tensors (density * a a^T at level 0), folded as
+// level 0's axes are (canonicalAxis): never an average of vectors, whose
+// signs mean nothing.
+//
+// Each brick gives its parent brick one octant: 4^3 sums over its 2^3
+// blocks of voxels. Octants of different children never share a voxel, so a
+// parent is built by placing its children's octants, with no sum across
+// batches: the result does not depend on how bricks were batched.
+#pragma once
+
+#include "core/bricks.h"
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// The most --lod levels a grid allows: the coarsest level keeps at least
+/// one brick (8 voxels) on the grid's longest axis.
+int maxLodLevels(const VoxelGrid& grid);
+/// `levels` when the grid allows it; else throws yv::Error naming the limit.
+int checkedLodLevels(int levels, const VoxelGrid& grid);
+
+/// The brick of the next level that `childKey`'s brick falls in.
+inline std::uint64_t parentBrickKey(std::uint64_t childKey) { return brickKey(brickCoord(childKey) >> 1); }
+
+/// One brick of a coarse level while its children's octants are placed:
+/// per voxel the sum of the children's densities and of their structure
+/// tensors (xx yy zz xy xz yz).
+struct CoarseBrick {
+    std::uint64_t key = 0;
+    std::array<std::uint64_t, kBrickVoxels / 64> touched{}; ///< voxels some child reached
+    std::array<double, kBrickVoxels> densitySum{};
+    std::array<std::array<double, 6>, kBrickVoxels> tensor{};
+
+    void clear(std::uint64_t k);
+};
+
+/// The octant a level-0 brick gives its parent, as bytes for the scratch
+/// file: a 64-bit mask of the octant's voxels with an active child, then
+/// for those voxels the density sums (double) and the tensor sums (6 floats).
+void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out);
+/// The same for a brick of a coarse level: `resolved` holds its densities as
+/// written (so the next level keeps the written mass), `sums` its tensors.
+void appendOctant(const CoarseBrick& sums, const VoxelBrick& resolved, std::vector<std::uint8_t>& out);
+/// Places the octant bytes of child brick `childKey` into `parent`. Throws
+/// yv::Error when the bytes are not an octant record (a damaged scratch file).
+void placeOctant(std::span<const std::uint8_t> bytes, std::uint64_t childKey, CoarseBrick& parent);
+
+/// Densities (sum / 8, rounded once to float) and orientations of a coarse
+/// brick; a voxel is active where its density is above 0. False when none is.
+bool resolveCoarseBrick(const CoarseBrick& sums, VoxelBrick& out);
+
+} // namespace yv
