@@ -14,11 +14,12 @@ CpuRegionBackend::CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs
     const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
     const std::uint64_t physical =
         pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : (std::uint64_t(8) << 30);
-    // A sample touches one voxel; touched voxels fill bricks about a tenth
-    // full on garments (14 KiB of accumulator words a brick): about 300 bytes
-    // a sample, counted twice for the per-thread copies merged at the end.
+    // Filled yarns give about two samples a voxel and fill the bricks they
+    // touch about a quarter (14 KiB of accumulator words a brick): some 60
+    // bytes a sample, counted three times over for the per-thread copies
+    // merged at the end.
     budget_ = sampleBudget ? sampleBudget
-                           : std::clamp<std::uint64_t>(physical / 16 / 600, std::uint64_t(1) << 20, std::uint64_t(1) << 27);
+                           : std::clamp<std::uint64_t>(physical / 16 / 200, std::uint64_t(1) << 20, std::uint64_t(1) << 27);
     // Regions have their own progress line; the slices inside them do not.
     settings_.quiet = true;
 }

@@ -30,6 +30,7 @@ class CpuRegionBackend : public RegionRasterizer {
                      const VoxelizeSettings& settings, CpuRegionCounters& counters, std::uint64_t sampleBudget = 0);
     /// Samples one region may produce (the zoom planner's budget): by default
     /// its accumulators stay within about a sixteenth of physical memory.
+    /// (store_peak_queued_bytes in --stats shows what regions held.)
     std::uint64_t fragmentBudget() const override { return budget_; }
     /// Largest region edge in voxels (as the GL backend's, so both plan alike).
     int maxRegionSize() const override { return 1024; }
