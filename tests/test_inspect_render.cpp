@@ -449,6 +449,24 @@ TEST_CASE("inspect render: the command line writes PNGs from a work directory an
     CHECK(r.output.find("mean samples per pixel") != std::string::npos);
     CHECK(readPng(ray).width == 48);
 
+    // JSON for scripts: fewer samples with skipping than without, one region framed.
+    const auto meanSamples = [](const std::string& out) {
+        const std::size_t at = out.find("\"mean_samples_per_pixel\":");
+        return at == std::string::npos ? -1.0 : std::atof(out.c_str() + at + 25);
+    };
+    const auto skip = test::runYarnvox("inspect " + dir + " --render mip --size 40x30 --json --show-samples -o " + ray);
+    const auto noSkip = test::runYarnvox("inspect " + dir + " --render mip --size 40x30 --json --no-skip -o " + ray);
+    INFO(skip.output << noSkip.output);
+    REQUIRE(skip.exitCode == 0);
+    REQUIRE(noSkip.exitCode == 0);
+    CHECK(meanSamples(skip.output) > 0.0);
+    CHECK(meanSamples(noSkip.output) > meanSamples(skip.output));
+    const auto region = test::runYarnvox("inspect " + dir + " --render raycast --region 1 --size 40x30 --json -o " + ray);
+    INFO(region.output);
+    CHECK(region.exitCode == 0);
+    CHECK(region.output.find("\"fine_bricks\": " + std::to_string(std::count_if(volume.bricks.begin(), volume.bricks.end(),
+        [](const VoxelBrick& b) { return brickCoord(b.key).x >= 4; }))) != std::string::npos);
+
     // Bad requests: one line, exit 1, no file.
     const std::string none = (scratch.path / "none.png").string();
     for (const char* args : {" --render cut -o ", " --render mip --size 0x5 -o ", " --render mip --tf nosuch -o ",

@@ -271,10 +271,10 @@ struct RenderArgs {
     std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M";
     std::int64_t region = -1;
     bool noSkip = false, showSamples = false;
-    int device = -1;
+    int device = -1, repeat = 1;
 };
 
-void renderToPng(const std::string& input, const RenderArgs& a) {
+void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     RenderRequest r;
     r.kind = parseRenderKind(a.render);
     r.view = parseView(a.view);
@@ -291,6 +291,7 @@ void renderToPng(const std::string& input, const RenderArgs& a) {
     }
     r.gpuBudgetBytes = parseBytes(a.budget, "--gpu-budget");
     r.device = a.device;
+    r.repeat = a.repeat;
     if (a.output.empty()) throw Error("--render needs -o FILE.png");
     checkOutputPath(a.output, "-o", {input});
     if (r.kind != RenderKind::Cut) loadTransferFunction(r.transferFunction); // a bad --tf fails before any work
@@ -298,6 +299,28 @@ void renderToPng(const std::string& input, const RenderArgs& a) {
     const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
     const RenderReport rep = renderVolume(*source, r);
     writePng(a.output, rep.image);
+    if (json) {
+        JsonObject out;
+        out.set("path", input).set("output", a.output).set("render", a.render).set("width", rep.image.width)
+            .set("height", rep.image.height);
+        if (r.kind != RenderKind::Cut)
+            out.set("view", a.view)
+                .set("renderer", rep.renderer)
+                .set("skip_empty", r.skipEmpty)
+                .set("gpu_budget_bytes", rep.budgetBytes)
+                .set("level", rep.level)
+                .set("fine_bricks", rep.fineBricks)
+                .set("level_bricks", rep.levelBricks)
+                .set("gpu_bytes", rep.gpuBytes)
+                .set("proxy_triangles", rep.proxyTriangles)
+                .set("mean_samples_per_pixel", rep.meanSamples)
+                .set("frames", r.repeat)
+                .set("frame_seconds_median", rep.frameSeconds)
+                .set("frame_seconds_best", rep.bestFrameSeconds)
+                .set("load_seconds", rep.loadSeconds);
+        std::printf("%s\n", out.dump().c_str());
+        return;
+    }
     if (r.kind == RenderKind::Cut) {
         std::printf("%s: cut %s, %dx%d pixels, one a voxel\n", a.output.c_str(), a.cut.c_str(), rep.image.width,
                     rep.image.height);
@@ -307,16 +330,16 @@ void renderToPng(const std::string& input, const RenderArgs& a) {
     if (rep.level > 0)
         std::printf("  the %llu occupied bricks exceed the GPU budget (%s): drawn at level %d, each voxel the mean of "
                     "%dx%dx%d voxels (%llu bricks, %s)\n",
-                    static_cast<unsigned long long>(rep.fineBricks), bytesText(double(r.gpuBudgetBytes)).c_str(), rep.level,
+                    static_cast<unsigned long long>(rep.fineBricks), bytesText(double(rep.budgetBytes)).c_str(), rep.level,
                     1 << rep.level, 1 << rep.level, 1 << rep.level, static_cast<unsigned long long>(rep.levelBricks),
                     bytesText(double(rep.gpuBytes)).c_str());
     else
         std::printf("  %llu bricks at full resolution, %s on the GPU\n", static_cast<unsigned long long>(rep.levelBricks),
                     bytesText(double(rep.gpuBytes)).c_str());
-    std::printf("  empty-space skipping %s%s; mean samples per pixel %.2f; frame %.3f s (loading %.3f s)\n",
+    std::printf("  empty-space skipping %s%s; mean samples per pixel %.2f; frame %.3f s%s (loading %.3f s)\n",
                 r.skipEmpty ? "on" : "off",
                 r.skipEmpty ? (" (" + std::to_string(rep.proxyTriangles) + " proxy triangles)").c_str() : "",
-                rep.meanSamples, rep.frameSeconds, rep.loadSeconds);
+                rep.meanSamples, rep.frameSeconds, r.repeat > 1 ? " (median)" : "", rep.loadSeconds);
 }
 
 } // namespace
@@ -370,11 +393,14 @@ void addInspectCommand(CLI::App& app) {
                     "--render: GPU memory for the brick atlas (K, M, G); a volume that needs more is drawn at a "
                     "coarser level")
         ->capture_default_str();
+    cmd->add_option("--repeat", render->repeat, "--render: draw the frame this many times and report the median time")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
     cmd->add_option("--device", render->device, "--render: EGL device index (-1: the first GPU, else llvmpipe)")
         ->capture_default_str();
     cmd->callback([args, render] {
         if (!render->render.empty()) {
-            renderToPng(args->path, *render);
+            renderToPng(args->path, *render, args->json);
             return;
         }
         if (!render->output.empty()) throw Error("-o goes with --render");

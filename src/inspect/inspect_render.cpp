@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <vector>
 
 namespace yv {
 
@@ -34,8 +35,11 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
     GlContext context(GlContextOptions{request.device, false});
     report.renderer = context.info().renderer;
     const auto start = std::chrono::steady_clock::now();
+    report.budgetBytes = request.gpuBudgetBytes;
+    if (const long long free = context.queryFreeMemoryBytes(); free > 0)
+        report.budgetBytes = std::min(report.budgetBytes, std::uint64_t(free) / 2);
     const LevelPlan plan =
-        planLevel(source, box, request.gpuBudgetBytes, atlasBytesPerVoxel(orientation), context.info().max3dTextureSize);
+        planLevel(source, box, report.budgetBytes, atlasBytesPerVoxel(orientation), context.info().max3dTextureSize);
     if (plan.bricks.empty()) throw Error("nothing to render: no active voxel inside the framed box");
     BrickAtlas atlas(plan, orientation, context.info().max3dTextureSize);
     streamLevelBricks(source, box, plan, orientation, [&](const LevelBrick& b) { atlas.upload(b); });
@@ -48,14 +52,19 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
     RaycastSettings settings;
     settings.skipEmpty = request.skipEmpty;
     settings.transferFunction = tf;
-    const RaycastResult r = renderer.render(frameBox(box, request.view, request.width, request.height), settings);
+    const Camera camera = frameBox(box, request.view, request.width, request.height);
+    RaycastResult r = renderer.render(camera, settings);
+    std::vector<double> frames = {r.frameSeconds};
+    for (int i = 1; i < request.repeat; ++i) frames.push_back(renderer.render(camera, settings).frameSeconds);
+    std::sort(frames.begin(), frames.end());
     report.level = plan.level;
     report.fineBricks = plan.fineBricks;
     report.levelBricks = plan.bricks.size();
     report.gpuBytes = plan.gpuBytes;
     report.proxyTriangles = request.skipEmpty ? r.proxyTriangles : 0;
     report.meanSamples = r.meanSamples;
-    report.frameSeconds = r.frameSeconds;
+    report.frameSeconds = frames[frames.size() / 2];
+    report.bestFrameSeconds = frames.front();
     if (request.showSamples) {
         const float most = r.samples.empty() ? 1.0f : *std::max_element(r.samples.begin(), r.samples.end());
         report.image = samplesImage(r.samples, request.width, request.height, most);

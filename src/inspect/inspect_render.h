@@ -29,8 +29,9 @@ struct RenderRequest {
     bool skipEmpty = true;
     bool showSamples = false; ///< the picture shows samples per pixel instead
     CutPlane cut;
-    std::uint64_t gpuBudgetBytes = 512ull << 20;
+    std::uint64_t gpuBudgetBytes = 512ull << 20; ///< capped at half the free GPU memory where the driver tells
     int device = -1;
+    int repeat = 1; ///< frames drawn (the same picture), for timing
 };
 
 struct RenderReport {
@@ -38,7 +39,9 @@ struct RenderReport {
     std::string renderer;        ///< the GL renderer's name (empty for a cut)
     int level = 0;               ///< 0: full resolution; L: means of 2^L voxels a side
     std::uint64_t fineBricks = 0, levelBricks = 0, gpuBytes = 0, proxyTriangles = 0;
-    double meanSamples = 0.0, frameSeconds = 0.0, loadSeconds = 0.0;
+    std::uint64_t budgetBytes = 0; ///< the budget the level was chosen for
+    double meanSamples = 0.0, loadSeconds = 0.0;
+    double frameSeconds = 0.0, bestFrameSeconds = 0.0; ///< median and fastest of the repeated frames
 };
 
 /// Renders `source` as `request` asks. Throws yv::Error (no GL context, an
