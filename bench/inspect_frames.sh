@@ -25,7 +25,7 @@ trap 'rm -rf "$scratch"' EXIT
 gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 || true)
 printf '{ "bench": "inspect_frames", "date": "%s", "host_cores": %s, "gpu": "%s", "commit": "%s", "command": "%s" }\n' \
     "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$(nproc)" "${gpu:-none}" \
-    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" "$0 $input \"$resolutions\" $size $*"
+    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" "$0 $input '$resolutions' $size $*"
 
 case "$input" in
 *.bcc) ;;
