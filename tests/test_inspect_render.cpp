@@ -512,3 +512,53 @@ TEST_CASE("inspect render: an 8192-voxel domain renders within the default budge
         for (int x = 0; x < 256; ++x) wrong += r.image.at(x, y)[0] != (x == 255 - y ? 255 : 0);
     CHECK(wrong == 0);
 }
+
+TEST_CASE("inspect render: work directories and .vdb files hand over the bricks and voxels that were written", "[inspect]") {
+    Scratch scratch;
+    const BrickVolume volume = garmentVolume(64);
+    const std::string dir = (scratch.path / "work").string(), vdb = (scratch.path / "v.vdb").string();
+    {
+        StoreManifest manifest;
+        manifest.fingerprint = 9;
+        manifest.grid = volume.grid;
+        BrickStore store(dir, manifest, false);
+        std::vector<VoxelBrick> low, high;
+        for (const VoxelBrick& b : volume.bricks) (brickCoord(b.key).z < 4 ? low : high).push_back(b);
+        const glm::ivec3 size = (volume.grid.dims + 7) / 8 * 8;
+        store.writeRegion(0, {0, 0, 0}, {size.x, size.y, 32}, low);
+        store.writeRegion(1, {0, 0, 32}, {size.x, size.y, std::max(size.z, 40)}, high);
+        store.markComplete(2);
+    }
+    writeVdb(vdb, volume, VolumeMetadata{});
+    test::VolumeIndex index(volume);
+    std::vector<glm::ivec3> expected;
+    for (const VoxelBrick& b : volume.bricks) expected.push_back(brickCoord(b.key));
+    for (const auto& source : {openVolumeSource(dir), openVolumeSource(vdb)}) {
+        std::vector<glm::ivec3> listed = source->occupiedBricks();
+        const auto order = [](glm::ivec3 a, glm::ivec3 b) { return brickKey(a) < brickKey(b); };
+        std::sort(listed.begin(), listed.end(), order);
+        CHECK(listed == expected);
+        CHECK(source->hasOrientation());
+        // Every voxel of the bricks in the lower half along x, and none beyond.
+        const glm::ivec3 lo(0), hi(4, 1 << 20, 1 << 20);
+        std::size_t visited = 0;
+        int wrongDensity = 0, wrongAxis = 0, outside = 0;
+        source->forEachBrick(lo, hi, [&](const SourceBrick& b) {
+            ++visited;
+            outside += b.coord.x >= 4;
+            const VoxelBrick* mine = index.brick(b.coord * 8);
+            REQUIRE(mine);
+            for (int v = 0; v < kBrickVoxels; ++v) {
+                const float d = mine->isActive(v) ? mine->density[std::size_t(v)] : 0.0f;
+                wrongDensity += std::abs(b.density[v] - d) > 1e-6f;
+                if (mine->isActive(v)) wrongAxis += glm::length(b.orientation[v] - mine->orientation[std::size_t(v)]) > 1e-6f;
+            }
+        });
+        CHECK(visited == std::size_t(std::count_if(expected.begin(), expected.end(), [](glm::ivec3 c) { return c.x < 4; })));
+        CHECK(outside == 0);
+        CHECK(wrongDensity == 0);
+        CHECK(wrongAxis == 0);
+    }
+    CHECK(openVolumeSource(dir)->regionBounds(1).min == glm::ivec3(0, 0, 32));
+    CHECK_THROWS_AS(openVolumeSource(vdb)->regionBounds(0), Error);
+}
