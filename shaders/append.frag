@@ -13,7 +13,10 @@ layout(std430, binding = 3) buffer CounterState { uint counterWord; uint counter
 
 uniform uint uCapacity;       // fragments the list holds; the counter goes on past it
 uniform float uRadius;        // yarn radius, voxel units
-uniform int uDisk;            // 1: the uniform disk, coverage computed exactly
+// CROSS_SECTION_DISK (a #define, 1 or 0): the uniform disk, coverage computed
+// exactly; a program of its own, so that each keeps only the code it runs.
+const bool kDisk = CROSS_SECTION_DISK != 0;
+uniform float uSupport;       // textureSupport(): beyond it the texture reads 0
 uniform int uSupersample;
 uniform ivec3 uRegionMin;
 uniform ivec3 uRegionBricks;  // region size in bricks
@@ -51,7 +54,7 @@ void main() {
     // The pixel's prism through the slab, in cells with their own coverage
     // and depth (the CPU reference's rule).
     float cellDensity[kCells], cellZ0[kCells], cellZ1[kCells], zMin, zMax;
-    float cellSum = footprintCells(uCrossSection, uDisk != 0, a, b, c, S, uRadius, vCenter, vRight, vUp, vTangent,
+    float cellSum = footprintCells(uCrossSection, kDisk, uSupport, a, b, c, S, uRadius, vCenter, vRight, vUp, vTangent,
                                    vCurvature, vDepthScale, x, y, cellDensity, cellZ0, cellZ1, zMin, zMax);
     if (!(cellSum > 0.0)) return;
     float density = cellSum / float(kCells);

@@ -17,7 +17,10 @@ layout(binding = 1, r8) uniform writeonly image3D uTheta;
 layout(binding = 2, r8) uniform writeonly image3D uPhi;
 
 uniform float uRadius;        // yarn radius, voxel units
-uniform int uDisk;            // 1: the uniform disk, coverage computed exactly
+// CROSS_SECTION_DISK (a #define, 1 or 0): the uniform disk, coverage computed
+// exactly; a program of its own, so that each keeps only the code it runs.
+const bool kDisk = CROSS_SECTION_DISK != 0;
+uniform float uSupport;       // textureSupport(): beyond it the texture reads 0
 uniform int uSupersample;
 uniform ivec3 uDims;          // grid size in voxels (the textures' size)
 
@@ -50,7 +53,7 @@ void main() {
     if (face.x >= uDims[b] || face.y >= uDims[c]) return;
 
     float cellDensity[kCells], cellZ0[kCells], cellZ1[kCells], zMin, zMax;
-    float cellSum = footprintCells(uCrossSection, uDisk != 0, a, b, c, S, uRadius, vCenter, vRight, vUp, vTangent,
+    float cellSum = footprintCells(uCrossSection, kDisk, uSupport, a, b, c, S, uRadius, vCenter, vRight, vUp, vTangent,
                                    vCurvature, vDepthScale, x, y, cellDensity, cellZ0, cellZ1, zMin, zMax);
     if (!(cellSum > 0.0)) return;
     float density = cellSum / float(kCells);

@@ -635,6 +635,33 @@ TEST_CASE("RegionWriter takes resolved, packed regions and writes what submit() 
         for (std::size_t i = 0; i < got.size(); ++i) mismatches += !sameBits(got[i], expected.bricks[i]);
         CHECK(mismatches == 0);
     }
+    SECTION("each region packed into storage recycled from earlier ones, as the GL backend does") {
+        std::mutex mutex;
+        std::vector<VoxelBrick> got;
+        // A one-byte bound holds one region at a time: a submit returns once
+        // the region before it is unpacked, so its storage is there to reuse.
+        RegionWriter writer([&](std::uint64_t, std::vector<VoxelBrick>&& bricks) {
+            std::lock_guard lock(mutex);
+            got.insert(got.end(), bricks.begin(), bricks.end());
+        }, Reduce::Mean, Overlap::Clamp, 1, 2);
+        std::size_t recycled = 0;
+        for (const auto& r : regions) {
+            PackedBricks storage = writer.recycledPackedBricks();
+            REQUIRE(storage.headers.empty());
+            REQUIRE(storage.voxels.empty());
+            recycled += storage.voxels.capacity() > 0;
+            const PackedBricks packed = packOnCpu(r.accumulators);
+            storage.append(packed.headers.data(), packed.headers.size(), packed.voxels.data(), packed.voxels.size());
+            writer.submitResolved(r.id, r.min, r.max, std::move(storage));
+        }
+        writer.finish();
+        CHECK(recycled >= regions.size() - 2);
+        std::sort(got.begin(), got.end(), [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });
+        REQUIRE(got.size() == expected.bricks.size());
+        std::size_t mismatches = 0;
+        for (std::size_t i = 0; i < got.size(); ++i) mismatches += !sameBits(got[i], expected.bricks[i]);
+        CHECK(mismatches == 0);
+    }
     SECTION("a header that contradicts its voxels is a worker error") {
         BrickStore store(scratch.sub("w"), testManifest(), false);
         RegionWriter writer(store, Reduce::Mean, Overlap::Clamp, 1, 2);

@@ -1,6 +1,8 @@
+#include "cpu/cpu_region_backend.h"
 #include "cpu/cpu_voxelizer.h"
 #include "garment/cross_section.h"
 #include "garment/generate.h"
+#include "plan/zoom_plan.h"
 #include "test_helpers.h"
 #include "vdb_bytes.h"
 #include "vdb/vdb_writer.h"
@@ -175,6 +177,77 @@ TEST_CASE("Results are bit-identical for any thread count: the same .vdb bytes f
         }
     }
     fs::remove_all(dir);
+}
+
+namespace {
+
+/// Resolves each region's accumulators as they come, keeping the bricks.
+class ResolvingSink : public RegionSink {
+  public:
+    explicit ResolvingSink(Reduce reduce) : reduce_(reduce) {}
+    void consume(const ZoomRegion&, PackedBricks&&) override { FAIL("the CPU backend hands over accumulators"); }
+    void consumeAccumulators(const ZoomRegion& region, std::vector<BrickAccumulator>&& accumulators) override {
+        ++regions;
+        largestRegion = std::max(largestRegion, accumulators.size());
+        for (const BrickAccumulator& a : accumulators) {
+            const glm::ivec3 corner = brickCoord(a.key) * 8;
+            // Every brick lies inside the region that produced it.
+            inside = inside && glm::all(glm::greaterThanEqual(corner, region.min)) &&
+                     glm::all(glm::lessThanEqual(corner + 8, region.max));
+            VoxelBrick b;
+            if (resolveBrick(reduce_, Overlap::Clamp, a, b, nullptr)) bricks.push_back(b);
+        }
+    }
+    std::vector<VoxelBrick> bricks;
+    std::size_t regions = 0, largestRegion = 0;
+    bool inside = true;
+
+  private:
+    Reduce reduce_;
+};
+
+} // namespace
+
+TEST_CASE("CPU backend out of core: many zoom regions give the whole-volume reference bit for bit", "[cpu][out-of-core]") {
+    GenerateOptions g;
+    g.pattern = WeavePattern::Knit;
+    g.shape = GarmentShape::Cylinder;
+    g.crossings = 400;
+    const Garment garment = generateGarment(g);
+    SliceOptions opt;
+    opt.radius = garment.yarnRadius;
+    opt.twist = 1.0;
+    opt.spacing = defaultSliceSpacing(voxelSizeFor(garment, opt.radius, 192, 0.0), 1);
+    const SlicePlan plan = planSlices(garment, opt);
+    const VoxelGrid grid = makeGrid(plan, 192, 0);
+    const CrossSection xs = makeFiberCrossSection();
+    for (Reduce r : {Reduce::Mean, Reduce::Max}) {
+        const BrickVolume whole = voxelizeCpu(plan, xs, grid, settings(r));
+        CpuRegionCounters counters;
+        // A budget far below the garment's samples: dozens of regions, and
+        // segments that cross region boundaries are sampled in each.
+        CpuRegionBackend backend(plan, xs, grid, settings(r), counters, 40000);
+        const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), 1});
+        ResolvingSink sink(r);
+        backend.run(zoom.regions, sink);
+        INFO(toString(r) << ": " << zoom.regions.size() << " regions, largest " << sink.largestRegion << " bricks of "
+                         << whole.bricks.size());
+        CHECK(zoom.regions.size() >= 16);
+        CHECK(sink.regions == zoom.regions.size());
+        CHECK(counters.regions == zoom.regions.size());
+        CHECK(sink.inside);
+        CHECK(sink.largestRegion < whole.bricks.size() / 4);
+        std::sort(sink.bricks.begin(), sink.bricks.end(), [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });
+        REQUIRE(sink.bricks.size() == whole.bricks.size());
+        std::size_t mismatches = 0;
+        for (std::size_t i = 0; i < whole.bricks.size(); ++i) {
+            const VoxelBrick &a = sink.bricks[i], &b = whole.bricks[i];
+            mismatches += a.key != b.key || a.activeMask != b.activeMask ||
+                          std::memcmp(a.density.data(), b.density.data(), sizeof(float) * kBrickVoxels) != 0 ||
+                          std::memcmp(a.orientation.data(), b.orientation.data(), sizeof(glm::vec3) * kBrickVoxels) != 0;
+        }
+        CHECK(mismatches == 0);
+    }
 }
 
 TEST_CASE("Principal axis of a structure tensor", "[cpu]") {

@@ -24,7 +24,7 @@ namespace {
 /// A garment and options that make a few dozen small zoom regions on llvmpipe.
 struct FaultRun {
     fs::path dir, bcc, reference;
-    std::string options = " --resolution 1024 --yarn-radius 0.1 --slices-per-segment 2 --twist 2 --fragment-budget 50000 --quiet";
+    std::string options = " --backend gl --resolution 1024 --yarn-radius 0.1 --slices-per-segment 2 --twist 2 --fragment-budget 50000 --quiet";
 
     explicit FaultRun(const std::string& name) {
         dir = fs::temp_directory_path() / ("yv_faults_" + std::to_string(getpid())) / name;

@@ -117,14 +117,17 @@ std::size_t regionFiles(const fs::path& dir) {
 } // namespace
 
 TEST_CASE("A run killed part-way and resumed gives the same .vdb, and damaged regions are recomputed", "[gl][out-of-core][cli]") {
-    YV_REQUIRE_GL();
-    const fs::path dir = scratchDir("resume");
+    // Both backends are region rasterizers feeding the same store.
+    const std::string backend = GENERATE(as<std::string>(), "gl", "cpu");
+    if (backend == "gl") YV_REQUIRE_GL();
+    INFO("--backend " << backend);
+    const fs::path dir = scratchDir("resume-" + backend);
     fs::create_directories(dir);
     const fs::path bcc = dir / "g.bcc";
     REQUIRE(runQuiet("gen --pattern twill --shape cylinder --crossings 64 -o " + bcc.string()) == 0);
     // Thin yarns keep the filled volume (and llvmpipe's work) small in a big grid.
-    const std::string common =
-        " --resolution 1024 --yarn-radius 0.1 --slices-per-segment 2 --twist 2 --fragment-budget 50000 --quiet ";
+    const std::string common = " --backend " + backend +
+                               " --resolution 1024 --yarn-radius 0.1 --slices-per-segment 2 --twist 2 --fragment-budget 50000 --quiet ";
 
     // The reference: one uninterrupted run.
     const fs::path reference = dir / "reference.vdb";
@@ -138,7 +141,7 @@ TEST_CASE("A run killed part-way and resumed gives the same .vdb, and damaged re
     const pid_t child = fork();
     REQUIRE(child >= 0);
     if (child == 0) {
-        execl(yarnvox().c_str(), "yarnvox", "voxelize", bcc.c_str(), "-o", out.c_str(), "--resolution", "1024",
+        execl(yarnvox().c_str(), "yarnvox", "voxelize", bcc.c_str(), "-o", out.c_str(), "--backend", backend.c_str(), "--resolution", "1024",
               "--yarn-radius", "0.1", "--slices-per-segment", "2", "--twist", "2", "--fragment-budget", "50000", "--quiet", "--work-dir",
               work.c_str(), static_cast<char*>(nullptr));
         _exit(127);
@@ -196,7 +199,7 @@ TEST_CASE("Resuming a work dir made by another yarnvox version or sampling code 
     const fs::path bcc = dir / "g.bcc", work = dir / "work", out = dir / "out.vdb";
     REQUIRE(runQuiet("gen --pattern plain --crossings 8 -o " + bcc.string()) == 0);
     const std::string args = "voxelize " + bcc.string() + " -o " + out.string() +
-                             " --resolution 64 --fragment-budget 50000 --quiet --work-dir " + work.string();
+                             " --backend gl --resolution 64 --fragment-budget 50000 --quiet --work-dir " + work.string();
     REQUIRE(runQuiet(args) == 0);
     const std::size_t regions = regionFiles(work);
     REQUIRE(regions > 0);
@@ -231,13 +234,15 @@ TEST_CASE("Resuming a work dir made by another yarnvox version or sampling code 
 }
 
 TEST_CASE("Without a work dir, regions go straight into the .vdb: the same file as through the store", "[gl][out-of-core][cli]") {
-    YV_REQUIRE_GL();
-    const fs::path dir = scratchDir("in-memory");
+    const std::string backend = GENERATE(as<std::string>(), "gl", "cpu");
+    if (backend == "gl") YV_REQUIRE_GL();
+    INFO("--backend " << backend);
+    const fs::path dir = scratchDir("in-memory-" + backend);
     fs::create_directories(dir);
     const fs::path bcc = dir / "g.bcc";
     REQUIRE(runQuiet("gen --pattern knit --shape cylinder --crossings 64 -o " + bcc.string()) == 0);
     // A small budget, so that many regions make up the volume either way.
-    const std::string common = " --backend gl --resolution 192 --fragment-budget 60000 --quiet ";
+    const std::string common = " --backend " + backend + " --resolution 192 --fragment-budget 60000 --quiet ";
     const fs::path direct = dir / "direct.vdb", stored = dir / "stored.vdb";
     REQUIRE(runQuiet("voxelize " + bcc.string() + " -o " + direct.string() + common + "--stats " +
                      (dir / "direct.json").string()) == 0);

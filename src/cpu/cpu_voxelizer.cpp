@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <numeric>
 #include <unordered_map>
 
 namespace yv {
@@ -52,27 +53,31 @@ void accumulateSample(Reduce reduce, std::uint32_t* words, int v, double volumeF
     }
 }
 
-BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
-                        const VoxelizeSettings& settings, CpuVoxelizeCounters* counters) {
+std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                                            const VoxelizeSettings& settings, std::span<const std::uint32_t> segments,
+                                            glm::ivec3 boxMin, glm::ivec3 boxMax, CpuVoxelizeCounters* counters) {
     if (settings.supersample < 1 || settings.supersample > 16)
         throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.supersample) + ")");
     const Reduce reduce = settings.reduce;
     const double radius = plan.options.radius;
+    const double support = textureSupport(xs);
     tbb::enumerable_thread_specific<ThreadBricks> perThread;
-    Progress progress("voxelize", plan.sliceCount, settings.quiet, "slices");
+    std::uint64_t sliceCount = 0;
+    for (std::uint32_t s : segments) sliceCount += plan.segments[s].sliceCount;
+    Progress progress("voxelize", sliceCount, settings.quiet, "slices");
     std::atomic<bool> outside{false};
     std::atomic<std::uint64_t> tasks{0};
 
     // Consecutive segments are close in space, so each task touches few bricks.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plan.segments.size(), 64),
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           ThreadBricks& local = perThread.local();
                           std::uint64_t slices = 0;
-                          for (std::size_t s = range.begin(); s != range.end(); ++s) {
-                              const SegmentRecord& seg = plan.segments[s];
+                          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                              const SegmentRecord& seg = plan.segments[segments[i]];
                               for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
                                   const Slice slice = placeSlice(seg, k);
-                                  sampleSlice(slice, radius, xs, grid, settings.supersample,
+                                  sampleSlice(slice, radius, xs, support, grid, settings.supersample,
                                               [&](const SliceSample& smp) {
                                                   const glm::ivec3 v = smp.voxel;
                                                   if (glm::any(glm::lessThan(v, glm::ivec3(0))) ||
@@ -80,6 +85,10 @@ BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const Vox
                                                       outside = true;
                                                       return;
                                                   }
+                                                  // Another box's voxel: that box's pass takes it.
+                                                  if (glm::any(glm::lessThan(v, boxMin)) ||
+                                                      glm::any(glm::greaterThanEqual(v, boxMax)))
+                                                      return;
                                                   std::uint32_t* w = local.words(brickKey(v >> 3), reduce);
                                                   accumulateSample(reduce, w, brickOffset(v.x & 7, v.y & 7, v.z & 7),
                                                                    smp.volumeFraction, smp.density, smp.direction);
@@ -123,13 +132,20 @@ BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const Vox
                 combineAccumulators(reduce, out.words.data(), words.data());
         }
     });
-    perThread.clear();
     if (counters) {
-        counters->samples = samples;
-        counters->tasks = tasks;
-        counters->threads = threads.size();
+        counters->samples += samples;
+        counters->tasks += tasks;
+        counters->threads = std::max<std::uint64_t>(counters->threads, threads.size());
     }
-    return resolveVolume(grid, reduce, settings.overlap, merged);
+    return merged;
+}
+
+BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                        const VoxelizeSettings& settings, CpuVoxelizeCounters* counters) {
+    std::vector<std::uint32_t> all(plan.segments.size());
+    std::iota(all.begin(), all.end(), 0u);
+    std::vector<BrickAccumulator> accumulators = accumulateBox(plan, xs, grid, settings, all, glm::ivec3(0), grid.dims, counters);
+    return resolveVolume(grid, settings.reduce, settings.overlap, accumulators);
 }
 
 } // namespace yv

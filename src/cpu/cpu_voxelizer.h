@@ -8,6 +8,8 @@
 #include "plan/grid.h"
 
 #include <cstdint>
+#include <span>
+#include <vector>
 
 namespace yv {
 
@@ -23,6 +25,15 @@ struct CpuVoxelizeCounters {
     std::uint64_t tasks = 0;   ///< slice-range tasks TBB ran (a test checks that the work was split)
     std::uint64_t threads = 0; ///< threads that ran at least one of them
 };
+
+/// Accumulates the slices of `segments` (indices into plan.segments) into the
+/// voxels of the box [boxMin, boxMax) of `grid`; samples elsewhere in the grid
+/// belong to other boxes and are left out. Throws yv::Error if a sample falls
+/// outside the grid. Sorted by key, the same bits for any thread count.
+/// Counters are added to.
+std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                                            const VoxelizeSettings& settings, std::span<const std::uint32_t> segments,
+                                            glm::ivec3 boxMin, glm::ivec3 boxMax, CpuVoxelizeCounters* counters = nullptr);
 
 /// Voxelizes every slice of `plan` into `grid`. Throws yv::Error if a sample
 /// falls outside the grid (a grid that does not contain the plan).

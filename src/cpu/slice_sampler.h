@@ -27,9 +27,10 @@ struct SliceSample {
 /// slice's slab: its footprint on the slice is cut into cells, each with its
 /// fibre coverage and its column through the slab, and every column is split
 /// among the voxels it crosses (a box filter in depth); one share per voxel.
+/// `support` is textureSupport(xs), computed once per run.
 template <class Emit>
-void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, const VoxelGrid& grid, int supersample,
-                 Emit&& emit) {
+void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, double support, const VoxelGrid& grid,
+                 int supersample, Emit&& emit) {
     const int a = dominantAxis(slice.tangent), b = (a + 1) % 3, c = (a + 2) % 3;
     const double h = grid.voxelSize, pixel = h / supersample;
     // right x up = tangent, so the 2x2 system below has determinant tangent[a].
@@ -57,6 +58,8 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, cons
     const double cellShare = 1.0 / (double(supersample) * supersample * m * m);
     const double invRadius = 1.0 / radius;
     const glm::dvec2 cellB = edgeB / double(m), cellC = edgeC / double(m);
+    // A footprint whose nearest point lies beyond the texture's support reads 0.
+    const double reach = 0.5 * (glm::length(edgeB) + glm::length(edgeC));
 
     struct Cell {
         double density, z0, z1;
@@ -68,8 +71,13 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, cons
             const double db = grid.origin[b] + (i + 0.5) * pixel - slice.center[b];
             const double x = (db * Uc - dc * Ub) / det;
             const double y = (Rb * dc - Rc * db) / det;
-            const double coverage = xs.footprintDensity(glm::dvec2(x, y) * invRadius, edgeB, edgeC);
-            if (xs.analyticDisk && !(coverage > 0.0)) continue;
+            double coverage = 0.0;
+            if (xs.analyticDisk) {
+                coverage = xs.footprintDensity(glm::dvec2(x, y) * invRadius, edgeB, edgeC);
+                if (!(coverage > 0.0)) continue;
+            } else if (glm::length(glm::dvec2(x, y) * invRadius) - reach > support) {
+                continue;
+            }
             // The footprint in m x m cells, each with its own density and its
             // own column through the slab: the sample's volume is split in
             // depth where it actually lies, not only where its centre does.

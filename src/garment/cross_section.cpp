@@ -215,4 +215,17 @@ CrossSection makeCrossSection(const std::string& spec) {
     throw Error("--cross-section: expected fibers, disk or a .png file, got '" + spec + "'");
 }
 
+double textureSupport(const CrossSection& xs) {
+    if (xs.analyticDisk) return 1.0;
+    double farthest = -1.0;
+    for (int y = 0; y < xs.size; ++y)
+        for (int x = 0; x < xs.size; ++x)
+            if (xs.density[static_cast<std::size_t>(y) * xs.size + x] != 0) {
+                const double u = (x + 0.5) / xs.size * 2.0 - 1.0, v = (y + 0.5) / xs.size * 2.0 - 1.0;
+                farthest = std::max(farthest, std::sqrt(u * u + v * v));
+            }
+    if (farthest < 0.0) return 0.0; // no fibre anywhere: every lookup reads 0
+    return farthest + 2.0 * std::sqrt(2.0) / xs.size + 1e-3;
+}
+
 } // namespace yv

@@ -52,6 +52,15 @@ struct CrossSection {
     double meanDensity() const;
 };
 
+/// Slice-local distance from the centre, in units of the radius, beyond which
+/// every lookup of `xs` reads 0: the farthest texel with fibre plus the reach
+/// of the bilinear rule (a lookup reads texels within one texel of it on
+/// each axis), with a margin for float rounding. A sample's footprint that
+/// lies wholly beyond it has no fibre, so both backends skip it unevaluated:
+/// the fibre plies fill a disk, so most of a slice's square is skipped.
+/// The analytic disk: 1.
+double textureSupport(const CrossSection& xs);
+
 /// Uniform density 1 inside the unit disk; edge texels hold their coverage.
 CrossSection makeDiskCrossSection(int size = 128);
 

@@ -1,6 +1,7 @@
 #include "gpu/dense_voxelizer.h"
 
 #include "core/error.h"
+#include "gpu/cross_section_texture.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_program.h"
 #include "gpu/gpu_layout.h"
@@ -148,12 +149,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     c.instances = instances;
     gl.drawList = uploadBuffer(draw.data(), draw.size() * 4);
 
-    glCreateTextures(GL_TEXTURE_2D, 1, &gl.crossSection);
-    glTextureStorage2D(gl.crossSection, 1, GL_R8UI, xs.size, xs.size);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(gl.crossSection, 0, 0, 0, xs.size, xs.size, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data());
-    glTextureParameteri(gl.crossSection, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(gl.crossSection, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.crossSection = uploadCrossSectionTexture(xs);
     checkGlError("uploading segments and the cross-section");
 
     glGetError(); // start the allocation check clean
@@ -170,7 +166,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     });
     checkGlError("clearing the 3D textures");
 
-    GlProgram program = GlProgram::graphics("slice.vert", "dense.frag");
+    GlProgram program = GlProgram::graphics("slice.vert", "dense.frag", crossSectionDefines(xs, settings.texelReads, info.platform));
     glCreateVertexArrays(1, &gl.vao);
     glCreateFramebuffers(1, &gl.fbo);
     glNamedFramebufferParameteri(gl.fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, GLint(viewport));
@@ -193,7 +189,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     glUniform1ui(program.uniform("uUniformSlices"), minSlices == maxSlices ? maxSlices : 0u);
     glUniform1f(program.uniform("uRadius"), float(plan.options.radius / grid.voxelSize));
     glUniform1i(program.uniform("uSupersample"), S);
-    glUniform1i(program.uniform("uDisk"), xs.analyticDisk ? 1 : 0);
+    glUniform1f(program.uniform("uSupport"), float(textureSupport(xs)));
     glUniform3i(program.uniform("uRegionMin"), 0, 0, 0);
     glUniform3i(program.uniform("uDims"), dims.x, dims.y, dims.z);
     glUniform2f(program.uniform("uViewport"), float(viewport), float(viewport));

@@ -5,11 +5,32 @@
 
 #include <epoxy/egl.h>
 
+#include <cstdlib>
+#include <fstream>
 #include <initializer_list>
+#include <optional>
+#include <sstream>
 #include <utility>
+
+#include <unistd.h>
 
 namespace yv {
 namespace {
+
+/// YV_SHADER_DIR=DIR: a shader file found in DIR is compiled instead of the
+/// copy built into the binary (for trying a shader change on a machine
+/// without rebuilding it). One that is there but cannot be read is an error.
+std::optional<std::string> shaderOverride(const std::string& name) {
+    const char* dir = std::getenv("YV_SHADER_DIR");
+    if (!dir || !*dir) return std::nullopt;
+    const std::string path = std::string(dir) + "/" + name;
+    if (access(path.c_str(), F_OK) != 0) return std::nullopt;
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in) throw Error("YV_SHADER_DIR: " + path + ": cannot be read");
+    return text.str();
+}
 
 std::string trimmed(std::string s) {
     while (!s.empty() && (s.back() == '\n' || s.back() == ' ' || s.back() == '\r' || s.back() == '\0'))
@@ -71,11 +92,12 @@ GLuint link(std::initializer_list<GLuint> stages, const std::string& names) {
 } // namespace
 
 GLuint compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
-    const char* text = shaderSource(name.c_str());
+    const std::optional<std::string> override = shaderOverride(name), commonOverride = shaderOverride("common.glsl");
+    const char* text = override ? override->c_str() : shaderSource(name.c_str());
     if (!text)
         throw Error("shader " + name + ": not among the embedded shaders (add shaders/" + name +
                     " to YV_SHADERS in CMakeLists.txt)");
-    const char* common = shaderSource("common.glsl");
+    const char* common = commonOverride ? commonOverride->c_str() : shaderSource("common.glsl");
 
     std::string src = "#version 450 core\n";
     for (const std::string& d : defines) src += "#define " + d + "\n";

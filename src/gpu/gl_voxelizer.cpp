@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "gpu/brick_resolver.h"
+#include "gpu/cross_section_texture.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_buffer.h"
 #include "gpu/gl_program.h"
@@ -73,8 +74,9 @@ class GlBackend::Impl {
         chooseBudgets(info);
         uploadSegments();
         uploadCrossSection(xs);
-        raster_ = GlProgram::graphics("slice.vert", "append.frag");
+        raster_ = GlProgram::graphics("slice.vert", "append.frag", crossSectionDefines(xs, settings.texelReads, info.platform));
         flag_ = GlProgram::compute("brick_flag.comp");
+        clear_ = GlProgram::compute("buffer_clear.comp");
         scan_ = GlProgram::compute("brick_scan.comp");
         const std::vector<std::string> defines =
             reduce_ == Reduce::Max ? std::vector<std::string>{"REDUCE_MAX 1"} : std::vector<std::string>{};
@@ -107,6 +109,7 @@ class GlBackend::Impl {
                 progress.advance(1);
                 continue;
             }
+            packed_ = sink.emptyPackedBricks();
             // Pieces of one region are finished before the next region starts,
             // so the sink gets each region whole, once.
             std::vector<WorkItem> stack{WorkItem{region.min, region.max, region.segments}};
@@ -195,13 +198,8 @@ class GlBackend::Impl {
     }
 
     void uploadCrossSection(const CrossSection& xs) {
-        disk_ = xs.analyticDisk;
-        glCreateTextures(GL_TEXTURE_2D, 1, &texture_);
-        glTextureStorage2D(texture_, 1, GL_R8UI, xs.size, xs.size);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glTextureSubImage2D(texture_, 0, 0, 0, xs.size, xs.size, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data());
-        glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        support_ = textureSupport(xs);
+        texture_ = uploadCrossSectionTexture(xs);
         gpuBytes_ += std::uint64_t(xs.size) * xs.size;
         checkGlError("uploading the cross-section");
     }
@@ -265,7 +263,7 @@ class GlBackend::Impl {
         glUniform1ui(raster_.uniform("uUniformSlices"), uniformSlices_);
         glUniform1f(raster_.uniform("uRadius"), float(plan_.options.radius / grid_.voxelSize));
         glUniform1i(raster_.uniform("uSupersample"), S);
-        glUniform1i(raster_.uniform("uDisk"), disk_ ? 1 : 0);
+        glUniform1f(raster_.uniform("uSupport"), float(support_));
         glUniform3i(raster_.uniform("uRegionMin"), item.min.x, item.min.y, item.min.z);
         glUniform3i(raster_.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
         glUniform2f(raster_.uniform("uViewport"), float(viewport), float(viewport));
@@ -307,7 +305,7 @@ class GlBackend::Impl {
         const std::uint64_t blocks = (regionBricks + 1023) / 1024;
         flags_.reserve(regionBricks * 4, &gpuBytes_);
         blockSums_.reserve(blocks * 4, &gpuBytes_);
-        flags_.clear(regionBricks * 4);
+        zero(flags_, regionBricks * 4);
         flags_.bindStorage(3);
         fragments_.bindStorage(2);
         flag_.use();
@@ -336,7 +334,7 @@ class GlBackend::Impl {
 
         const std::uint64_t brickWords = std::uint64_t(activeBricks) * words_ * kBrickVoxels;
         brickWords_.reserve(brickWords * 4, &gpuBytes_);
-        brickWords_.clear(brickWords * 4);
+        zero(brickWords_, brickWords * 4);
         brickWords_.bindStorage(7);
         scatter_.use();
         glUniform1ui(scatter_.uniform("uCount"), fragmentCount);
@@ -364,6 +362,16 @@ class GlBackend::Impl {
         counters_.fragments += fragmentCount;
         ++counters_.passes;
         return true;
+    }
+
+    /// Zeroes the first `bytes` (a multiple of 4) of `buffer` with a dispatch
+    /// (see buffer_clear.comp for why not glClearNamedBufferSubData).
+    void zero(GlBuffer& buffer, std::uint64_t bytes) {
+        clear_.use();
+        glUniform1ui(clear_.uniform("uWords"), static_cast<GLuint>(bytes / 4));
+        buffer.bindStorage(0);
+        glDispatchCompute(groupsFor(bytes / 4, maxGroups_), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
 
     /// Reads back the raw words of a brick drawn in several passes and adds
@@ -415,8 +423,8 @@ class GlBackend::Impl {
     ReadbackBuffer small_, readback_;
     GlBuffer segments_, drawList_, fragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
     GLuint texture_ = 0, vao_ = 0, fbo_ = 0;
-    bool disk_ = false; ///< the cross-section is the uniform disk
-    GlProgram raster_, flag_, scan_, scatter_, maxOrient_;
+    double support_ = 0.0; ///< textureSupport() of the cross-section
+    GlProgram raster_, clear_, flag_, scan_, scatter_, maxOrient_;
     std::unique_ptr<GlBrickResolver> resolver_;
     PackedBricks packed_;                    ///< the current region's resolved bricks
     std::vector<BrickAccumulator> partials_; ///< the current region's bricks drawn in several passes

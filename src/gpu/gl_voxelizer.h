@@ -6,9 +6,11 @@
 #include "core/bricks.h"
 #include "core/packed_bricks.h"
 #include "cpu/cpu_voxelizer.h"
+#include "gpu/cross_section_texture.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
+#include "plan/region_backend.h"
 #include "plan/zoom_plan.h"
 
 #include <cstdint>
@@ -25,6 +27,9 @@ struct GlVoxelizeSettings {
     /// GPU memory). Tests force it small to exercise overflow and retry.
     std::uint64_t fragmentCapacity = 0;
     bool verbose = false;
+    /// How the sampling shader reads the cross-section's texels: as suits the
+    /// platform (Auto), or forced (tests compare the two).
+    TexelReads texelReads = TexelReads::Auto;
     /// Where the first raster pass's 32-bit append counter starts (tests set
     /// it near 2^32 to make it wrap; runs leave it at 0).
     std::uint32_t firstCounterStart = 0;
@@ -50,33 +55,20 @@ struct GlVoxelizeCounters {
     std::uint64_t readbackBytes = 0;    ///< bytes copied from the GPU to the host (counts and bricks)
 };
 
-/// Receives each finished zoom region's bricks, resolved on the GPU and
-/// packed (bricks with an active voxel only), in plan order.
-class RegionSink {
-  public:
-    virtual ~RegionSink() = default;
-    /// True when the region needs no work (complete and verified in a resumed run).
-    virtual bool alreadyDone(const ZoomRegion&) { return false; }
-    /// Asked before each region: true ends the run there (regions already
-    /// handed over stay handed over).
-    virtual bool stopRequested() { return false; }
-    virtual void consume(const ZoomRegion& region, PackedBricks&& bricks) = 0;
-};
-
 /// The GL backend on a live context: budgets from the queried limits, then
 /// zoom regions one after another. A region whose fragments overflow the list
 /// (or whose bricks overflow their buffer) is split and redone; nothing is
 /// dropped and nothing is counted twice.
-class GlBackend {
+class GlBackend : public RegionRasterizer {
   public:
     GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const GlVoxelizeSettings& settings,
               GlVoxelizeCounters& counters);
-    ~GlBackend();
+    ~GlBackend() override;
     /// Fragments one pass may append (the zoom planner's budget).
-    std::uint64_t fragmentBudget() const;
+    std::uint64_t fragmentBudget() const override;
     /// Largest region edge in voxels (viewport and key limits).
-    int maxRegionSize() const;
-    void run(const std::vector<ZoomRegion>& regions, RegionSink& sink);
+    int maxRegionSize() const override;
+    void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) override;
 
   private:
     class Impl;

@@ -40,7 +40,6 @@ ResourceNeeds estimateNeeds(const Garment& garment, double radius, double h, boo
     ResourceNeeds n;
     n.activeVoxels = kLeastFill * M_PI * radius * radius * length / (h * h * h);
     n.outputBytes = n.activeVoxels * kVdbBytesPerVoxel * (halfPrecision ? 0.5 : 1.0);
-    n.volumeBytes = n.activeVoxels / kBrickVoxels * double(sizeof(VoxelBrick));
     return n;
 }
 
@@ -63,13 +62,6 @@ std::string checkNeeds(const ResourceNeeds& needs, const RunPlace& place, const 
         return "the output needs at least " + gigabytes(onOutput) + " of disk in " +
                (place.outputDir.empty() ? std::string(".") : place.outputDir) + " with " + scaleOption +
                " (the .vdb and its scratch file), " + gigabytes(outputFree) + " are free" + why;
-    if (place.wholeVolumeInMemory) {
-        const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
-        const double memory = pages > 0 && pageSize > 0 ? double(pages) * double(pageSize) : INFINITY;
-        if (needs.volumeBytes > memory)
-            return "the CPU backend holds the whole volume: at least " + gigabytes(needs.volumeBytes) + " with " +
-                   scaleOption + ", this machine has " + gigabytes(memory) + why + " or use --backend gl";
-    }
     return "";
 }
 

@@ -15,7 +15,6 @@ namespace yv {
 struct ResourceNeeds {
     double activeVoxels = 0.0; ///< at least: the yarns' cross-section area over the voxel area, along their length
     double outputBytes = 0.0;  ///< at least: the .vdb, and as much again for its scratch file
-    double volumeBytes = 0.0;  ///< at least: the whole volume in memory (the CPU backend)
 };
 
 /// Lower bounds for `garment` at voxel size `h` (world units), yarn radius `radius`.
@@ -25,7 +24,6 @@ ResourceNeeds estimateNeeds(const Garment& garment, double radius, double h, boo
 struct RunPlace {
     std::string outputDir;     ///< where the .vdb and its scratch file go
     std::string workDir;       ///< where region files go ("" without a store)
-    bool wholeVolumeInMemory;  ///< the CPU backend
 };
 
 /// Empty when the run fits what this machine has (free disk of the output's

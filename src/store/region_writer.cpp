@@ -134,9 +134,25 @@ void RegionWriter::work() {
     }
 }
 
-std::vector<VoxelBrick> RegionWriter::bricksOf(Job& job, ResolveTally& tally) const {
+PackedBricks RegionWriter::recycledPackedBricks() {
+    std::lock_guard lock(mutex_);
+    if (spareStorage_.empty()) return {};
+    PackedBricks bricks = std::move(spareStorage_.back());
+    spareStorage_.pop_back();
+    return bricks;
+}
+
+void RegionWriter::recycle(PackedBricks&& bricks) {
+    bricks.headers.clear();
+    bricks.voxels.clear();
+    std::lock_guard lock(mutex_);
+    if (spareStorage_.size() < kSpareStorage) spareStorage_.push_back(std::move(bricks));
+}
+
+std::vector<VoxelBrick> RegionWriter::bricksOf(Job& job, ResolveTally& tally) {
     if (job.isResolved) {
         std::vector<VoxelBrick> bricks = unpackBricks(job.resolved, &tally);
+        recycle(std::move(job.resolved));
         job.resolved = {};
         return bricks;
     }

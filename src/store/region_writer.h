@@ -60,6 +60,11 @@ class RegionWriter {
     /// their tallies in header order, and write them as submit() does. A
     /// header that contradicts the voxels is a worker error.
     void submitResolved(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, PackedBricks bricks);
+    /// Empty packed-brick storage for the next region, recycled from one the
+    /// workers finished unpacking (capacity kept), else new. A region's
+    /// readback then lands in memory already paged in: fresh pages cost more
+    /// than the copy itself (1.3 of 1.7 s of readback on the H100, sweater at 4096).
+    PackedBricks recycledPackedBricks();
     /// Waits for every submitted region, then returns them sorted by id, or
     /// rethrows the first worker error.
     std::vector<RegionInfo> finish();
@@ -78,7 +83,9 @@ class RegionWriter {
     void start(unsigned workers);
     void enqueue(Job job);
     /// The job's bricks, resolved or unpacked, and their tally.
-    std::vector<VoxelBrick> bricksOf(Job& job, ResolveTally& tally) const;
+    std::vector<VoxelBrick> bricksOf(Job& job, ResolveTally& tally);
+    /// Keeps `bricks`' storage for recycledPackedBricks(), up to kSpareStorage of them.
+    void recycle(PackedBricks&& bricks);
     void work();
     void process(Job& job);
     void stop();
@@ -96,6 +103,10 @@ class RegionWriter {
     bool closing_ = false;
     std::exception_ptr error_;
     std::vector<RegionInfo> results_;
+    /// Packed-brick storage the workers are done with, for the next regions:
+    /// at most kSpareStorage, outside the queue's bound (they hold no region).
+    static constexpr std::size_t kSpareStorage = 4;
+    std::vector<PackedBricks> spareStorage_;
     RegionWriterStats stats_;
     std::vector<std::thread> threads_;
 };

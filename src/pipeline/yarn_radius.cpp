@@ -1,4 +1,4 @@
-#include "cli/yarn_radius.h"
+#include "pipeline/yarn_radius.h"
 
 #include "core/error.h"
 #include "core/world_units.h"

@@ -1,4 +1,4 @@
-#include "cli/run_fingerprint.h"
+#include "pipeline/run_fingerprint.h"
 
 #include "core/error.h"
 #include "core/sampling.h"

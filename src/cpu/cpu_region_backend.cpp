@@ -1,0 +1,44 @@
+#include "cpu/cpu_region_backend.h"
+
+#include "core/progress.h"
+
+#include <algorithm>
+#include <unistd.h>
+
+namespace yv {
+
+CpuRegionBackend::CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                                   const VoxelizeSettings& settings, CpuRegionCounters& counters,
+                                   std::uint64_t sampleBudget)
+    : plan_(plan), xs_(xs), grid_(grid), settings_(settings), counters_(counters), quiet_(settings.quiet) {
+    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+    const std::uint64_t physical =
+        pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : (std::uint64_t(8) << 30);
+    // A sample touches one voxel; touched voxels fill bricks about a tenth
+    // full on garments (14 KiB of accumulator words a brick): about 300 bytes
+    // a sample, counted twice for the per-thread copies merged at the end.
+    budget_ = sampleBudget ? sampleBudget
+                           : std::clamp<std::uint64_t>(physical / 16 / 600, std::uint64_t(1) << 20, std::uint64_t(1) << 27);
+    // Regions have their own progress line; the slices inside them do not.
+    settings_.quiet = true;
+}
+
+void CpuRegionBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& sink) {
+    Progress progress("voxelize", regions.size(), quiet_, "regions");
+    for (const ZoomRegion& region : regions) {
+        if (sink.stopRequested()) break;
+        if (sink.alreadyDone(region)) {
+            ++counters_.resumedRegions;
+            progress.advance(1);
+            continue;
+        }
+        std::vector<BrickAccumulator> accumulators =
+            accumulateBox(plan_, xs_, grid_, settings_, region.segments, region.min, region.max, &counters_.sampling);
+        ++counters_.regions;
+        sink.consumeAccumulators(region, std::move(accumulators));
+        progress.advance(1);
+    }
+    progress.finish();
+}
+
+} // namespace yv

@@ -1,0 +1,48 @@
+// The CPU reference as a region rasterizer: the zoom regions of the plan one
+// after another, each from the segments that reach it, handed to a sink as
+// they finish. Host memory then follows the largest region, not the volume,
+// and the CPU backend has what the GL backend has: out of core, work
+// directories and --resume.
+#pragma once
+
+#include "cpu/cpu_voxelizer.h"
+#include "garment/cross_section.h"
+#include "garment/slices.h"
+#include "plan/grid.h"
+#include "plan/region_backend.h"
+#include "plan/zoom_plan.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace yv {
+
+struct CpuRegionCounters {
+    CpuVoxelizeCounters sampling;     ///< summed over regions
+    std::uint64_t regions = 0;        ///< zoom regions computed
+    std::uint64_t resumedRegions = 0; ///< zoom regions taken from a resumed work directory
+};
+
+class CpuRegionBackend : public RegionRasterizer {
+  public:
+    /// `sampleBudget`: samples one region may produce (0: from physical memory).
+    CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                     const VoxelizeSettings& settings, CpuRegionCounters& counters, std::uint64_t sampleBudget = 0);
+    /// Samples one region may produce (the zoom planner's budget): by default
+    /// its accumulators stay within about a sixteenth of physical memory.
+    std::uint64_t fragmentBudget() const override { return budget_; }
+    /// Largest region edge in voxels (as the GL backend's, so both plan alike).
+    int maxRegionSize() const override { return 1024; }
+    void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) override;
+
+  private:
+    const SlicePlan& plan_;
+    const CrossSection& xs_;
+    const VoxelGrid& grid_;
+    VoxelizeSettings settings_;
+    CpuRegionCounters& counters_;
+    std::uint64_t budget_ = 0;
+    bool quiet_ = true; ///< no progress line
+};
+
+} // namespace yv

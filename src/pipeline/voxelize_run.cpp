@@ -1,0 +1,451 @@
+#include "pipeline/voxelize_run.h"
+
+#include "bcc.h"
+#include "core/error.h"
+#include "core/interrupt.h"
+#include "core/output_path.h"
+#include "core/process_memory.h"
+#include "core/world_units.h"
+#include "cpu/cpu_region_backend.h"
+#include "garment/cross_section.h"
+#include "garment/curve_check.h"
+#include "garment/slices.h"
+#include "gpu/dense_voxelizer.h"
+#include "gpu/egl_context.h"
+#include "gpu/gl_voxelizer.h"
+#include "pipeline/run_fingerprint.h"
+#include "pipeline/yarn_radius.h"
+#include "plan/feasibility.h"
+#include "plan/grid.h"
+#include "plan/resource_estimate.h"
+#include "plan/zoom_plan.h"
+#include "store/brick_store.h"
+#include "store/region_writer.h"
+#include "vdb/merge.h"
+#include "vdb/vdb_writer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <thread>
+#include <unistd.h>
+
+namespace yv {
+namespace {
+
+/// Hands finished regions to the RegionWriter, which resolves or unpacks them
+/// on its threads and puts them into the .vdb's leaves or a work directory.
+class QueueSink : public RegionSink {
+  public:
+    explicit QueueSink(RegionWriter& writer) : writer_(writer) {}
+    void consume(const ZoomRegion& r, PackedBricks&& bricks) override {
+        writer_.submitResolved(r.id, r.min, r.max, std::move(bricks));
+        ++consumed;
+    }
+    void consumeAccumulators(const ZoomRegion& r, std::vector<BrickAccumulator>&& accumulators) override {
+        writer_.submit(r.id, r.min, r.max, std::move(accumulators));
+        ++consumed;
+    }
+    PackedBricks emptyPackedBricks() override { return writer_.recycledPackedBricks(); }
+    /// SIGINT or SIGTERM: stop at this region boundary.
+    bool stopRequested() override { return interruptSignal() != 0; }
+    std::uint64_t consumed = 0; ///< regions handed to the writer
+
+  private:
+    RegionWriter& writer_;
+};
+
+/// Feeds the disk pipeline; on --resume, skips regions whose files are
+/// complete and verified.
+class StoreSink : public QueueSink {
+  public:
+    StoreSink(BrickStore& store, RegionWriter& writer, bool resume) : QueueSink(writer), store_(store), resume_(resume) {}
+    bool alreadyDone(const ZoomRegion& r) override {
+        if (!resume_) return false;
+        std::string why;
+        if (store_.hasVerifiedRegion(r.id, r.min, r.max, &why)) return true;
+        if (!why.empty()) ++recomputed;
+        return false;
+    }
+    std::uint64_t recomputed = 0; ///< damaged region files found on resume
+
+  private:
+    BrickStore& store_;
+    bool resume_;
+};
+
+/// Host memory the writer queue may hold: an eighth of physical memory, at most 4 GiB.
+std::size_t writerQueueBytes() {
+    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+    const std::size_t physical = pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : (std::size_t(8) << 30);
+    return std::min<std::size_t>(physical / 8, std::size_t(4) << 30);
+}
+
+class StageTimer {
+  public:
+    double lap() {
+        const auto now = std::chrono::steady_clock::now();
+        const double s = std::chrono::duration<double>(now - last_).count();
+        last_ = now;
+        return s;
+    }
+
+  private:
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+/// The backend "auto" stands for: the GL backend on a GPU (or for the dense
+/// method, which only it has); else the CPU reference, which on a machine
+/// without a GPU is far faster than GL through a software rasteriser.
+std::string resolveBackend(const VoxelizeRequest& a, const std::function<void(const std::string&)>& note) {
+    if (a.backend != "auto") return a.backend;
+    if (a.method == "dense") return "gl";
+    try {
+        const GlContext probe(GlContextOptions{a.device, false});
+        if (probe.info().platform == "device") return "gl";
+    } catch (const Error&) {
+    }
+    if (a.verbose && !a.quiet) note("backend: no GPU found, using the CPU backend (--backend gl forces the software GL path)");
+    return "cpu";
+}
+
+/// Three significant digits, for messages.
+std::string shortNumber(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    return text;
+}
+
+/// The zoom regions' rasterizer, whichever backend, and what it counted.
+struct Backend {
+    GlVoxelizeSettings glSettings; ///< the GL backend keeps a reference to it
+    GlVoxelizeCounters gl;
+    CpuRegionCounters cpu;
+    std::unique_ptr<RegionRasterizer> rasterizer;
+    bool isGl = false;
+
+    std::uint64_t resumedRegions() const { return isGl ? gl.resumedRegions : cpu.resumedRegions; }
+    std::uint64_t samples() const { return isGl ? gl.fragments : cpu.sampling.samples; }
+};
+
+} // namespace
+
+VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void(const std::string&)>& note) {
+    // Where the results go is checked before minutes of work, not after.
+    checkOutputPath(args.output, "-o", {args.input});
+    if (!args.statsPath.empty()) checkOutputPath(args.statsPath, "--stats", {args.input, args.output});
+    if (!args.statsPath.empty() && args.statsPath == args.output)
+        throw Error("--stats " + args.statsPath + ": is the same file as -o: refusing to overwrite it");
+    VoxelizeRequest a = args;
+    a.backend = resolveBackend(args, note);
+    if (a.method == "dense" && a.backend != "gl") throw Error("--method dense needs --backend gl");
+    if (a.method == "dense" && (!a.workDir.empty() || a.resume)) throw Error("--work-dir and --resume need the sparse method");
+    const auto tell = [&](const std::string& line) {
+        if (!a.quiet) note(line);
+    };
+    StageTimer timer;
+    JsonObject stages;
+    Garment garment = readBcc(a.input);
+    // Real files repeat points and mislabel loops: tidied here, said once.
+    const CurveCheckReport curveReport = checkCurves(garment, a.input);
+    if (const std::string dropped = curveReport.droppedText(a.input); !dropped.empty()) tell(dropped);
+    for (const std::string& w : curveReport.warnings) tell("warning: " + w);
+    stages.set("read", timer.lap());
+
+    CrossSection xs = makeCrossSection(a.crossSection);
+    SliceOptions sliceOptions;
+    sliceOptions.twist = a.twist;
+    const YarnRadiusChoice radius = chooseYarnRadius(a.yarnRadius, xs, garment, a.input);
+    if (!radius.note.empty()) tell(radius.note);
+    sliceOptions.radius = radius.radius;
+    if (a.resolution == 0 && a.voxelSize == 0.0)
+        throw Error("give --resolution N (voxels on the longest axis) or --voxel-size H");
+    // Slices follow the voxel size, not the garment's control points: one
+    // slice per (supersampled) voxel along the yarn, unless asked otherwise.
+    const double voxelSize = voxelSizeFor(garment, sliceOptions.radius, a.resolution, a.voxelSize);
+    // A run that would leave no voxels is refused before any slicing.
+    const RunScale scale{radius.radius, radius.description, voxelSize,
+                         a.resolution > 0 ? "--resolution " + std::to_string(a.resolution)
+                                          : "--voxel-size " + numberText(a.voxelSize),
+                         a.supersample, a.spacing};
+    for (const std::string& w : checkRunScale(scale, xs)) tell("warning: " + w);
+    // Disk the run needs at least, before minutes of work.
+    {
+        const std::string outputDir = std::filesystem::path(a.output).parent_path().string();
+        const bool store = !a.workDir.empty() || a.keepWorkDir || a.resume;
+        const RunPlace place{outputDir, store ? (a.workDir.empty() ? outputDir : a.workDir) : ""};
+        const std::string problem = checkNeeds(estimateNeeds(garment, radius.radius, voxelSize, a.precision == "half"),
+                                               place, scale.voxelSource);
+        if (!problem.empty()) throw Error(a.input + ": " + problem);
+    }
+    const bool explicitSpacing = a.slicesPerSegment > 0 || a.spacing > 0.0;
+    sliceOptions.slicesPerSegment = a.slicesPerSegment;
+    sliceOptions.spacing = explicitSpacing ? a.spacing : defaultSliceSpacing(voxelSize, a.supersample);
+    const SlicePlan plan = [&] {
+        try {
+            return planSlices(garment, sliceOptions);
+        } catch (const Error& e) {
+            throw Error(a.input + ": " + e.what());
+        }
+    }();
+    stages.set("slices", timer.lap());
+    const VoxelGrid grid = makeGrid(plan, a.resolution, a.voxelSize);
+    if (explicitSpacing && plan.maxSpacing > 1.05 * grid.voxelSize)
+        tell("warning: " +
+             (a.slicesPerSegment > 0 ? "--slices-per-segment " + std::to_string(a.slicesPerSegment)
+                                     : std::string("--slice-spacing")) +
+             " places slices up to " + shortNumber(plan.maxSpacing / grid.voxelSize) +
+             " voxels apart: each slab is split over the voxels it spans and treated as flat across them, so "
+             "bends are coarsened (leave it out for one slice per voxel)");
+    VoxelizeSettings settings;
+    settings.reduce = a.reduce == "max" ? Reduce::Max : Reduce::Mean;
+    settings.overlap = a.overlap == "sum" ? Overlap::Sum : Overlap::Clamp;
+    settings.supersample = a.supersample;
+    settings.quiet = a.quiet;
+
+    VolumeMetadata meta;
+    meta.input = a.input;
+    meta.backend = a.backend;
+    meta.crossSection = xs.name;
+    meta.resolution = a.resolution;
+    meta.sliceCount = plan.sliceCount;
+    meta.yarnRadius = sliceOptions.radius;
+    meta.yarnRadiusSource = radius.source;
+    meta.twist = a.twist;
+    meta.supersample = a.supersample;
+    meta.overlap = toString(settings.overlap);
+    meta.sliceSpacing = plan.maxSpacing;
+
+    VdbWriteTimings writeTimings;
+    VdbWriteOptions writeOptions;
+    writeOptions.compression = parseVdbCompression(a.compression);
+    writeOptions.precision = parseVdbPrecision(a.precision);
+    writeOptions.timings = &writeTimings;
+
+    // The checks before slicing refuse what cannot leave a voxel; a yarn that
+    // falls between sample pixels can still miss them all. An empty volume is
+    // never a result: the run fails before anything is written.
+    const auto refuseEmpty = [&](std::uint64_t activeVoxels) {
+        if (activeVoxels == 0)
+            throw Error(a.input + ": no yarn reached a voxel's samples (" + radius.description + ", voxel size " +
+                        numberText(grid.voxelSize) + "): the volume would be empty, " + a.output +
+                        " was not written (a finer --resolution, a higher --supersample, or --cross-section disk)");
+    };
+
+    VoxelizeReport report;
+    report.backend = a.backend;
+    report.reduce = settings.reduce;
+    report.overlap = settings.overlap;
+    report.slices = plan.sliceCount;
+    report.dims = grid.dims;
+    report.voxelSize = grid.voxelSize;
+    JsonObject backendStats;
+    std::uint64_t samples = 0;
+    if (a.method == "dense") {
+        // The paper's method, kept as a benchmark baseline: one dense 3D texture set.
+        GlVoxelizeSettings gl;
+        gl.base = settings;
+        gl.device = a.device;
+        DenseVoxelizeCounters counters;
+        const BrickVolume volume = voxelizeDense(plan, xs, grid, gl, &counters);
+        report.voxelizeSeconds = timer.lap();
+        stages.set("voxelize", report.voxelizeSeconds);
+        meta.backend = "gl-dense";
+        report.activeVoxels = volume.activeVoxelCount();
+        refuseEmpty(report.activeVoxels);
+        writeVdb(a.output, volume, meta, writeOptions);
+        stages.set("write", timer.lap());
+        report.bricks = volume.bricks.size();
+        report.tally = volume.tally;
+        backendStats.set("renderer", counters.renderer)
+            .set("platform", counters.platform)
+            .set("method", "dense")
+            .set("gpu_peak_bytes", counters.textureBytes)
+            .set("slices_drawn", counters.instances)
+            .set("gpu_clear_seconds", counters.clearSeconds)
+            .set("gpu_raster_seconds", counters.rasterSeconds)
+            .set("readback_seconds", counters.readbackSeconds);
+    } else {
+        // Either backend rasterizes zoom regions one after another into the same writer.
+        Backend backend;
+        backend.isGl = a.backend == "gl";
+        if (backend.isGl) {
+            GlVoxelizeSettings& gl = backend.glSettings;
+            gl.base = settings;
+            gl.device = a.device;
+            gl.fragmentCapacity = a.fragmentCapacity;
+            gl.verbose = a.verbose && !a.quiet;
+            backend.rasterizer = std::make_unique<GlBackend>(plan, xs, grid, gl, backend.gl);
+        } else {
+            backend.rasterizer = std::make_unique<CpuRegionBackend>(plan, xs, grid, settings, backend.cpu, a.fragmentCapacity);
+        }
+        RegionRasterizer& rasterizer = *backend.rasterizer;
+        const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {rasterizer.fragmentBudget(), rasterizer.maxRegionSize(), a.supersample});
+        backend.gl.plannedRegions = zoom.regions.size();
+        stages.set("plan", timer.lap());
+        if (a.verbose)
+            tell("plan: " + std::to_string(zoom.regions.size()) + " zoom regions, " + numberText(zoom.estimatedFragments) +
+                 " fragments expected, budget " + std::to_string(rasterizer.fragmentBudget()) + " per pass");
+
+        // Without a work dir, regions go straight into the .vdb's leaves.
+        // With one, they stream through a bounded queue to it while the
+        // backend moves on, and the merge then writes the .vdb from the files.
+        const bool ownWorkDir = a.workDir.empty();
+        const bool inMemory = ownWorkDir && !a.keepWorkDir;
+        const std::string workDir = ownWorkDir ? a.output + ".work" : a.workDir;
+        StoreManifest manifest;
+        manifest.fingerprint =
+            runFingerprint(a.input, sliceOptions, xs, grid, settings.reduce, settings.overlap, a.supersample, zoom);
+        manifest.samplingCode = samplingCodeHash();
+        manifest.grid = grid;
+        manifest.reduce = settings.reduce;
+        manifest.runMetadata = encodeMetadata(meta);
+        RegionWriterStats writerStats;
+        std::uint64_t recomputed = 0, storeBytes = 0;
+        // Unpacking or resolving regions and compressing them keep several cores busy.
+        const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
+        if (inMemory) {
+            VdbAssembler assembler(a.output, grid, settings.reduce, writeOptions);
+            RegionWriter writer([&](std::uint64_t id, std::vector<VoxelBrick>&& resolved) {
+                assembler.add(resolved, "region " + std::to_string(id));
+            }, settings.reduce, settings.overlap, writerQueueBytes(), workers);
+            QueueSink sink(writer);
+            {
+                const InterruptScope interruptible;
+                rasterizer.run(zoom.regions, sink);
+            }
+            for (const RegionInfo& r : writer.finish()) {
+                report.activeVoxels += r.activeVoxels;
+                report.bricks += r.brickCount;
+            }
+            if (interruptSignal())
+                throw Error("interrupted by " + interruptSignalName() + " after " + std::to_string(sink.consumed) +
+                            " of " + std::to_string(zoom.regions.size()) + " regions: nothing was written (" +
+                            a.output + " is untouched; a run with --work-dir DIR can be resumed)");
+            writerStats = writer.stats();
+            report.tally = writerStats.tally;
+            report.voxelizeSeconds = timer.lap();
+            stages.set("voxelize", report.voxelizeSeconds);
+            refuseEmpty(report.activeVoxels);
+            assembler.write(meta);
+            stages.set("write", timer.lap());
+        } else {
+            BrickStore store(workDir, manifest, a.resume);
+            RegionWriter writer(store, settings.reduce, settings.overlap, writerQueueBytes(), workers);
+            StoreSink sink(store, writer, a.resume);
+            {
+                const InterruptScope interruptible;
+                rasterizer.run(zoom.regions, sink);
+            }
+            writer.finish(); // every region handed over is on disk before the run stops
+            if (interruptSignal()) {
+                const std::string& line = commandLine();
+                const bool resuming = line.find(" --resume") != std::string::npos;
+                throw Error("interrupted by " + interruptSignalName() + " after " +
+                            std::to_string(sink.consumed + backend.resumedRegions()) + " of " +
+                            std::to_string(zoom.regions.size()) + " regions, all of them kept in " + workDir +
+                            "; go on with: " + line + (resuming ? "" : " --resume"));
+            }
+            writerStats = writer.stats();
+            recomputed = sink.recomputed;
+            store.markComplete(zoom.regions.size());
+            report.voxelizeSeconds = timer.lap();
+            stages.set("voxelize", report.voxelizeSeconds);
+            for (const RegionInfo& r : store.listRegions()) {
+                report.activeVoxels += r.activeVoxels;
+                report.bricks += r.brickCount;
+            }
+            refuseEmpty(report.activeVoxels);
+            mergeStoreToVdb(store, a.output, meta, writeOptions);
+            stages.set("merge", timer.lap());
+            storeBytes = store.bytesOnDisk();
+            // Regions taken from a resumed run were not resolved here.
+            report.tally = writerStats.tally;
+            report.tallyComplete = backend.resumedRegions() == 0;
+        }
+
+        samples = backend.samples();
+        if (backend.isGl) {
+            const GlVoxelizeCounters& counters = backend.gl;
+            backendStats.set("renderer", counters.renderer)
+                .set("platform", counters.platform)
+                .set("fragments", counters.fragments)
+                .set("raster_passes", counters.passes)
+                .set("overflow_retries", counters.overflows)
+                .set("fragment_list_growths", counters.listGrowths)
+                .set("bricks_summed_on_host", counters.hostSummedBricks)
+                .set("zoom_regions", counters.plannedRegions)
+                .set("regions_computed", counters.regions)
+                .set("regions_resumed", counters.resumedRegions)
+                .set("fragment_budget", counters.fragmentCapacity)
+                .set("gpu_slice_data_bytes", counters.sliceDataBytes)
+                .set("gpu_peak_bytes", counters.peakGpuBytes)
+                .set("gpu_raster_seconds", counters.rasterSeconds)
+                .set("gpu_brick_seconds", counters.brickSeconds)
+                .set("gpu_resolve_seconds", counters.resolveSeconds)
+                .set("readback_seconds", counters.readbackSeconds)
+                .set("readback_bytes", counters.readbackBytes);
+            if (a.verbose)
+                tell("renderer: " + counters.renderer + " (" + counters.platform + "); " +
+                     std::to_string(counters.plannedRegions) + " regions (" + std::to_string(counters.resumedRegions) +
+                     " resumed), " + std::to_string(counters.overflows) + " overflow retries");
+        } else {
+            const CpuRegionCounters& counters = backend.cpu;
+            backendStats.set("samples", counters.sampling.samples)
+                .set("threads", counters.sampling.threads)
+                .set("zoom_regions", static_cast<std::uint64_t>(zoom.regions.size()))
+                .set("regions_computed", counters.regions)
+                .set("regions_resumed", counters.resumedRegions)
+                .set("fragment_budget", rasterizer.fragmentBudget());
+        }
+        backendStats.set("regions_damaged_recomputed", recomputed)
+            .set("store_bytes_on_disk", storeBytes)
+            .set("store_resolve_seconds", writerStats.resolveSeconds)
+            .set("store_encode_seconds", writerStats.encodeSeconds)
+            .set("store_write_seconds", writerStats.writeSeconds)
+            .set("store_wait_seconds", writerStats.submitWaitSeconds)
+            .set("store_peak_queued_bytes", writerStats.peakQueuedBytes)
+            .set("regions_to", inMemory ? "memory" : "work dir");
+    }
+
+    const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;
+    const ResolveTally& tally = report.tally;
+    const bool complete = report.tallyComplete;
+    report.stats.set("yarnvox_version", YV_VERSION)
+        .set("input", a.input)
+        .set("output", a.output)
+        .set("backend", a.backend)
+        .set("reduce", toString(settings.reduce))
+        .set("yarns", static_cast<std::uint64_t>(garment.yarns.size()))
+        .set("segments", static_cast<std::uint64_t>(plan.segments.size()))
+        .set("slices", plan.sliceCount)
+        .set("samples", samples)
+        .set("voxel_size", grid.voxelSize)
+        .set("grid_dims", std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" +
+                              std::to_string(grid.dims.z))
+        .set("active_voxels", report.activeVoxels)
+        .set("bricks", report.bricks)
+        .set("slice_spacing", plan.maxSpacing)
+        .set("overlap", toString(settings.overlap))
+        .set("fiber_volume", complete ? tally.densitySum * h3 : -1.0)
+        .set("voxels_over_one", complete ? static_cast<std::int64_t>(tally.voxelsOverOne) : std::int64_t(-1))
+        .set("mass_share_over_one", complete ? tally.excessShare() : -1.0)
+        .set("slices_per_second", plan.sliceCount / report.voxelizeSeconds)
+        .set("active_voxels_per_second", report.activeVoxels / report.voxelizeSeconds)
+        .set("peak_host_bytes", peakResidentBytes())
+        .set("vdb_compression", toString(writeOptions.compression))
+        .set("vdb_precision", toString(writeOptions.precision))
+        .set("vdb_seconds", JsonObject()
+                                .set("read_regions", writeTimings.readSeconds)
+                                .set("encode_leaves", writeTimings.encodeSeconds)
+                                .set("topology", writeTimings.topologySeconds)
+                                .set("write", writeTimings.writeSeconds))
+        .set("seconds", stages)
+        .set("backend_stats", backendStats);
+    if (!a.statsPath.empty()) writeTextFileAtomically(a.statsPath, report.stats.dump() + "\n");
+    return report;
+}
+
+} // namespace yv

@@ -1,0 +1,51 @@
+// The interface between a backend and the pipeline: a backend rasterizes zoom
+// regions one after another (the GL backend, or the CPU reference) and hands
+// each finished region to a sink: a writer that puts it into the .vdb's
+// leaves or into a work directory, or a test that collects it.
+#pragma once
+
+#include "core/bricks.h"
+#include "core/error.h"
+#include "core/packed_bricks.h"
+#include "plan/zoom_plan.h"
+
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// Receives each finished zoom region's bricks, in plan order: resolved and
+/// packed (bricks with an active voxel only: the GL backend resolves on the
+/// GPU), or as raw accumulators for the consumer to resolve (the CPU backend).
+class RegionSink {
+  public:
+    virtual ~RegionSink() = default;
+    /// True when the region needs no work (complete and verified in a resumed run).
+    virtual bool alreadyDone(const ZoomRegion&) { return false; }
+    /// Asked before each region: true ends the run there (regions already
+    /// handed over stay handed over).
+    virtual bool stopRequested() { return false; }
+    virtual void consume(const ZoomRegion& region, PackedBricks&& bricks) = 0;
+    /// A region's accumulators, sorted by key. Sinks that only ever follow
+    /// the GL backend need not take them.
+    virtual void consumeAccumulators(const ZoomRegion& region, std::vector<BrickAccumulator>&&) {
+        throw Error("region " + std::to_string(region.id) + ": this consumer takes resolved, packed bricks only");
+    }
+    /// Storage for the next region's packed bricks (empty; a consumer may
+    /// hand back the storage of regions it is done with, capacity kept).
+    virtual PackedBricks emptyPackedBricks() { return {}; }
+};
+
+/// A backend that voxelizes the zoom regions of a plan (GlBackend, CpuRegionBackend).
+class RegionRasterizer {
+  public:
+    virtual ~RegionRasterizer() = default;
+    /// Fragments (samples) one region may produce: the zoom planner's budget.
+    virtual std::uint64_t fragmentBudget() const = 0;
+    /// Largest region edge in voxels.
+    virtual int maxRegionSize() const = 0;
+    /// Rasterizes `regions` in order, each handed to `sink` once finished.
+    virtual void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) = 0;
+};
+
+} // namespace yv
