@@ -5,6 +5,7 @@
 #include "bcc.h"
 #include "core/error.h"
 #include "garment/cross_section.h"
+#include "inspect/transfer_function.h"
 #include "store/manifest.h"
 #include "store/region_file.h"
 
@@ -87,4 +88,13 @@ TEST_CASE("A PNG too short for the image its header claims is refused before the
     const fs::path p = fs::path(YV_SOURCE_DIR) / "tests" / "fuzz-corpus" / "png" / "huge-header-tiny-file.png";
     CHECK_THROWS_WITH(yv::loadCrossSectionPng(p.string()),
                       Catch::Contains("corrupt or truncated PNG") && Catch::Contains("cannot hold the 8192x8192 image"));
+}
+
+TEST_CASE("Fuzz corpus: every colour map input is read or refused with an error", "[fuzz-corpus][inspect]") {
+    const int accepted = replay("colour_map", [](const fs::path&, const Bytes& b) {
+        const yv::TransferFunction tf = yv::parseColourMap(std::string(b.begin(), b.end()), "corpus");
+        for (const auto& e : tf)
+            for (int c = 0; c < 4; ++c) CHECK((e[c] >= 0.0f && e[c] <= 1.0f));
+    });
+    CHECK(accepted >= 2);
 }

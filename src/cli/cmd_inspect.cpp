@@ -4,18 +4,23 @@
 #include "core/error.h"
 #include "core/stats.h"
 #include "core/text.h"
+#include "core/output_path.h"
+#include "inspect/inspect_render.h"
 #include "inspect/inspect_store.h"
 #include "inspect/inspect_vdb.h"
+#include "inspect/transfer_function.h"
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
 #include <sstream>
+#include <tuple>
 
 namespace yv {
 namespace {
@@ -235,6 +240,108 @@ void reportStore(const std::string& dir, bool json, bool verify, const std::stri
     }
 }
 
+// ---- renders --------------------------------------------------------------------
+
+/// "512M", "2G", "65536": bytes, with an optional K, M or G (powers of 1024).
+std::uint64_t parseBytes(const std::string& text, const char* option) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    std::string unit(end);
+    double scale = 1.0;
+    if (unit == "K" || unit == "k") scale = 1024.0;
+    else if (unit == "M" || unit == "m") scale = 1024.0 * 1024.0;
+    else if (unit == "G" || unit == "g") scale = 1024.0 * 1024.0 * 1024.0;
+    else if (!unit.empty()) scale = -1.0;
+    if (end == text.c_str() || scale < 0.0 || !(v > 0.0) || v * scale > 1e15)
+        throw Error(std::string(option) + " '" + text + "': expected a positive size in bytes, with K, M or G");
+    return std::uint64_t(v * scale);
+}
+
+/// "WxH", each from 1 to 16384.
+std::pair<int, int> parseSize(const std::string& text) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w < 1 || h < 1 || w > 16384 ||
+        h > 16384)
+        throw Error("--size '" + text + "': expected WIDTHxHEIGHT, each from 1 to 16384 pixels");
+    return {w, h};
+}
+
+struct RenderArgs {
+    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M";
+    std::int64_t region = -1;
+    bool noSkip = false, showSamples = false;
+    int device = -1, repeat = 1;
+};
+
+void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
+    RenderRequest r;
+    r.kind = parseRenderKind(a.render);
+    r.view = parseView(a.view);
+    std::tie(r.width, r.height) = parseSize(a.size);
+    if (a.region >= 0) r.region = std::uint64_t(a.region);
+    r.transferFunction = a.tf;
+    r.skipEmpty = !a.noSkip;
+    r.showSamples = a.showSamples;
+    if (r.kind == RenderKind::Cut) {
+        if (a.cut.empty()) throw Error("--render cut needs --cut x|y|z:INDEX");
+        r.cut = parseCut(a.cut);
+    } else if (!a.cut.empty()) {
+        throw Error("--cut goes with --render cut");
+    }
+    r.gpuBudgetBytes = parseBytes(a.budget, "--gpu-budget");
+    r.device = a.device;
+    r.repeat = a.repeat;
+    if (a.output.empty()) throw Error("--render needs -o FILE.png");
+    checkOutputPath(a.output, "-o", {input});
+    if (r.kind != RenderKind::Cut) loadTransferFunction(r.transferFunction); // a bad --tf fails before any work
+
+    const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
+    const RenderReport rep = renderVolume(*source, r);
+    writePng(a.output, rep.image);
+    if (json) {
+        JsonObject out;
+        out.set("path", input).set("output", a.output).set("render", a.render).set("width", rep.image.width)
+            .set("height", rep.image.height);
+        if (r.kind != RenderKind::Cut)
+            out.set("view", a.view)
+                .set("renderer", rep.renderer)
+                .set("skip_empty", r.skipEmpty)
+                .set("gpu_budget_bytes", rep.budgetBytes)
+                .set("level", rep.level)
+                .set("fine_bricks", rep.fineBricks)
+                .set("level_bricks", rep.levelBricks)
+                .set("gpu_bytes", rep.gpuBytes)
+                .set("proxy_triangles", rep.proxyTriangles)
+                .set("mean_samples_per_pixel", rep.meanSamples)
+                .set("frames", r.repeat)
+                .set("frame_seconds_median", rep.frameSeconds)
+                .set("frame_seconds_best", rep.bestFrameSeconds)
+                .set("load_seconds", rep.loadSeconds);
+        std::printf("%s\n", out.dump().c_str());
+        return;
+    }
+    if (r.kind == RenderKind::Cut) {
+        std::printf("%s: cut %s, %dx%d pixels, one a voxel\n", a.output.c_str(), a.cut.c_str(), rep.image.width,
+                    rep.image.height);
+        return;
+    }
+    std::printf("%s: %s, %dx%d, on %s\n", a.output.c_str(), a.render.c_str(), r.width, r.height, rep.renderer.c_str());
+    if (rep.level > 0)
+        std::printf("  the %llu occupied bricks exceed the GPU budget (%s): drawn at level %d, each voxel the mean of "
+                    "%dx%dx%d voxels (%llu bricks, %s)\n",
+                    static_cast<unsigned long long>(rep.fineBricks), bytesText(double(rep.budgetBytes)).c_str(), rep.level,
+                    1 << rep.level, 1 << rep.level, 1 << rep.level, static_cast<unsigned long long>(rep.levelBricks),
+                    bytesText(double(rep.gpuBytes)).c_str());
+    else
+        std::printf("  %llu bricks at full resolution, %s on the GPU\n", static_cast<unsigned long long>(rep.levelBricks),
+                    bytesText(double(rep.gpuBytes)).c_str());
+    std::printf("  empty-space skipping %s%s; mean samples per pixel %.2f; frame %.3f s%s (loading %.3f s)\n",
+                r.skipEmpty ? "on" : "off",
+                r.skipEmpty ? (" (" + std::to_string(rep.proxyTriangles) + " proxy triangles)").c_str() : "",
+                rep.meanSamples, rep.frameSeconds, r.repeat > 1 ? " (median)" : "", rep.loadSeconds);
+}
+
 } // namespace
 
 void addInspectCommand(CLI::App& app) {
@@ -244,6 +351,7 @@ void addInspectCommand(CLI::App& app) {
         std::size_t limit = 20;
     };
     auto args = std::make_shared<Args>();
+    auto render = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand(
         "inspect", "Numbers about a voxelization: a work directory's regions, or a .vdb's grids and voxels");
     cmd->add_option("path", args->path, "A work directory (--work-dir, --keep-work-dir) or an OpenVDB file with a float 'density' grid")
@@ -259,7 +367,43 @@ void addInspectCommand(CLI::App& app) {
         ->check(CLI::IsMember(columns));
     cmd->add_option("--limit", args->limit, "Work directory: rows of the region table to print (0: all; JSON has all)")
         ->capture_default_str();
-    cmd->callback([args] {
+    cmd->add_option("--render", render->render,
+                    "Draw a picture to -o instead of printing numbers: raycast (transfer function), mip (maximum "
+                    "density along each ray), cut (one plane of voxels, --cut) or orientation (|axis| as RGB)")
+        ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation"}));
+    cmd->add_option("-o,--output", render->output, "--render: the PNG to write (replaced atomically)");
+    cmd->add_option("--view", render->view,
+                    "--render: azimuth,elevation,distance: degrees about +z from +x, degrees above the xy plane, "
+                    "bounding-sphere radii from the centre (4 fits the volume)")
+        ->capture_default_str();
+    cmd->add_option("--size", render->size, "--render: picture size WIDTHxHEIGHT")->capture_default_str();
+    cmd->add_option("--region", render->region,
+                    "--render: frame and draw only this zoom region of a work directory")
+        ->check(CLI::NonNegativeNumber);
+    std::string presets;
+    for (const std::string& n : transferFunctionPresets()) presets += (presets.empty() ? "" : ", ") + n;
+    cmd->add_option("--tf", render->tf,
+                    "--render raycast|orientation: transfer function, a preset (" + presets +
+                        ") or a colour map file (lines 'density r g b opacity', formats/transfer-function.md)")
+        ->capture_default_str();
+    cmd->add_flag("--no-skip", render->noSkip, "--render: march every ray through the whole box (no empty-space skipping)");
+    cmd->add_flag("--show-samples", render->showSamples, "--render: picture the samples taken per pixel instead");
+    cmd->add_option("--cut", render->cut, "--render cut: the plane, x|y|z:INDEX (voxel index)");
+    cmd->add_option("--gpu-budget", render->budget,
+                    "--render: GPU memory for the brick atlas (K, M, G); a volume that needs more is drawn at a "
+                    "coarser level")
+        ->capture_default_str();
+    cmd->add_option("--repeat", render->repeat, "--render: draw the frame this many times and report the median time")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    cmd->add_option("--device", render->device, "--render: EGL device index (-1: the first GPU, else llvmpipe)")
+        ->capture_default_str();
+    cmd->callback([args, render] {
+        if (!render->render.empty()) {
+            renderToPng(args->path, *render, args->json);
+            return;
+        }
+        if (!render->output.empty()) throw Error("-o goes with --render");
         if (std::filesystem::is_directory(args->path))
             reportStore(args->path, args->json, args->verify, args->sort, args->limit);
         else

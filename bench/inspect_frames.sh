@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Frame time and samples per pixel of `yarnvox inspect --render`, with and
+# without empty-space skipping, for one garment at each resolution (or for a
+# volume already made). A .bcc is voxelized first (extra arguments go to
+# `yarnvox voxelize`, e.g. --yarn-radius 0.1); a .vdb or a work directory is
+# rendered as it is. Each frame is drawn --repeat times (median and best
+# reported). Prints JSON lines; the first one says where and when it ran
+# (YV_COMMIT names the commit where the working tree's git history is not
+# the one built).
+#
+#   bench/inspect_frames.sh GARMENT.bcc|VOLUME.vdb|WORKDIR "RESOLUTIONS" [WIDTHxHEIGHT] [voxelize options...]
+#   env: YV_GPU_BUDGET (default 2G), YV_REPEAT (default 5), YV_VIEW (default 30,20,4),
+#        YV_MODES (default "raycast mip orientation")
+set -euo pipefail
+input=$1 resolutions=$2 size=${3:-800x600}
+shift $(( $# < 3 ? $# : 3 ))
+root=$(cd "$(dirname "$0")/.." && pwd)
+build="${YV_BUILD_DIR:-$root/build}"
+yarnvox="$build/yarnvox"
+budget=${YV_GPU_BUDGET:-2G} repeat=${YV_REPEAT:-5} view=${YV_VIEW:-30,20,4}
+modes=${YV_MODES:-raycast mip orientation}
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+
+gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 || true)
+# The load average says how much else the machine was doing (timings on a
+# shared machine are only comparable at a similar load).
+printf '{ "bench": "inspect_frames", "date": "%s", "host_cores": %s, "load_average": "%s", "gpu": "%s", "commit": "%s", "command": "%s", "env": "YV_GPU_BUDGET=%s YV_REPEAT=%s YV_VIEW=%s YV_MODES=%s" }\n' \
+    "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$(nproc)" "$(cut -d' ' -f1-3 /proc/loadavg)" "${gpu:-none}" \
+    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" "$0 $input '$resolutions' $size $*" \
+    "$budget" "$repeat" "$view" "'$modes'"
+
+case "$input" in
+*.bcc) ;;
+*) resolutions=given ;;
+esac
+
+for res in $resolutions; do
+    volume=$input
+    if [ "$res" != given ]; then
+        volume="$scratch/volume-$res.vdb"
+        start=$(date +%s%N)
+        "$yarnvox" voxelize "$input" -o "$volume" --resolution "$res" --quiet "$@"
+        ms=$(( ($(date +%s%N) - start) / 1000000 ))
+        printf '{ "resolution": %s, "voxelize_seconds": %d.%03d, "vdb_bytes": %s }\n' "$res" \
+            $((ms / 1000)) $((ms % 1000)) "$(stat -c %s "$volume")"
+    fi
+    for mode in $modes; do
+        for skip in on off; do
+            flags=()
+            [ "$skip" = off ] && flags+=(--no-skip)
+            "$yarnvox" inspect "$volume" --render "$mode" --size "$size" --view "$view" --gpu-budget "$budget" \
+                --repeat "$repeat" --json "${flags[@]}" -o "$scratch/frame.png" |
+                python3 -c 'import json, sys
+r = json.load(sys.stdin)
+r.pop("output", None)
+r["path"] = sys.argv[1]
+r["resolution"] = int(sys.argv[2]) if sys.argv[2].isdigit() else sys.argv[2]
+print(json.dumps(r))' "$input" "$res"
+        done
+    done
+    [ "$res" != given ] && rm -f "$volume"
+done

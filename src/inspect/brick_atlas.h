@@ -1,0 +1,49 @@
+// The GPU side of a render's volume: a brick atlas (a 3D texture of 8^3
+// bricks: density as 16-bit floats, and |axis| as RGBA8 when orientation is
+// drawn) and an indirection texture from level brick to atlas slot. Bricks
+// arrive one at a time (streamLevelBricks) and go straight to the GPU.
+#pragma once
+
+#include "inspect/brick_level.h"
+
+#include <epoxy/gl.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace yv {
+
+/// Bytes per voxel the atlas needs: 2 for density, 4 more for orientation.
+int atlasBytesPerVoxel(bool withOrientation);
+
+class BrickAtlas {
+  public:
+    /// Allocates room for `plan.bricks.size()` bricks; needs a current GL
+    /// context. Throws yv::Error when the driver refuses the textures.
+    BrickAtlas(const LevelPlan& plan, bool withOrientation, int max3dTextureSize);
+    ~BrickAtlas();
+    BrickAtlas(const BrickAtlas&) = delete;
+    BrickAtlas& operator=(const BrickAtlas&) = delete;
+
+    /// Puts one brick in the next free slot (throws when the atlas is full).
+    void upload(const LevelBrick& brick);
+    /// Uploads the indirection texture; call once every brick is in.
+    void finish();
+
+    const LevelPlan& plan() const { return plan_; }
+    glm::ivec3 slotsPerAxis() const { return slots_; }
+    std::uint64_t bricksUploaded() const { return used_; }
+    GLuint densityTexture() const { return density_; }
+    GLuint orientationTexture() const { return orientation_; }
+    GLuint indirectionTexture() const { return indirection_; }
+
+  private:
+    LevelPlan plan_;
+    bool withOrientation_;
+    glm::ivec3 slots_{1};
+    std::uint64_t used_ = 0;
+    std::vector<std::uint32_t> slotOf_; ///< the indirection grid on the host, uploaded by finish()
+    GLuint density_ = 0, orientation_ = 0, indirection_ = 0;
+};
+
+} // namespace yv

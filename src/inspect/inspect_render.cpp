@@ -1,0 +1,77 @@
+#include "inspect/inspect_render.h"
+
+#include "core/error.h"
+#include "gpu/egl_context.h"
+#include "inspect/brick_atlas.h"
+#include "inspect/raycast_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+namespace yv {
+
+RenderKind parseRenderKind(const std::string& text) {
+    if (text == "raycast") return RenderKind::Raycast;
+    if (text == "mip") return RenderKind::Mip;
+    if (text == "cut") return RenderKind::Cut;
+    if (text == "orientation") return RenderKind::Orientation;
+    throw Error("--render '" + text + "': expected raycast, mip, cut or orientation");
+}
+
+RenderReport renderVolume(const VolumeSource& source, const RenderRequest& request) {
+    if (source.occupiedBricks().empty()) throw Error("nothing to render: the volume has no active voxels");
+    const VoxelBox box = request.region ? source.regionBounds(*request.region) : source.bounds();
+    RenderReport report;
+    if (request.kind == RenderKind::Cut) {
+        report.image = renderCut(source, box, request.cut);
+        return report;
+    }
+    if (request.kind == RenderKind::Orientation && !source.hasOrientation())
+        throw Error("--render orientation: the volume has no orientation grid");
+    const bool orientation = request.kind == RenderKind::Orientation;
+    const TransferFunction tf = loadTransferFunction(request.transferFunction);
+
+    GlContext context(GlContextOptions{request.device, false});
+    report.renderer = context.info().renderer;
+    const auto start = std::chrono::steady_clock::now();
+    report.budgetBytes = request.gpuBudgetBytes;
+    if (const long long free = context.queryFreeMemoryBytes(); free > 0)
+        report.budgetBytes = std::min(report.budgetBytes, std::uint64_t(free) / 2);
+    const LevelPlan plan =
+        planLevel(source, box, report.budgetBytes, atlasBytesPerVoxel(orientation), context.info().max3dTextureSize);
+    if (plan.bricks.empty()) throw Error("nothing to render: no active voxel inside the framed box");
+    BrickAtlas atlas(plan, orientation, context.info().max3dTextureSize);
+    streamLevelBricks(source, box, plan, orientation, [&](const LevelBrick& b) { atlas.upload(b); });
+    atlas.finish();
+    report.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    RaycastRenderer renderer(atlas, request.kind == RenderKind::Mip           ? RenderMode::Mip
+                                    : request.kind == RenderKind::Orientation ? RenderMode::Orientation
+                                                                              : RenderMode::Raycast);
+    RaycastSettings settings;
+    settings.skipEmpty = request.skipEmpty;
+    settings.transferFunction = tf;
+    const Camera camera = frameBox(box, request.view, request.width, request.height);
+    RaycastResult r = renderer.render(camera, settings);
+    std::vector<double> frames = {r.frameSeconds};
+    for (int i = 1; i < request.repeat; ++i) frames.push_back(renderer.render(camera, settings).frameSeconds);
+    std::sort(frames.begin(), frames.end());
+    report.level = plan.level;
+    report.fineBricks = plan.fineBricks;
+    report.levelBricks = plan.bricks.size();
+    report.gpuBytes = plan.gpuBytes;
+    report.proxyTriangles = request.skipEmpty ? r.proxyTriangles : 0;
+    report.meanSamples = r.meanSamples;
+    report.frameSeconds = frames[frames.size() / 2];
+    report.bestFrameSeconds = frames.front();
+    if (request.showSamples) {
+        const float most = r.samples.empty() ? 1.0f : *std::max_element(r.samples.begin(), r.samples.end());
+        report.image = samplesImage(r.samples, request.width, request.height, most);
+    } else {
+        report.image = r.image;
+    }
+    return report;
+}
+
+} // namespace yv

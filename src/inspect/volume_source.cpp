@@ -1,0 +1,57 @@
+#include "inspect/volume_source.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <filesystem>
+
+namespace yv {
+
+VoxelBox VolumeSource::bounds() const {
+    if (occupied_.empty()) return {};
+    glm::ivec3 lo = occupied_.front(), hi = occupied_.front();
+    for (const glm::ivec3& c : occupied_) lo = glm::min(lo, c), hi = glm::max(hi, c);
+    return {lo * kBrickSize, (hi + 1) * kBrickSize};
+}
+
+namespace {
+
+class MemorySource final : public VolumeSource {
+  public:
+    MemorySource(const BrickVolume& volume, std::vector<VoxelBox> regions)
+        : bricks_(volume.bricks), regions_(std::move(regions)) {
+        for (const VoxelBrick& b : bricks_)
+            if (b.activeCount()) occupied_.push_back(brickCoord(b.key));
+        hasOrientation_ = true;
+    }
+    VoxelBox regionBounds(std::uint64_t id) const override {
+        if (id >= regions_.size()) throw Error("no region " + std::to_string(id) + " in this volume");
+        return regions_[id];
+    }
+    void forEachBrick(glm::ivec3 lo, glm::ivec3 hi, const std::function<void(const SourceBrick&)>& visit) const override {
+        std::array<float, kBrickVoxels> density;
+        for (const VoxelBrick& b : bricks_) {
+            const glm::ivec3 c = brickCoord(b.key);
+            if (!b.activeCount() || glm::any(glm::lessThan(c, lo)) || glm::any(glm::greaterThanEqual(c, hi))) continue;
+            for (int v = 0; v < kBrickVoxels; ++v) density[std::size_t(v)] = b.isActive(v) ? b.density[std::size_t(v)] : 0.0f;
+            visit(SourceBrick{c, density.data(), b.orientation.data()});
+        }
+    }
+
+  private:
+    std::vector<VoxelBrick> bricks_;
+    std::vector<VoxelBox> regions_;
+};
+
+} // namespace
+
+std::unique_ptr<VolumeSource> memorySource(const BrickVolume& volume, std::vector<VoxelBox> regions) {
+    return std::make_unique<MemorySource>(volume, std::move(regions));
+}
+
+std::unique_ptr<VolumeSource> openVolumeSource(const std::string& path) {
+    if (std::filesystem::is_directory(path)) return openStoreSource(path);
+    return openVdbSource(path);
+}
+
+} // namespace yv

@@ -1,0 +1,569 @@
+// `yarnvox inspect --render`: pictures of volumes built in code, checked per
+// pixel against what the camera and the voxels say they must show.
+#include "core/error.h"
+#include "cpu/cpu_voxelizer.h"
+#include "garment/cross_section.h"
+#include "garment/generate.h"
+#include "garment/slices.h"
+#include "gpu/egl_context.h"
+#include "inspect/brick_atlas.h"
+#include "inspect/brick_level.h"
+#include "inspect/inspect_render.h"
+#include "inspect/proxy_geometry.h"
+#include "inspect/raycast_renderer.h"
+#include "inspect/transfer_function.h"
+#include "run_cli.h"
+#include "store/brick_store.h"
+#include "test_helpers.h"
+#include "vdb/vdb_writer.h"
+
+#include <catch2/catch.hpp>
+#include <unistd.h>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+using namespace yv;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Scratch {
+    fs::path path;
+    Scratch() {
+        path = fs::temp_directory_path() /
+               ("yv_test_render_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()));
+        fs::create_directories(path);
+    }
+    ~Scratch() { fs::remove_all(path); }
+};
+
+/// A disk yarn of radius 0.3 along x, 8 voxels per radius.
+struct StraightYarn {
+    BrickVolume volume;
+    glm::dvec3 start{0.0}, end{0.0}; ///< the axis's ends, in voxel coordinates
+    double radiusVoxels = 0.0;
+};
+
+StraightYarn straightYarnVolume() {
+    const double radius = 0.3, h = radius / 8.0;
+    const glm::dvec3 start(0.1, 0.2, 0.3);
+    const int length = 5;
+    SliceOptions opt;
+    opt.radius = radius;
+    const SlicePlan plan = planSlices(test::straightYarn(start, {1, 0, 0}, length), opt);
+    StraightYarn y;
+    const VoxelGrid grid = makeGrid(plan, 0, h);
+    y.volume = voxelizeCpu(plan, makeDiskCrossSection(), grid, VoxelizeSettings{});
+    y.start = (start - grid.origin) / h;
+    y.end = (start + glm::dvec3(length, 0, 0) - grid.origin) / h;
+    y.radiusVoxels = radius / h;
+    return y;
+}
+
+/// A generated garment (a knit cylinder: shells of yarn around empty space).
+BrickVolume garmentVolume(int resolution) {
+    GenerateOptions gen;
+    gen.crossings = 300;
+    gen.shape = GarmentShape::Cylinder;
+    gen.pattern = WeavePattern::Knit;
+    const Garment garment = generateGarment(gen);
+    SliceOptions opt;
+    opt.radius = garment.yarnRadius;
+    const SlicePlan plan = planSlices(garment, opt);
+    return voxelizeCpu(plan, makeFiberCrossSection(), makeGrid(plan, resolution, 0.0), VoxelizeSettings{});
+}
+
+/// The ray through pixel (x, y) (row 0 at the top), as the shaders build it.
+void pixelRay(const Camera& c, int x, int y, glm::dvec3& origin, glm::dvec3& dir) {
+    const glm::dmat4 inv = glm::inverse(c.viewProjection());
+    const glm::dvec2 ndc(2.0 * (x + 0.5) / c.width - 1.0, 2.0 * (c.height - 1 - y + 0.5) / c.height - 1.0);
+    const glm::dvec4 a = inv * glm::dvec4(ndc, -1.0, 1.0), b = inv * glm::dvec4(ndc, 1.0, 1.0);
+    origin = glm::dvec3(a) / a.w;
+    dir = glm::normalize(glm::dvec3(b) / b.w - origin);
+}
+
+bool covered(const RgbImage& im, int x, int y) {
+    const std::uint8_t* p = im.at(x, y);
+    return p[0] || p[1] || p[2];
+}
+
+/// GL work for one volume: its atlas at the level the budget allows.
+struct GlVolume {
+    GlContext context;
+    LevelPlan plan;
+    std::unique_ptr<BrickAtlas> atlas;
+    GlVolume(const VolumeSource& source, const VoxelBox& box, bool orientation, std::uint64_t budget = 1ull << 30) {
+        plan = planLevel(source, box, budget, atlasBytesPerVoxel(orientation), context.info().max3dTextureSize);
+        atlas = std::make_unique<BrickAtlas>(plan, orientation, context.info().max3dTextureSize);
+        streamLevelBricks(source, box, plan, orientation, [&](const LevelBrick& b) { atlas->upload(b); });
+        atlas->finish();
+    }
+};
+
+} // namespace
+
+TEST_CASE("inspect render: the ray cast of a straight yarn seen side-on covers the pixels its radius says", "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    const StraightYarn yarn = straightYarnVolume();
+    const auto source = memorySource(yarn.volume);
+    const VoxelBox box = source->bounds();
+    GlVolume gl(*source, box, false);
+    REQUIRE(gl.plan.level == 0);
+    RaycastRenderer renderer(*gl.atlas, RenderMode::Raycast);
+    RaycastSettings settings;
+    settings.transferFunction = loadTransferFunction("fibre");
+    const Camera camera = frameBox(box, ViewAngles{90.0, 0.0, 2.5}, 96, 64); // from +y: the yarn runs across
+    const RaycastResult r = renderer.render(camera, settings);
+
+    // Distance between the pixel's ray and the yarn's axis, where their
+    // closest points lie inside the yarn's length (away from the caps).
+    const glm::dvec3 axis = glm::normalize(yarn.end - yarn.start);
+    const double length = glm::length(yarn.end - yarn.start);
+    int inside = 0, outside = 0, wrongInside = 0, wrongOutside = 0;
+    for (int y = 0; y < camera.height; ++y)
+        for (int x = 0; x < camera.width; ++x) {
+            glm::dvec3 o, d;
+            pixelRay(camera, x, y, o, d);
+            const glm::dvec3 w = o - yarn.start;
+            const double b = glm::dot(d, axis), den = 1.0 - b * b;
+            const double s = (glm::dot(w, axis) - b * glm::dot(w, d)) / den; // along the axis
+            const double t = (b * glm::dot(w, axis) - glm::dot(w, d)) / den; // along the ray
+            const double dist = glm::length(w + t * d - s * axis);
+            if (s > 2.0 && s < length - 2.0 && dist < yarn.radiusVoxels - 1.5) {
+                ++inside;
+                wrongInside += !covered(r.image, x, y);
+            } else if (dist > yarn.radiusVoxels + 1.5 || s < -yarn.radiusVoxels - 2.0 || s > length + yarn.radiusVoxels + 2.0) {
+                ++outside;
+                wrongOutside += covered(r.image, x, y);
+            }
+        }
+    INFO(inside << " pixels inside the yarn's silhouette, " << outside << " outside");
+    CHECK(inside > 500);
+    CHECK(outside > 2000);
+    CHECK(wrongInside == 0);
+    CHECK(wrongOutside == 0);
+}
+
+TEST_CASE("inspect render: empty-space skipping takes fewer samples and draws the same picture", "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    const BrickVolume volume = garmentVolume(192);
+    const auto source = memorySource(volume);
+    const VoxelBox box = source->bounds();
+    GlVolume gl(*source, box, true);
+    // The second view puts the eye inside the volume's box: rays start at the near plane.
+    for (const double distance : {3.0, 0.3})
+    for (RenderMode mode : {RenderMode::Raycast, RenderMode::Mip, RenderMode::Orientation}) {
+        RaycastRenderer renderer(*gl.atlas, mode);
+        RaycastSettings settings;
+        settings.transferFunction = loadTransferFunction("fibre");
+        const Camera camera = frameBox(box, ViewAngles{30.0, 20.0, distance}, 96, 72);
+        settings.skipEmpty = false;
+        const RaycastResult full = renderer.render(camera, settings);
+        settings.skipEmpty = true;
+        const RaycastResult skipped = renderer.render(camera, settings);
+
+        int worst = 0, coveredPixels = 0, fewer = 0, more = 0, muchMore = 0;
+        for (int y = 0; y < camera.height; ++y)
+            for (int x = 0; x < camera.width; ++x) {
+                for (int k = 0; k < 3; ++k)
+                    worst = std::max(worst, std::abs(int(full.image.at(x, y)[k]) - int(skipped.image.at(x, y)[k])));
+                coveredPixels += covered(full.image, x, y);
+                const std::size_t i = std::size_t(y) * std::size_t(camera.width) + std::size_t(x);
+                fewer += skipped.samples[i] < full.samples[i];
+                more += skipped.samples[i] > full.samples[i];
+                muchMore += skipped.samples[i] > full.samples[i] + 1.0f;
+            }
+        const double factor = full.meanSamples / skipped.meanSamples;
+        std::printf("empty-space skipping, mode %d, distance %.1f: %.2f -> %.2f samples per pixel (%.2fx fewer), %llu proxy triangles\n",
+                    int(mode), distance, full.meanSamples, skipped.meanSamples, factor,
+                    static_cast<unsigned long long>(skipped.proxyTriangles));
+        INFO("mode " << int(mode) << ": largest channel difference " << worst << ", samples " << full.meanSamples
+                     << " without skipping, " << skipped.meanSamples << " with");
+        CHECK(coveredPixels > camera.width * camera.height / 10);
+        CHECK(worst <= 3);
+        // Skipping never adds a sample, but where the proxy's entry equals the
+        // box's to rounding, one sample may lie either side of it.
+        CHECK(more <= camera.width * camera.height / 100);
+        CHECK(muchMore == 0);
+        CHECK(fewer > 0);
+        CHECK(factor > (distance > 1.0 ? 1.5 : 1.1));
+    }
+}
+
+TEST_CASE("inspect render: MIP seen from above is each voxel column's largest density, from memory and from a .vdb", "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    // 4x4x3 bricks; a brick is left out where (bx + by) % 3 == 0, and density
+    // is a hash of the voxel, so each column's maximum is known and varies.
+    BrickVolume volume;
+    volume.grid.dims = {32, 32, 24};
+    const auto value = [](glm::ivec3 v) { return float((v.x * 7 + v.y * 13 + v.z * 29) % 97) / 96.0f; };
+    for (int bx = 0; bx < 4; ++bx)
+        for (int by = 0; by < 4; ++by)
+            for (int bz = 0; bz < 3; ++bz) {
+                if ((bx + by) % 3 == 0 || (bz == 1 && bx == 2)) continue;
+                VoxelBrick b;
+                b.key = brickKey({bx, by, bz});
+                for (int x = 0; x < 8; ++x)
+                    for (int y = 0; y < 8; ++y)
+                        for (int z = 0; z < 8; ++z) {
+                            const int v = brickOffset(x, y, z);
+                            b.density[std::size_t(v)] = value(glm::ivec3(bx, by, bz) * 8 + glm::ivec3(x, y, z));
+                            b.orientation[std::size_t(v)] = {0, 0, 1};
+                            if (b.density[std::size_t(v)] > 0.0f) b.activeMask[std::size_t(v >> 6)] |= 1ull << (v & 63);
+                        }
+                volume.bricks.push_back(b);
+            }
+    std::sort(volume.bricks.begin(), volume.bricks.end(), [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });
+    test::VolumeIndex index(volume);
+    Scratch scratch;
+    const std::string vdb = (scratch.path / "known.vdb").string();
+    writeVdb(vdb, volume, VolumeMetadata{});
+
+    const Camera camera = topDownOrthographic(0, 32, 0, 32, 0, 24, 32, 32); // one pixel a voxel column
+    std::vector<RgbImage> images;
+    for (const auto& source : {memorySource(volume), openVdbSource(vdb)}) {
+        const VoxelBox box = source->bounds();
+        CHECK(box.min == glm::ivec3(0));
+        CHECK(box.max == glm::ivec3(32, 32, 24));
+        GlVolume gl(*source, box, false);
+        RaycastRenderer renderer(*gl.atlas, RenderMode::Mip);
+        const RaycastResult r = renderer.render(camera, RaycastSettings{});
+        int wrong = 0;
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) {
+                float highest = 0.0f;
+                for (int z = 0; z < 24; ++z) highest = std::max(highest, index.density({x, 31 - y, z}));
+                const int expected = int(std::lround(255.0f * highest));
+                const int got = r.image.at(x, y)[0];
+                if (std::abs(got - expected) > 1) {
+                    if (++wrong < 5) WARN("pixel " << x << "," << y << ": " << got << ", expected " << expected);
+                }
+            }
+        CHECK(wrong == 0);
+        images.push_back(r.image);
+    }
+    CHECK(images[0].pixels == images[1].pixels);
+}
+
+TEST_CASE("inspect render: a cut at a known index is the voxels' densities", "[inspect]") {
+    const BrickVolume volume = garmentVolume(64);
+    test::VolumeIndex index(volume);
+    const auto source = memorySource(volume);
+    const VoxelBox box = source->bounds();
+    for (int axis = 0; axis < 3; ++axis) {
+        const CutPlane cut{axis, (box.min[axis] + box.max[axis]) / 2 + 1};
+        const RgbImage image = renderCut(*source, box, cut);
+        const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
+        REQUIRE(image.width == box.max[u] - box.min[u]);
+        REQUIRE(image.height == box.max[v] - box.min[v]);
+        int wrong = 0, nonzero = 0;
+        for (int py = 0; py < image.height; ++py)
+            for (int px = 0; px < image.width; ++px) {
+                glm::ivec3 voxel;
+                voxel[axis] = cut.index, voxel[u] = box.min[u] + px, voxel[v] = box.max[v] - 1 - py;
+                const int expected = int(std::lround(255.0f * std::clamp(index.density(voxel), 0.0f, 1.0f)));
+                const std::uint8_t* p = image.at(px, py);
+                wrong += p[0] != expected || p[1] != expected || p[2] != expected;
+                nonzero += expected > 0;
+            }
+        CHECK(nonzero > 50);
+        CHECK(wrong == 0);
+    }
+    CHECK_THROWS_AS(renderCut(*source, box, CutPlane{2, box.max.z}), Error);
+    CHECK(parseCut("y:12").axis == 1);
+    CHECK(parseCut("y:12").index == 12);
+    CHECK_THROWS_AS(parseCut("w:3"), Error);
+    CHECK_THROWS_AS(parseCut("x:3.5"), Error);
+}
+
+TEST_CASE("inspect render: a coarse level's voxel is the mean of the 2x2x2 voxels under it", "[inspect]") {
+    const BrickVolume volume = garmentVolume(64);
+    test::VolumeIndex index(volume);
+    const auto source = memorySource(volume);
+    const VoxelBox box = source->bounds();
+    const LevelPlan full = planLevel(*source, box, 1ull << 30, 2, 2048);
+    CHECK(full.level == 0);
+    CHECK(full.bricks.size() == volume.bricks.size());
+    // A budget of half the full level's atlas forces level 1.
+    const LevelPlan coarse = planLevel(*source, box, full.gpuBytes / 2, 2, 2048);
+    REQUIRE(coarse.level >= 1);
+    CHECK(coarse.gpuBytes <= full.gpuBytes / 2);
+    std::size_t seen = 0;
+    int wrong = 0;
+    streamLevelBricks(*source, box, coarse, true, [&](const LevelBrick& b) {
+        ++seen;
+        for (int z = 0; z < 8; ++z)
+            for (int y = 0; y < 8; ++y)
+                for (int x = 0; x < 8; ++x) {
+                    const glm::ivec3 q = (b.coord * 8 + glm::ivec3(x, y, z)) * coarse.scale + coarse.originVoxel;
+                    double sum = 0.0;
+                    for (int i = 0; i < coarse.scale; ++i)
+                        for (int j = 0; j < coarse.scale; ++j)
+                            for (int k = 0; k < coarse.scale; ++k) sum += index.density(q + glm::ivec3(i, j, k));
+                    const double mean = sum / double(coarse.scale * coarse.scale * coarse.scale);
+                    wrong += std::abs(mean - double(b.density[std::size_t(x + 8 * y + 64 * z)])) > 1e-5;
+                }
+    });
+    CHECK(seen == coarse.bricks.size());
+    CHECK(wrong == 0);
+    CHECK_THROWS_AS(planLevel(*source, box, 1000, 2, 2048), Error); // not even one brick
+}
+
+TEST_CASE("inspect render: proxy geometry is the boundary of the occupied bricks", "[inspect]") {
+    LevelPlan plan;
+    plan.scale = 2;
+    plan.originVoxel = {16, 0, 0};
+    plan.brickDims = {3, 1, 1};
+    plan.bricks = {{0, 0, 0}, {1, 0, 0}}; // two bricks side by side: 10 faces
+    const std::vector<glm::vec3> t = proxyTriangles(plan);
+    REQUIRE(t.size() == 10 * 6);
+    for (const glm::vec3& p : t) {
+        CHECK(p.x >= 16.0f);
+        CHECK(p.x <= 16.0f + 32.0f);
+        CHECK((p.y == 0.0f || p.y == 16.0f));
+    }
+    // No face lies on the shared plane x = 16 + 16.
+    int onShared = 0;
+    for (std::size_t i = 0; i < t.size(); i += 3) onShared += t[i].x == 32.0f && t[i + 1].x == 32.0f && t[i + 2].x == 32.0f;
+    CHECK(onShared == 0);
+}
+
+TEST_CASE("inspect render: colour map files", "[inspect]") {
+    const TransferFunction tf = parseColourMap("# density r g b opacity\n0 0 0 0 0\n1 1 0.5 0 1\n", "map.txt");
+    CHECK(tf[0].r == Approx(0.0f));
+    CHECK(tf[255].g == Approx(0.5f));
+    CHECK(tf[51].a == Approx(0.2f).margin(1e-6));
+    CHECK_THROWS_WITH(parseColourMap("0 0 0 0 0\n0.5 1 1\n", "map.txt"), Catch::Contains("map.txt line 2"));
+    CHECK_THROWS_WITH(parseColourMap("0.5 0 0 0 0\n0.2 1 1 1 1\n", "map.txt"), Catch::Contains("rise"));
+    CHECK_THROWS_WITH(parseColourMap("0 0 0 0 0\n", "map.txt"), Catch::Contains("two lines"));
+    CHECK_THROWS_WITH(parseColourMap("0 0 0 0 0\n1 2 0 0 0\n", "map.txt"), Catch::Contains("[0, 1]"));
+}
+
+TEST_CASE("inspect render: --region frames one zoom region and draws only its bricks", "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    const BrickVolume volume = garmentVolume(64);
+    const auto whole = memorySource(volume);
+    const VoxelBox all = whole->bounds();
+    // Two regions: the halves of the volume along x, on a brick boundary.
+    const int mid = (all.min.x + all.max.x) / 16 * 8;
+    std::vector<VoxelBox> regions = {{all.min, {mid, all.max.y, all.max.z}}, {{mid, all.min.y, all.min.z}, all.max}};
+    const auto source = memorySource(volume, regions);
+    for (std::uint64_t id = 0; id < 2; ++id) {
+        RenderRequest request;
+        request.region = id;
+        request.width = 80, request.height = 60;
+        request.view = ViewAngles{-60.0, 25.0, 4.0};
+        const RenderReport rep = renderVolume(*source, request);
+        // The region's box, projected: every drawn pixel lies inside it.
+        const Camera camera = frameBox(regions[id], request.view, request.width, request.height);
+        glm::dvec2 lo(1e9), hi(-1e9);
+        for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 p((c & 1 ? regions[id].max : regions[id].min).x, (c & 2 ? regions[id].max : regions[id].min).y,
+                               (c & 4 ? regions[id].max : regions[id].min).z);
+            const glm::dvec4 clip = camera.viewProjection() * glm::dvec4(p, 1.0);
+            const glm::dvec2 px((clip.x / clip.w + 1.0) * 0.5 * camera.width, (1.0 - clip.y / clip.w) * 0.5 * camera.height);
+            lo = glm::min(lo, px), hi = glm::max(hi, px);
+        }
+        int drawn = 0, outside = 0;
+        for (int y = 0; y < request.height; ++y)
+            for (int x = 0; x < request.width; ++x) {
+                if (!covered(rep.image, x, y)) continue;
+                ++drawn;
+                outside += x + 0.5 < lo.x - 0.5 || x + 0.5 > hi.x + 0.5 || y + 0.5 < lo.y - 0.5 || y + 0.5 > hi.y + 0.5;
+            }
+        INFO("region " << id << ": projected box " << lo.x << "," << lo.y << " to " << hi.x << "," << hi.y);
+        CHECK(drawn > request.width * request.height / 20);
+        CHECK(outside == 0);
+        // The framed box fills a good part of the picture (it is framed, not the whole volume's view).
+        CHECK((hi.x - lo.x) * (hi.y - lo.y) > 0.25 * request.width * request.height);
+        CHECK(rep.fineBricks < volume.bricks.size());
+    }
+    RenderRequest bad;
+    bad.region = 7;
+    CHECK_THROWS_AS(renderVolume(*source, bad), Error);
+}
+
+TEST_CASE("inspect render: a budget too small for full resolution renders a coarser level, the same silhouette", "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    const BrickVolume volume = garmentVolume(96);
+    const auto source = memorySource(volume);
+    RenderRequest request;
+    request.width = 64, request.height = 48;
+    request.view = ViewAngles{20.0, 10.0, 3.0};
+    request.kind = RenderKind::Mip;
+    const RenderReport full = renderVolume(*source, request);
+    REQUIRE(full.level == 0);
+    request.gpuBudgetBytes = full.gpuBytes / 3;
+    const RenderReport coarse = renderVolume(*source, request);
+    CHECK(coarse.level >= 1);
+    CHECK(coarse.gpuBytes <= request.gpuBudgetBytes);
+    CHECK(coarse.levelBricks < full.levelBricks);
+    int both = 0, either = 0;
+    for (int y = 0; y < request.height; ++y)
+        for (int x = 0; x < request.width; ++x) {
+            both += covered(full.image, x, y) && covered(coarse.image, x, y);
+            either += covered(full.image, x, y) || covered(coarse.image, x, y);
+        }
+    INFO("coverage: " << both << " of " << either << " pixels agree");
+    CHECK(either > 200);
+    CHECK(double(both) / double(either) > 0.8);
+}
+
+TEST_CASE("inspect render: the command line writes PNGs from a work directory and refuses bad requests", "[inspect][gl][cli]") {
+    YV_REQUIRE_GL();
+    Scratch scratch;
+    const std::string dir = (scratch.path / "work").string();
+    const BrickVolume volume = garmentVolume(64);
+    {
+        StoreManifest manifest;
+        manifest.fingerprint = 7;
+        manifest.grid = volume.grid;
+        BrickStore store(dir, manifest, false);
+        std::vector<VoxelBrick> low, high;
+        for (const VoxelBrick& b : volume.bricks) (brickCoord(b.key).x < 4 ? low : high).push_back(b);
+        const glm::ivec3 size = (volume.grid.dims + 7) / 8 * 8;
+        store.writeRegion(0, {0, 0, 0}, {32, size.y, size.z}, low);
+        store.writeRegion(1, {32, 0, 0}, {std::max(size.x, 40), size.y, size.z}, high);
+        store.markComplete(2);
+    }
+    test::VolumeIndex index(volume);
+    const std::string png = (scratch.path / "cut.png").string();
+    const auto cut = test::runYarnvox("inspect " + dir + " --render cut --cut z:30 -o " + png);
+    INFO(cut.output);
+    REQUIRE(cut.exitCode == 0);
+    const RgbImage image = readPng(png);
+    const VoxelBox box = memorySource(volume)->bounds();
+    REQUIRE(image.width == box.max.x - box.min.x);
+    int wrong = 0;
+    for (int py = 0; py < image.height; ++py)
+        for (int px = 0; px < image.width; ++px) {
+            const float d = index.density({box.min.x + px, box.max.y - 1 - py, 30});
+            wrong += image.at(px, py)[0] != int(std::lround(255.0f * std::clamp(d, 0.0f, 1.0f)));
+        }
+    CHECK(wrong == 0);
+
+    const std::string ray = (scratch.path / "ray.png").string();
+    const auto r = test::runYarnvox("inspect " + dir + " --render raycast --size 48x32 --view 10,30,3 -o " + ray);
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(r.output.find("mean samples per pixel") != std::string::npos);
+    CHECK(readPng(ray).width == 48);
+
+    // JSON for scripts: fewer samples with skipping than without, one region framed.
+    const auto meanSamples = [](const std::string& out) {
+        const std::size_t at = out.find("\"mean_samples_per_pixel\":");
+        return at == std::string::npos ? -1.0 : std::atof(out.c_str() + at + 25);
+    };
+    const auto skip = test::runYarnvox("inspect " + dir + " --render mip --size 40x30 --json --show-samples -o " + ray);
+    const auto noSkip = test::runYarnvox("inspect " + dir + " --render mip --size 40x30 --json --no-skip -o " + ray);
+    INFO(skip.output << noSkip.output);
+    REQUIRE(skip.exitCode == 0);
+    REQUIRE(noSkip.exitCode == 0);
+    CHECK(meanSamples(skip.output) > 0.0);
+    CHECK(meanSamples(noSkip.output) > meanSamples(skip.output));
+    const auto region = test::runYarnvox("inspect " + dir + " --render raycast --region 1 --size 40x30 --json -o " + ray);
+    INFO(region.output);
+    CHECK(region.exitCode == 0);
+    CHECK(region.output.find("\"fine_bricks\": " + std::to_string(std::count_if(volume.bricks.begin(), volume.bricks.end(),
+        [](const VoxelBrick& b) { return brickCoord(b.key).x >= 4; }))) != std::string::npos);
+
+    // Bad requests: one line, exit 1, no file.
+    const std::string none = (scratch.path / "none.png").string();
+    for (const char* args : {" --render cut -o ", " --render mip --size 0x5 -o ", " --render mip --tf nosuch -o ",
+                                    " --render raycast --region 9 -o ", " --render mip --view 1,2 -o ",
+                                    " --render cut --cut z:100000 -o "}) {
+        const auto bad = test::runYarnvox("inspect " + dir + std::string(args) + none);
+        INFO(args << ": " << bad.output);
+        CHECK(bad.exitCode != 0);
+        CHECK(!fs::exists(none));
+        CHECK(std::count(bad.output.begin(), bad.output.end(), '\n') <= 2);
+    }
+}
+
+TEST_CASE("inspect render: an 8192-voxel domain renders within the default budget at a coarse level", "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    // Solid bricks along the main diagonal of an 8192^3 grid: the
+    // indirection grid alone would take 4 GiB at full resolution, 512 MiB at
+    // level 1; level 2 (64 MiB) fits the default 512 MiB.
+    BrickVolume volume;
+    for (int i = 0; i < 1024; ++i) {
+        VoxelBrick b;
+        b.key = brickKey({i, i, i});
+        b.density.fill(1.0f);
+        b.orientation.fill({1, 0, 0});
+        b.activeMask.fill(~0ull);
+        volume.bricks.push_back(b);
+    }
+    const auto source = memorySource(volume);
+    const VoxelBox box = source->bounds();
+    REQUIRE(box.max == glm::ivec3(8192));
+    GlVolume gl(*source, box, false, RenderRequest{}.gpuBudgetBytes);
+    CHECK(gl.plan.level == 2);
+    CHECK(gl.plan.gpuBytes <= RenderRequest{}.gpuBudgetBytes);
+    // From above, 32 voxels a pixel, shifted by 4 so that ray centres fall
+    // inside bricks, never on their faces: the ray through pixel column k
+    // (x = 32k + 20) meets brick 4k + 2, which lies under the same row from
+    // the bottom only: a MIP of 1 on the diagonal, 0 elsewhere.
+    RaycastRenderer renderer(*gl.atlas, RenderMode::Mip);
+    const RaycastResult r = renderer.render(topDownOrthographic(4, 8196, 4, 8196, 0, 8192, 256, 256), RaycastSettings{});
+    int wrong = 0;
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x) wrong += r.image.at(x, y)[0] != (x == 255 - y ? 255 : 0);
+    CHECK(wrong == 0);
+}
+
+TEST_CASE("inspect render: work directories and .vdb files hand over the bricks and voxels that were written", "[inspect]") {
+    Scratch scratch;
+    const BrickVolume volume = garmentVolume(64);
+    const std::string dir = (scratch.path / "work").string(), vdb = (scratch.path / "v.vdb").string();
+    {
+        StoreManifest manifest;
+        manifest.fingerprint = 9;
+        manifest.grid = volume.grid;
+        BrickStore store(dir, manifest, false);
+        std::vector<VoxelBrick> low, high;
+        for (const VoxelBrick& b : volume.bricks) (brickCoord(b.key).z < 4 ? low : high).push_back(b);
+        const glm::ivec3 size = (volume.grid.dims + 7) / 8 * 8;
+        store.writeRegion(0, {0, 0, 0}, {size.x, size.y, 32}, low);
+        store.writeRegion(1, {0, 0, 32}, {size.x, size.y, std::max(size.z, 40)}, high);
+        store.markComplete(2);
+    }
+    writeVdb(vdb, volume, VolumeMetadata{});
+    test::VolumeIndex index(volume);
+    std::vector<glm::ivec3> expected;
+    for (const VoxelBrick& b : volume.bricks) expected.push_back(brickCoord(b.key));
+    for (const auto& source : {openVolumeSource(dir), openVolumeSource(vdb)}) {
+        std::vector<glm::ivec3> listed = source->occupiedBricks();
+        const auto order = [](glm::ivec3 a, glm::ivec3 b) { return brickKey(a) < brickKey(b); };
+        std::sort(listed.begin(), listed.end(), order);
+        CHECK(listed == expected);
+        CHECK(source->hasOrientation());
+        // Every voxel of the bricks in the lower half along x, and none beyond.
+        const glm::ivec3 lo(0), hi(4, 1 << 20, 1 << 20);
+        std::size_t visited = 0;
+        int wrongDensity = 0, wrongAxis = 0, outside = 0;
+        source->forEachBrick(lo, hi, [&](const SourceBrick& b) {
+            ++visited;
+            outside += b.coord.x >= 4;
+            const VoxelBrick* mine = index.brick(b.coord * 8);
+            REQUIRE(mine);
+            for (int v = 0; v < kBrickVoxels; ++v) {
+                const float d = mine->isActive(v) ? mine->density[std::size_t(v)] : 0.0f;
+                wrongDensity += std::abs(b.density[v] - d) > 1e-6f;
+                if (mine->isActive(v)) wrongAxis += glm::length(b.orientation[v] - mine->orientation[std::size_t(v)]) > 1e-6f;
+            }
+        });
+        CHECK(visited == std::size_t(std::count_if(expected.begin(), expected.end(), [](glm::ivec3 c) { return c.x < 4; })));
+        CHECK(outside == 0);
+        CHECK(wrongDensity == 0);
+        CHECK(wrongAxis == 0);
+    }
+    CHECK(openVolumeSource(dir)->regionBounds(1).min == glm::ivec3(0, 0, 32));
+    CHECK_THROWS_AS(openVolumeSource(vdb)->regionBounds(0), Error);
+}
