@@ -2,6 +2,7 @@
 #include "bcc.h"
 #include "cli/commands.h"
 #include "cli/option_checks.h"
+#include "cli/output_format.h"
 #include "cli/run_fingerprint.h"
 #include "cli/yarn_radius.h"
 #include "core/error.h"
@@ -39,7 +40,7 @@ namespace {
 
 struct VoxelizeArgs {
     std::string input, output, backend = "auto", method = "sparse", crossSection = "fibers", reduce = "mean",
-        overlap = "clamp", compression = "mask", precision = "float", statsPath, workDir;
+        overlap = "clamp", compression = "mask", precision = "float", statsPath, workDir, format;
     int resolution = 0, slicesPerSegment = 0, supersample = 1, device = -1;
     double voxelSize = 0.0, yarnRadius = 0.0, spacing = 0.0, twist = 0.0;
     std::uint64_t fragmentCapacity = 0;
@@ -451,7 +452,12 @@ void addVoxelizeCommand(CLI::App& app) {
     auto a = std::make_shared<VoxelizeArgs>();
     CLI::App* cmd = app.add_subcommand("voxelize", "Voxelize a garment (BCC) into an OpenVDB file of fibre density and orientation");
     cmd->add_option("input", a->input, "Garment .bcc file")->required()->check(CLI::ExistingFile);
-    cmd->add_option("-o,--output", a->output, "Output .vdb file")->required();
+    cmd->add_option("-o,--output", a->output, "Output file: OUT.vdb, OUT.vol or OUT.nvdb (see --format)")->required();
+    cmd->add_option("--format", a->format,
+                    "vdb, vol (Mitsuba: OUT.vol density, OUT.orientation.vol axes, float32) or nvdb (NanoVDB); default "
+                    "from the output's extension, else vdb. vol and nvdb are converted from a temporary .vdb "
+                    "(`yarnvox export` converts one you have, with more choices)")
+        ->check(CLI::IsMember({"vdb", "vol", "nvdb"}));
     cmd->add_option("--backend", a->backend,
                     "auto (gl on a GPU, else cpu; gl for --work-dir, --resume and --method dense), gl (OpenGL 4.5 "
                     "through EGL: a GPU, or Mesa's llvmpipe) or cpu (the TBB reference)")
@@ -518,7 +524,13 @@ void addVoxelizeCommand(CLI::App& app) {
     cmd->add_option("--stats", a->statsPath, "Write run statistics (JSON) to this file");
     cmd->add_flag("-q,--quiet", a->quiet, "No progress and no summary");
     cmd->add_flag("-v,--verbose", a->verbose, "Name the renderer and print GPU limits");
-    cmd->callback([a] { runVoxelize(*a); });
+    cmd->callback([a] {
+        voxelizeInFormat(a->format, a->output, a->input, a->quiet, [&](const std::string& vdbPath) {
+            VoxelizeArgs run = *a;
+            run.output = vdbPath;
+            runVoxelize(run);
+        });
+    });
 }
 
 } // namespace yv
