@@ -1,6 +1,7 @@
 #include "cli/output_format.h"
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/output_path.h"
 #include "export/fiber_grids.h"
 #include "export/nanovdb_output.h"
@@ -38,6 +39,8 @@ std::vector<std::string> exportPaths(OutputFormat format, const std::string& out
 
 void convertVdb(const std::string& vdbPath, OutputFormat format, const std::string& output,
                 const VolExportOptions& volOptions, bool quiet) {
+    // SIGINT or SIGTERM stops a long dense write between pieces, and the temporaries are removed.
+    const InterruptScope interruptible;
     const FiberGrids grids = readFiberGrids(vdbPath);
     if (format == OutputFormat::Nvdb) {
         const NanoVdbExportResult r = exportNanoVdb(grids, output);

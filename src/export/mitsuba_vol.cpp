@@ -1,6 +1,7 @@
 #include "export/mitsuba_vol.h"
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/text.h"
 #include "export/staged_file.h"
 
@@ -114,6 +115,9 @@ void appendValues(StagedFile& out, const GridT& grid, const VoxelBox& box, int c
     const int bytes = encodingBytes(e);
     std::vector<std::uint8_t> buffer;
     forEachPiece(box, [&](const openvdb::CoordBBox& piece) {
+        // Under an InterruptScope, SIGINT or SIGTERM stops between pieces; the temporaries go with the exception.
+        if (interruptSignal())
+            throw Error(out.path() + ": interrupted by " + interruptSignalName() + ": nothing was written");
         openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(piece);
         openvdb::tools::copyToDense(grid, dense);
         const std::size_t n = dense.valueCount();

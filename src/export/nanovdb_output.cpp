@@ -1,6 +1,7 @@
 #include "export/nanovdb_output.h"
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "export/staged_file.h"
 
 #include <nanovdb/util/IO.h>
@@ -32,6 +33,7 @@ NanoVdbExportResult exportNanoVdb(const FiberGrids& grids, const std::string& pa
         throw Error(path + ": the NanoVDB grids take " + std::to_string(need) + " bytes, and " + dir + " has " +
                     std::to_string(space.available) + " bytes free: nothing was written");
 
+    if (interruptSignal()) throw Error(path + ": interrupted by " + interruptSignalName() + ": nothing was written");
     StagedFile file(path);
     StagedFileBuf buffer(file);
     std::ostream os(&buffer);
