@@ -372,6 +372,19 @@ TEST_CASE("CLI: voxelize --format vol and nvdb convert the same voxels as the .v
                                             lo.y() + dv.dims.y * grids.density->voxelSize()[0],
                                             lo.z() + dv.dims.z * grids.density->voxelSize()[0]});
 
+    // A conversion that fails (the orientation file passes a 200 KiB file-size
+    // limit the .vdb stays under) leaves neither outputs nor the temporary .vdb.
+    const fs::path failed = scratch("knit-full.vol");
+    const test::RunResult full = test::runShell("ulimit -f 200; trap '' XFSZ; exec " + std::string(YV_BINARY_DIR) +
+                                                "/yarnvox voxelize " + bcc.string() + " -o " + failed.string() + options);
+    INFO(full.output);
+    CHECK(full.exitCode == 1);
+    CHECK(full.output.find("cannot write") != std::string::npos);
+    CHECK(full.output.find("wrote " + failed.string()) == std::string::npos);
+    CHECK_FALSE(fs::exists(failed));
+    CHECK_FALSE(fs::exists(scratch("knit-full.orientation.vol")));
+    CHECK(partialFiles(failed.parent_path()) == 0);
+
     const test::RunResult printed = test::runShell("nanovdb_print -l " + nvdb.string());
     INFO(printed.output);
     CHECK(printed.exitCode == 0);
