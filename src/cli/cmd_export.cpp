@@ -121,7 +121,7 @@ void addExportCommand(CLI::App& app) {
         ->check(CLI::IsMember({"vol", "nvdb"}));
     auto* bbox = cmd->add_option("--bbox", a->bbox,
                                  "i0,j0,k0,i1,j1,k1: voxel index box, min inclusive, max exclusive (as `yarnvox inspect` "
-                                 "prints region bounds; default: the bounds of the active voxels)");
+                                 "prints region bounds; default: the bounds of the active voxels and one voxel around them)");
     auto* world = cmd->add_option("--bbox-world", a->bboxWorld,
                                   "x0,y0,z0,x1,y1,z1: world-unit box; every voxel whose cell overlaps it is exported")
                       ->excludes(bbox);

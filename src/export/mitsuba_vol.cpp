@@ -8,6 +8,8 @@
 #include <openvdb/tools/Dense.h>
 #include <tbb/parallel_for.h>
 
+#include <glm/vector_relational.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <bit>
@@ -211,9 +213,14 @@ VolExportResult exportMitsubaVol(const FiberGrids& grids, const std::string& den
     } else {
         const openvdb::CoordBBox active = density.evalActiveVoxelBoundingBox();
         if (active.empty()) throw Error(densityPath + ": the density grid has no active voxel: nothing to export");
-        result.box.min = {active.min().x(), active.min().y(), active.min().z()};
-        result.box.max = {active.max().x() + 1, active.max().y() + 1, active.max().z() + 1};
+        // One empty voxel of margin: the outermost fibre voxels are then inside
+        // the box under either convention (Mitsuba 0.6 reads nothing beyond
+        // the first and last voxel centres).
+        result.box.min = glm::ivec3(active.min().x(), active.min().y(), active.min().z()) - 1;
+        result.box.max = glm::ivec3(active.max().x(), active.max().y(), active.max().z()) + 2;
     }
+    if (options.boxConvention == VolBoxConvention::Centres && glm::any(glm::lessThan(result.box.dims(), glm::ivec3(2))))
+        throw Error(densityPath + ": a box of centres needs at least 2 voxels along each axis, not " + dimsText(result.box.dims()));
     const VoxelBox& box = result.box;
     const glm::ivec3 dims = box.dims();
     const std::vector<std::string> paths = volOutputPaths(densityPath, orientation != nullptr, options);

@@ -47,7 +47,7 @@ struct VolExportOptions {
     VolEncoding densityEncoding = VolEncoding::Float32;
     VolEncoding orientationEncoding = VolEncoding::Float32;
     VolBoxConvention boxConvention = VolBoxConvention::Corners;
-    std::optional<VoxelBox> box; ///< none: the bounds of the active voxels
+    std::optional<VoxelBox> box; ///< none: the bounds of the active voxels and one voxel around them
     double sggxRoughness = 0.0;  ///< above 0: also write OUT.sggx.vol with this sigma
 };
 
@@ -70,7 +70,8 @@ std::vector<std::string> volOutputPaths(const std::string& densityPath, bool wit
 /// Bytes of one .vol file: the 48-byte header and the dense values.
 double volFileBytes(glm::ivec3 dims, int channels, VolEncoding e);
 
-/// Writes the dense files for `options.box` (or the active voxels' bounds),
+/// Writes the dense files for `options.box` (or the active voxels' bounds
+/// grown by one voxel),
 /// a few slices at a time, each to a temporary name, renamed into place only
 /// when all are complete. Refuses before writing anything, naming the bytes
 /// needed and the free space, when they do not fit the file system; throws
