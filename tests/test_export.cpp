@@ -518,3 +518,39 @@ TEST_CASE("CLI: export refuses what it cannot write with one line", "[export][cl
     fails(vdb.string() + " -o " + vdb.string() + ".vol --vol-type int16", "--vol-type");
     CHECK_FALSE(fs::exists(scratch("x.vol")));
 }
+
+TEST_CASE("CLI: a .vdb with only a density grid exports the density alone, and a grid of the wrong type is refused", "[export][cli]") {
+    const FiberGrids grids = knownGrids();
+    const fs::path vdb = scratch("density-only.vdb"), vol = scratch("density-only.vol"), nvdb = scratch("density-only.nvdb");
+    for (const fs::path& p : {vol, nvdb, scratch("density-only.orientation.vol")}) fs::remove(p);
+    {
+        openvdb::io::File file(vdb.string());
+        file.write(openvdb::GridPtrVec{grids.density});
+        file.close();
+    }
+    const test::RunResult r = test::runYarnvox("export " + vdb.string() + " -o " + vol.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.output.find("only the density was exported") != std::string::npos);
+    CHECK_FALSE(fs::exists(scratch("density-only.orientation.vol")));
+    const VolFile dv = readVol(vol);
+    CHECK(dv.channels == 1);
+    CHECK(dv.value(1, 1, 1, 0) == knownDensity(2, 3, 4)); // the box starts one voxel before the first active one
+    REQUIRE(test::runYarnvox("export " + vdb.string() + " -o " + nvdb.string()).exitCode == 0);
+    CHECK(nanovdb::io::readGridMetaData(nvdb.string()).size() == 1);
+
+    // 'density' of another type, and an 'orientation' that is not vec3s.
+    const fs::path wrong = scratch("wrong-types.vdb");
+    openvdb::Vec3SGrid::Ptr vectorDensity = openvdb::Vec3SGrid::create();
+    vectorDensity->setName("density");
+    openvdb::io::File(wrong.string()).write(openvdb::GridPtrVec{vectorDensity});
+    const test::RunResult v = test::runYarnvox("export " + wrong.string() + " -o " + vol.string());
+    CHECK(v.exitCode == 1);
+    CHECK(v.output.find("has no float grid named 'density'") != std::string::npos);
+    openvdb::FloatGrid::Ptr floatOrientation = openvdb::FloatGrid::create();
+    floatOrientation->setName("orientation");
+    openvdb::io::File(wrong.string()).write(openvdb::GridPtrVec{grids.density, floatOrientation});
+    const test::RunResult o = test::runYarnvox("export " + wrong.string() + " -o " + vol.string());
+    CHECK(o.exitCode == 1);
+    CHECK(o.output.find("'orientation' grid is not a vec3s grid") != std::string::npos);
+}
