@@ -27,8 +27,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "yv_export_test";
+/// A scratch file; tests that count leftover temporaries give a folder of
+/// their own, since CTest runs tests in parallel.
+fs::path scratch(const std::string& name, const std::string& folder = "") {
+    const fs::path dir = fs::temp_directory_path() / "yv_export_test" / folder;
     fs::create_directories(dir);
     return dir / name;
 }
@@ -342,9 +344,9 @@ TEST_CASE("Export: NanoVDB's own reader gives back every voxel of both grids, na
 }
 
 TEST_CASE("CLI: voxelize --format vol and nvdb convert the same voxels as the .vdb, leave no temporary, nanovdb_print reads the .nvdb", "[export][cli]") {
-    const fs::path bcc = scratch("knit.bcc"), vdb = scratch("knit.vdb"), vol = scratch("knit.vol"),
-                   nvdb = scratch("knit.nvdb");
-    for (const fs::path& p : {vdb, vol, nvdb, scratch("knit.orientation.vol")}) fs::remove(p);
+    const fs::path bcc = scratch("knit.bcc", "format"), vdb = scratch("knit.vdb", "format"), vol = scratch("knit.vol", "format"),
+                   nvdb = scratch("knit.nvdb", "format");
+    for (const fs::path& p : {vdb, vol, nvdb, scratch("knit.orientation.vol", "format")}) fs::remove(p);
     REQUIRE(test::runYarnvox("gen --pattern knit --crossings 20 --shape cylinder --seed 3 -o " + bcc.string()).exitCode == 0);
     const std::string options = " --backend cpu --resolution 48 --twist 1";
     REQUIRE(test::runYarnvox("voxelize " + bcc.string() + " -o " + vdb.string() + options).exitCode == 0);
@@ -361,7 +363,7 @@ TEST_CASE("CLI: voxelize --format vol and nvdb convert the same voxels as the .v
     const FiberGrids grids = readFiberGrids(vdb.string());
     openvdb::CoordBBox active = grids.density->evalActiveVoxelBoundingBox();
     active.expand(1);
-    const VolFile dv = readVol(vol), ov = readVol(scratch("knit.orientation.vol"));
+    const VolFile dv = readVol(vol), ov = readVol(scratch("knit.orientation.vol", "format"));
     REQUIRE(dv.dims == glm::ivec3(active.dim().x(), active.dim().y(), active.dim().z()));
     auto d = grids.density->getConstAccessor();
     auto o = grids.orientation->getConstAccessor();
@@ -381,7 +383,7 @@ TEST_CASE("CLI: voxelize --format vol and nvdb convert the same voxels as the .v
 
     // A conversion that fails (the orientation file passes a 200 KiB file-size
     // limit the .vdb stays under) leaves neither outputs nor the temporary .vdb.
-    const fs::path failed = scratch("knit-full.vol");
+    const fs::path failed = scratch("knit-full.vol", "format");
     const test::RunResult full = test::runShell("ulimit -f 200; trap '' XFSZ; exec " + std::string(YV_BINARY_DIR) +
                                                 "/yarnvox voxelize " + bcc.string() + " -o " + failed.string() + options);
     INFO(full.output);
@@ -389,7 +391,7 @@ TEST_CASE("CLI: voxelize --format vol and nvdb convert the same voxels as the .v
     CHECK(full.output.find("cannot write") != std::string::npos);
     CHECK(full.output.find("wrote " + failed.string()) == std::string::npos);
     CHECK_FALSE(fs::exists(failed));
-    CHECK_FALSE(fs::exists(scratch("knit-full.orientation.vol")));
+    CHECK_FALSE(fs::exists(scratch("knit-full.orientation.vol", "format")));
     CHECK(partialFiles(failed.parent_path()) == 0);
 
     const test::RunResult printed = test::runShell("nanovdb_print -l " + nvdb.string());
@@ -466,7 +468,7 @@ TEST_CASE("CLI: export crops by --bbox and by --region of the run's work directo
 
 TEST_CASE("CLI: a dense export too large for the disk is refused up front, naming the size, with nothing written", "[export][cli]") {
     const FiberGrids grids = knownGrids();
-    const fs::path vdb = scratch("big.vdb"), vol = scratch("big.vol");
+    const fs::path vdb = scratch("big.vdb", "too-large"), vol = scratch("big.vol", "too-large");
     writeGrids(grids, vdb);
     fs::remove(vol);
     const test::RunResult r =
@@ -476,15 +478,15 @@ TEST_CASE("CLI: a dense export too large for the disk is refused up front, namin
     CHECK(r.output.find("needs 16000000.00 TB") != std::string::npos);
     CHECK(r.output.find("free: nothing was written") != std::string::npos);
     CHECK_FALSE(fs::exists(vol));
-    CHECK_FALSE(fs::exists(scratch("big.orientation.vol")));
+    CHECK_FALSE(fs::exists(scratch("big.orientation.vol", "too-large")));
     CHECK(partialFiles(vol.parent_path()) == 0);
 }
 
 TEST_CASE("CLI: an export whose write fails (the file-size limit, as a full disk) leaves no file", "[export][cli]") {
     const FiberGrids grids = knownGrids();
-    const fs::path vdb = scratch("full.vdb"), vol = scratch("full.vol"), nvdb = scratch("full.nvdb");
+    const fs::path vdb = scratch("full.vdb", "full-disk"), vol = scratch("full.vol", "full-disk"), nvdb = scratch("full.nvdb", "full-disk");
     writeGrids(grids, vdb);
-    for (const fs::path& p : {vol, nvdb, scratch("full.orientation.vol")}) fs::remove(p);
+    for (const fs::path& p : {vol, nvdb, scratch("full.orientation.vol", "full-disk")}) fs::remove(p);
     // 64^3 voxels of float32: 1 MiB of density, past a 64 KiB limit.
     const std::string limit = "ulimit -f 64; trap '' XFSZ; exec " + std::string(YV_BINARY_DIR) + "/yarnvox export " + vdb.string();
     const test::RunResult r = test::runShell(limit + " -o " + vol.string() + " --bbox 0,0,0,64,64,64");
@@ -492,7 +494,7 @@ TEST_CASE("CLI: an export whose write fails (the file-size limit, as a full disk
     CHECK(r.exitCode == 1);
     CHECK(r.output.find("cannot write") != std::string::npos);
     CHECK_FALSE(fs::exists(vol));
-    CHECK_FALSE(fs::exists(scratch("full.orientation.vol")));
+    CHECK_FALSE(fs::exists(scratch("full.orientation.vol", "full-disk")));
     CHECK(partialFiles(vol.parent_path()) == 0);
     // Without the limit the same export is whole.
     REQUIRE(test::runYarnvox("export " + vdb.string() + " -o " + vol.string() + " --bbox 0,0,0,64,64,64").exitCode == 0);
