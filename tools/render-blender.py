@@ -11,7 +11,7 @@ by exp(-optical depth); --sigma gives the coefficient itself (the same look at
 every resolution of one garment). Level-of-detail grids hold the mean of
 their children, so the same coefficient renders them with the same optical
 depth. A camera frames the volume's bounding box, a sun and a dim sky light
-it. docs/rendering-blender.md has the settings and the command.
+it. docs/rendering.md (its Blender section) has the settings and the command.
 """
 
 import argparse

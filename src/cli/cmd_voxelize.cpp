@@ -2,6 +2,7 @@
 // (src/pipeline/voxelize_run.h), and the summary it prints.
 #include "cli/commands.h"
 #include "cli/option_checks.h"
+#include "cli/output_format.h"
 #include "core/world_units.h"
 #include "pipeline/voxelize_run.h"
 
@@ -33,9 +34,15 @@ void voxelizeAndReport(const VoxelizeRequest& request) {
 
 void addVoxelizeCommand(CLI::App& app) {
     auto a = std::make_shared<VoxelizeRequest>();
+    auto format = std::make_shared<std::string>();
     CLI::App* cmd = app.add_subcommand("voxelize", "Voxelize a garment (BCC) into an OpenVDB file of fibre density and orientation");
     cmd->add_option("input", a->input, "Garment .bcc file")->required()->check(CLI::ExistingFile);
-    cmd->add_option("-o,--output", a->output, "Output .vdb file")->required();
+    cmd->add_option("-o,--output", a->output, "Output file: OUT.vdb, OUT.vol or OUT.nvdb (see --format)")->required();
+    cmd->add_option("--format", *format,
+                    "vdb, vol (Mitsuba: OUT.vol density, OUT.orientation.vol axes, float32) or nvdb (NanoVDB); default "
+                    "from the output's extension, else vdb. vol and nvdb are converted from a temporary .vdb "
+                    "(`yarnvox export` converts one you have, with more choices)")
+        ->check(CLI::IsMember({"vdb", "vol", "nvdb"}));
     cmd->add_option("--backend", a->backend,
                     "auto (gl on a GPU and for --method dense, else cpu), gl (OpenGL 4.5 through EGL: a GPU, or "
                     "Mesa's llvmpipe) or cpu (the TBB reference; out of core like gl)")
@@ -107,7 +114,13 @@ void addVoxelizeCommand(CLI::App& app) {
     cmd->add_option("--stats", a->statsPath, "Write run statistics (JSON) to this file");
     cmd->add_flag("-q,--quiet", a->quiet, "No progress and no summary");
     cmd->add_flag("-v,--verbose", a->verbose, "Name the renderer and print GPU limits");
-    cmd->callback([a] { voxelizeAndReport(*a); });
+    cmd->callback([a, format] {
+        voxelizeInFormat(*format, a->output, a->input, a->quiet, [&](const std::string& vdbPath) {
+            VoxelizeRequest run = *a;
+            run.output = vdbPath;
+            voxelizeAndReport(run);
+        });
+    });
 }
 
 } // namespace yv

@@ -11,5 +11,6 @@ void addGenCommand(CLI::App& app);
 void addVoxelizeCommand(CLI::App& app);
 void addMergeCommand(CLI::App& app);
 void addInspectCommand(CLI::App& app);
+void addExportCommand(CLI::App& app);
 
 } // namespace yv

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     yv::addVoxelizeCommand(app);
     yv::addMergeCommand(app);
     yv::addInspectCommand(app);
+    yv::addExportCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,82 @@
+// Mitsuba's gridvolume files (.vol, version 3; formats/mitsuba-vol.md): a
+// dense box of the sparse grids, density (1 channel) at OUT.vol and the fibre
+// axis (3 channels) beside it at OUT.orientation.vol, optionally the SGGX
+// matrices of fibre-like microflakes (6 channels) at OUT.sggx.vol.
+#pragma once
+
+#include "export/fiber_grids.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// The file's value encoding, numbered as in the header.
+enum class VolEncoding : std::int32_t { Float32 = 1, Float16 = 2, UInt8 = 3 };
+const char* toString(VolEncoding e);
+/// "float32", "float16" or "uint8"; throws yv::Error otherwise.
+VolEncoding parseVolEncoding(const std::string& name);
+/// Bytes one channel of one voxel takes.
+int encodingBytes(VolEncoding e);
+
+/// What the header's bounding box spans: the outer faces of the exported
+/// voxels (a voxel is a cell; Mitsuba 3 with use_grid_bbox), or the centres of
+/// the first and last voxels (Mitsuba 0.6, which puts value 0 and value
+/// res - 1 on the box's faces).
+enum class VolBoxConvention { Corners, Centres };
+VolBoxConvention parseVolBoxConvention(const std::string& name);
+
+/// Voxels in index coordinates, min inclusive, max exclusive (the bounds
+/// `yarnvox inspect` prints for a work directory's regions).
+struct VoxelBox {
+    glm::ivec3 min{0}, max{0};
+    glm::ivec3 dims() const { return max - min; }
+    bool empty() const { return dims().x <= 0 || dims().y <= 0 || dims().z <= 0; }
+};
+
+/// Every voxel whose cell overlaps the world-space box [lo, hi] (a voxel
+/// touched only on a face is left out). Throws yv::Error when the grid's
+/// transform is not an axis-aligned scale and translation, or the box is empty.
+VoxelBox voxelBoxFromWorld(const openvdb::math::Transform& transform, glm::dvec3 lo, glm::dvec3 hi);
+
+struct VolExportOptions {
+    VolEncoding densityEncoding = VolEncoding::Float32;
+    VolEncoding orientationEncoding = VolEncoding::Float32;
+    VolBoxConvention boxConvention = VolBoxConvention::Corners;
+    std::optional<VoxelBox> box; ///< none: the bounds of the active voxels and one voxel around them
+    double sggxRoughness = 0.0;  ///< above 0: also write OUT.sggx.vol with this sigma
+};
+
+struct VolExportResult {
+    std::vector<std::string> paths; ///< density, then orientation, then SGGX, as written
+    VoxelBox box;
+    glm::dvec3 worldMin{0.0}, worldMax{0.0}; ///< the header's bounding box
+    std::uint64_t bytes = 0;                 ///< all files together
+    std::uint64_t densityClamped = 0;        ///< uint8: voxels above 1 written as 255
+};
+
+/// OUT.orientation.vol and OUT.sggx.vol beside OUT.vol ("garment.vol" ->
+/// "garment.orientation.vol"); a name without ".vol" gets the suffix appended.
+std::string volSiblingPath(const std::string& densityPath, const std::string& what);
+
+/// The files an export with these options writes, density first.
+std::vector<std::string> volOutputPaths(const std::string& densityPath, bool withOrientation,
+                                        const VolExportOptions& options);
+
+/// Bytes of one .vol file: the 48-byte header and the dense values.
+double volFileBytes(glm::ivec3 dims, int channels, VolEncoding e);
+
+/// Writes the dense files for `options.box` (or the active voxels' bounds
+/// grown by one voxel),
+/// a few slices at a time, each to a temporary name, renamed into place only
+/// when all are complete. Refuses before writing anything, naming the bytes
+/// needed and the free space, when they do not fit the file system; throws
+/// yv::Error when the volume is empty or a write fails (nothing is left behind).
+VolExportResult exportMitsubaVol(const FiberGrids& grids, const std::string& densityPath,
+                                 const VolExportOptions& options);
+
+} // namespace yv
