@@ -336,6 +336,18 @@ TEST_CASE("Resuming keeps the regions of the same run and refuses another run", 
     CHECK(entriesOf(dir) == std::vector<std::string>{"manifest"});
 }
 
+TEST_CASE("A run refused for another fingerprint names a change of backend where the metadata shows one", "[store]") {
+    StoreManifest disk = testManifest(), now = testManifest(0x778);
+    disk.runMetadata = "input=g.bcc\nbackend=gl\nresolution=64\n";
+    now.runMetadata = "input=g.bcc\nbackend=cpu\nresolution=64\n";
+    CHECK_THAT(runDifference(disk, now), Catch::Contains("made with --backend gl, this run uses --backend cpu") &&
+                                             Catch::Contains("fingerprint"));
+    now.runMetadata = disk.runMetadata; // same backend: the fingerprint alone
+    CHECK_THAT(runDifference(disk, now), !Catch::Contains("--backend") && Catch::Contains("fingerprint"));
+    now.fingerprint = disk.fingerprint;
+    CHECK(runDifference(disk, now).empty());
+}
+
 TEST_CASE("Resuming refuses regions of another yarnvox version or sampling code, naming which, and deletes nothing", "[store]") {
     ScratchDir scratch;
     const std::string dir = scratch.sub("w");

@@ -1,5 +1,6 @@
 #include "cpu/cpu_region_backend.h"
 #include "cpu/cpu_voxelizer.h"
+#include "cpu/slice_sampler.h"
 #include "garment/cross_section.h"
 #include "garment/generate.h"
 #include "plan/zoom_plan.h"
@@ -246,6 +247,62 @@ TEST_CASE("CPU backend out of core: many zoom regions give the whole-volume refe
                           std::memcmp(a.density.data(), b.density.data(), sizeof(float) * kBrickVoxels) != 0 ||
                           std::memcmp(a.orientation.data(), b.orientation.data(), sizeof(glm::vec3) * kBrickVoxels) != 0;
         }
+        CHECK(mismatches == 0);
+    }
+}
+
+TEST_CASE("Skipping footprints beyond the texture's support changes no sample", "[cpu][sampling]") {
+    GenerateOptions g;
+    g.pattern = WeavePattern::Knit;
+    g.shape = GarmentShape::Sphere;
+    g.crossings = 64;
+    const Garment garment = generateGarment(g);
+    SliceOptions opt;
+    opt.radius = garment.yarnRadius;
+    opt.twist = 1.5;
+    opt.spacing = defaultSliceSpacing(voxelSizeFor(garment, opt.radius, 160, 0.0), 1);
+    const SlicePlan plan = planSlices(garment, opt);
+    const VoxelGrid grid = makeGrid(plan, 160, 0);
+
+    // Textures whose fibre reaches the square's edges and corners, where the
+    // bilinear rule clamps, as well as the plies' disk.
+    std::vector<CrossSection> textures;
+    textures.push_back(makeFiberCrossSection(64));
+    CrossSection full = makeFiberCrossSection(32);
+    std::fill(full.density.begin(), full.density.end(), std::uint8_t(255));
+    textures.push_back(full);
+    CrossSection corners = full;
+    std::fill(corners.density.begin(), corners.density.end(), std::uint8_t(0));
+    corners.density[0] = 255;                                           // (0, 0)
+    corners.density[corners.size * corners.size - 1] = 200;             // (size-1, size-1)
+    corners.density[std::size_t(corners.size / 2) * corners.size] = 90; // the left edge's middle
+    textures.push_back(corners);
+
+    for (const CrossSection& xs : textures) {
+        const double support = textureSupport(xs);
+        INFO("texture " << xs.size << " texels, support " << support);
+        // The plies' disk leaves the square's corners to be skipped; the others reach them.
+        if (&xs == &textures.front()) CHECK(support < 1.1);
+        else CHECK(support > 1.4);
+        std::size_t total = 0, mismatches = 0;
+        for (std::size_t s = 0; s < plan.segments.size(); s += 7) {
+            const SegmentRecord& seg = plan.segments[s];
+            for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
+                const Slice slice = placeSlice(seg, k);
+                std::vector<SliceSample> skipping, all;
+                sampleSlice(slice, opt.radius, xs, support, grid, 1, [&](const SliceSample& x) { skipping.push_back(x); });
+                sampleSlice(slice, opt.radius, xs, HUGE_VAL, grid, 1, [&](const SliceSample& x) { all.push_back(x); });
+                total += all.size();
+                if (skipping.size() != all.size()) {
+                    ++mismatches;
+                    continue;
+                }
+                for (std::size_t i = 0; i < all.size(); ++i)
+                    mismatches += skipping[i].voxel != all[i].voxel || skipping[i].volumeFraction != all[i].volumeFraction ||
+                                  skipping[i].density != all[i].density;
+            }
+        }
+        CHECK(total > 1000);
         CHECK(mismatches == 0);
     }
 }

@@ -145,8 +145,12 @@ TEST_CASE("GL: texels read by one gather or by four fetches give the same voxels
     opt.spacing = defaultSliceSpacing(voxelSizeFor(garment, opt.radius, 96, 0.0), 1);
     const SlicePlan plan = planSlices(garment, opt);
     const VoxelGrid grid = makeGrid(plan, 96, 0.0);
-    // The fibre plies reach the texture's border region, so clamped reads are exercised too.
-    const CrossSection xs = makeFiberCrossSection(64);
+    // Random texels everywhere, the four edges included: lookups near the
+    // border clamp there, and a texture that wrapped instead would differ.
+    CrossSection xs = makeFiberCrossSection(64);
+    std::uint32_t state = 12345;
+    for (std::uint8_t& t : xs.density) t = std::uint8_t((state = state * 1664525u + 1013904223u) >> 24);
+    REQUIRE(xs.density.front() != xs.density.back());
     GlVoxelizeSettings fetch = glSettings(), gather = glSettings();
     fetch.texelReads = TexelReads::Fetch;
     gather.texelReads = TexelReads::Gather;

@@ -230,6 +230,15 @@ TEST_CASE("Resuming a work dir made by another yarnvox version or sampling code 
     std::ofstream(work / "manifest", std::ios::binary | std::ios::trunc) << manifest;
     CHECK(runQuiet(args + " --resume") == 0);
     CHECK(fs::exists(out));
+
+    // The same run on the other backend is another run (the two agree to
+    // float precision, not bit for bit), and the refusal says why.
+    std::string cpuArgs = args;
+    cpuArgs.replace(cpuArgs.find("--backend gl"), std::strlen("--backend gl"), "--backend cpu");
+    const fs::path log = dir / "backend.txt";
+    CHECK(std::system((yarnvox() + " " + cpuArgs + " --resume >" + log.string() + " 2>&1").c_str()) != 0);
+    CHECK_THAT(readFile(log), Catch::Contains("made with --backend gl, this run uses --backend cpu"));
+    CHECK(regionFiles(work) == regions);
     fs::remove_all(dir.parent_path());
 }
 

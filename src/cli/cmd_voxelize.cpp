@@ -104,8 +104,9 @@ void addVoxelizeCommand(CLI::App& app) {
         ->check(CLI::Range(0, 1023));
     // The GL append counter is 32 bits, and a pass that reaches 2^31 counts as overflowed.
     cmd->add_option("--fragment-budget", a->fragmentCapacity,
-                    "Fragments (samples) one zoom region may produce (default: from GPU limits and free memory, "
-                    "or from host memory for the CPU backend); zoom regions are sized to it")
+                    "Fragments (samples) one zoom region may produce (default: from GPU limits and free memory; "
+                    "for the CPU backend from host memory, and at most what a quarter of it holds); zoom regions "
+                    "are sized to it")
         ->check(CLI::Range(std::uint64_t(1), std::uint64_t(0x7fffffffu)));
     cmd->add_option("--work-dir", a->workDir,
                     "Directory for the per-region brick files (default: OUT.vdb.work, removed after the merge)");

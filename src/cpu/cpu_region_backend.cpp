@@ -18,7 +18,10 @@ CpuRegionBackend::CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs
     // touch about a quarter (14 KiB of accumulator words a brick): some 60
     // bytes a sample, counted three times over for the per-thread copies
     // merged at the end.
-    budget_ = sampleBudget ? sampleBudget
+    // A budget asked for (--fragment-budget, perhaps sized for a GPU) is
+    // capped at what a quarter of physical memory holds.
+    const std::uint64_t cap = std::max<std::uint64_t>(physical / 4 / 200, std::uint64_t(1) << 20);
+    budget_ = sampleBudget ? std::min(sampleBudget, cap)
                            : std::clamp<std::uint64_t>(physical / 16 / 200, std::uint64_t(1) << 20, std::uint64_t(1) << 27);
     // Regions have their own progress line; the slices inside them do not.
     settings_.quiet = true;

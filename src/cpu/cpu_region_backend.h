@@ -25,7 +25,8 @@ struct CpuRegionCounters {
 
 class CpuRegionBackend : public RegionRasterizer {
   public:
-    /// `sampleBudget`: samples one region may produce (0: from physical memory).
+    /// `sampleBudget`: samples one region may produce (0: from physical
+    /// memory; at most what a quarter of physical memory holds).
     CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                      const VoxelizeSettings& settings, CpuRegionCounters& counters, std::uint64_t sampleBudget = 0);
     /// Samples one region may produce (the zoom planner's budget): by default

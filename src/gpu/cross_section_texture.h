@@ -18,7 +18,8 @@ GLuint uploadCrossSectionTexture(const CrossSection& xs);
 
 /// How the sampling shader reads a bilinear lookup's four texels: one
 /// textureGather, or four texelFetch (the same texels; common.glsl says which
-/// is faster where). Auto: the gather on llvmpipe, fetches on a GPU.
+/// is faster where). Auto: the gather on EGL's surfaceless platform (where
+/// yarnvox gets Mesa's llvmpipe), fetches on an EGL device (a GPU).
 enum class TexelReads { Auto, Fetch, Gather };
 
 /// The #defines that pick the sampling shader's variant: the analytic disk's

@@ -6,6 +6,7 @@
 #include <epoxy/egl.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <optional>
@@ -27,8 +28,8 @@ std::optional<std::string> shaderOverride(const std::string& name) {
     if (access(path.c_str(), F_OK) != 0) return std::nullopt;
     std::ifstream in(path, std::ios::binary);
     std::ostringstream text;
-    text << in.rdbuf();
-    if (!in) throw Error("YV_SHADER_DIR: " + path + ": cannot be read");
+    if (!std::filesystem::is_regular_file(path) || !(text << in.rdbuf()) || text.str().empty())
+        throw Error("YV_SHADER_DIR: " + path + ": cannot be read, or is empty");
     return text.str();
 }
 
@@ -90,6 +91,12 @@ GLuint link(std::initializer_list<GLuint> stages, const std::string& names) {
 }
 
 } // namespace
+
+std::optional<std::string> shaderText(const std::string& name) {
+    if (std::optional<std::string> text = shaderOverride(name)) return text;
+    if (const char* text = shaderSource(name.c_str())) return std::string(text);
+    return std::nullopt;
+}
 
 GLuint compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
     const std::optional<std::string> override = shaderOverride(name), commonOverride = shaderOverride("common.glsl");

@@ -3,6 +3,7 @@
 
 #include <epoxy/gl.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,12 @@ class GlProgram {
     explicit GlProgram(GLuint id) : id_(id) {}
     GLuint id_ = 0;
 };
+
+/// The text compiled for shader file `name`: the file of that name in
+/// YV_SHADER_DIR where the variable is set and the file is there (for trying
+/// a shader change without rebuilding), else the copy built into the binary;
+/// nullopt when neither exists.
+std::optional<std::string> shaderText(const std::string& name);
 
 /// Compiles one stage. A failure throws yv::Error with the shader's name and
 /// the driver's log.

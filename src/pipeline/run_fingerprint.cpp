@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "core/sampling.h"
-#include "gpu/shader_sources.h"
+#include "gpu/gl_program.h"
 #include "store/brick_store.h"
 
 #include <algorithm>
@@ -36,20 +36,23 @@ std::uint64_t samplingCodeHash() {
         const std::size_t comma = std::min(names.find(','), names.size());
         const std::string name(names.substr(0, comma));
         names.remove_prefix(std::min(comma + 1, names.size()));
-        const char* text = shaderSource(name.c_str());
+        // What is compiled: a YV_SHADER_DIR copy makes another run.
+        const std::optional<std::string> text = shaderText(name);
         if (!text) throw Error("shader " + name + " is not embedded in this yarnvox (a build error)");
         f.add(name.data(), name.size());
-        f.add(text, std::strlen(text));
+        f.add(text->data(), text->size());
     }
     return f.value();
 }
 
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
                              const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,
-                             const ZoomPlan& zoom) {
+                             const ZoomPlan& zoom, const std::string& backend) {
     Fingerprint f;
     f.add(YV_VERSION, std::strlen(YV_VERSION));
     f.add(samplingCodeHash());
+    // The backends agree to float precision, not bit for bit: one volume is made by one.
+    f.add(backend.data(), backend.size());
     std::ifstream in(inputPath, std::ios::binary);
     if (!in) throw Error(inputPath + ": cannot read the garment to fingerprint the run");
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -19,10 +19,10 @@ std::uint64_t samplingCodeHash();
 /// Hash of everything that decides the bricks: the yarnvox version
 /// (YV_VERSION), the sampling code (samplingCodeHash), the garment file's bytes, the
 /// slice options, the cross-section texture, the grid, the reduction, the overlap rule and
-/// supersampling, and the zoom regions (ids and bounds).
+/// supersampling, the zoom regions (ids and bounds), and the backend ("gl", "cpu").
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
                              const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,
-                             const ZoomPlan& zoom);
+                             const ZoomPlan& zoom, const std::string& backend);
 
 /// VolumeMetadata as "key=value" lines (kept in the work dir for `yarnvox merge`), and back.
 std::string encodeMetadata(const VolumeMetadata& m);

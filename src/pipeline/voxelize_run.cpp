@@ -299,7 +299,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         const std::string workDir = ownWorkDir ? a.output + ".work" : a.workDir;
         StoreManifest manifest;
         manifest.fingerprint =
-            runFingerprint(a.input, sliceOptions, xs, grid, settings.reduce, settings.overlap, a.supersample, zoom);
+            runFingerprint(a.input, sliceOptions, xs, grid, settings.reduce, settings.overlap, a.supersample, zoom, a.backend);
         manifest.samplingCode = samplingCodeHash();
         manifest.grid = grid;
         manifest.reduce = settings.reduce;

@@ -172,6 +172,21 @@ bool sameGrid(const VoxelGrid& a, const VoxelGrid& b) {
     return a.origin == b.origin && a.voxelSize == b.voxelSize && a.dims == b.dims;
 }
 
+namespace {
+
+/// The value of line "key=value" in `text`, or "".
+std::string metadataLine(const std::string& text, const std::string& key) {
+    const std::string prefix = key + "=";
+    for (std::size_t at = 0; at < text.size();) {
+        const std::size_t end = std::min(text.find('\n', at), text.size());
+        if (text.compare(at, prefix.size(), prefix) == 0) return text.substr(at + prefix.size(), end - at - prefix.size());
+        at = end + 1;
+    }
+    return "";
+}
+
+} // namespace
+
 std::string runDifference(const StoreManifest& disk, const StoreManifest& now) {
     std::string d;
     const auto add = [&](const std::string& s) { d += (d.empty() ? "" : "; ") + s; };
@@ -180,8 +195,14 @@ std::string runDifference(const StoreManifest& disk, const StoreManifest& now) {
     else if (disk.samplingCode != now.samplingCode)
         add("the sampling code differs (" + hex64(disk.samplingCode) + " on disk, " + hex64(now.samplingCode) +
             " in this yarnvox): its regions may hold other values");
-    else if (disk.fingerprint != now.fingerprint)
+    else if (disk.fingerprint != now.fingerprint) {
+        // The run metadata is the caller's "key=value" lines; where it names
+        // the backend, a change of backend is the likely reason.
+        const std::string before = metadataLine(disk.runMetadata, "backend"), after = metadataLine(now.runMetadata, "backend");
+        if (!before.empty() && !after.empty() && before != after)
+            add("made with --backend " + before + ", this run uses --backend " + after);
         add("fingerprint " + hex64(disk.fingerprint) + " on disk, " + hex64(now.fingerprint) + " for this run");
+    }
     if (!sameGrid(disk.grid, now.grid))
         add("grid on disk has origin (" + num(disk.grid.origin.x) + ", " + num(disk.grid.origin.y) + ", " +
             num(disk.grid.origin.z) + "), voxel size " + num(disk.grid.voxelSize) + ", dims " + coordText(disk.grid.dims) +

@@ -143,6 +143,10 @@ PackedBricks RegionWriter::recycledPackedBricks() {
 }
 
 void RegionWriter::recycle(PackedBricks&& bricks) {
+    // Spares hold no region, so the queue's bound does not count them: each
+    // is kept only within its share of that bound (of 64 MiB at least), so
+    // all of them together hold at most as much again.
+    if (bricks.bytes() > std::max(maxQueuedBytes_, std::size_t(64) << 20) / kSpareStorage) return;
     bricks.headers.clear();
     bricks.voxels.clear();
     std::lock_guard lock(mutex_);
@@ -201,7 +205,7 @@ void RegionWriter::process(Job& job) {
     stats_.regionsWritten += 1;
     stats_.bricksWritten += info.brickCount;
     stats_.bytesWritten += info.bytesOnDisk;
-    stats_.tally += tally;
+    regionTallies_.emplace_back(job.id, tally);
 }
 
 std::vector<RegionInfo> RegionWriter::finish() {
@@ -220,7 +224,13 @@ std::vector<RegionInfo> RegionWriter::finish() {
 
 RegionWriterStats RegionWriter::stats() const {
     std::lock_guard lock(mutex_);
-    return stats_;
+    RegionWriterStats stats = stats_;
+    // Summed in region order, not in the order workers finished: the same
+    // doubles in every run.
+    std::vector<std::pair<std::uint64_t, ResolveTally>> tallies = regionTallies_;
+    std::sort(tallies.begin(), tallies.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [id, tally] : tallies) stats.tally += tally;
+    return stats;
 }
 
 } // namespace yv

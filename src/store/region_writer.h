@@ -16,6 +16,7 @@
 #include <functional>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace yv {
@@ -27,7 +28,7 @@ struct RegionWriterStats {
     double submitWaitSeconds = 0.0; ///< time submit() blocked on a full queue (the producer stalled on disk)
     std::uint64_t regionsWritten = 0, bricksWritten = 0, bytesWritten = 0;
     std::uint64_t peakQueuedBytes = 0; ///< most region bytes (accumulators or packed bricks) held at once, queued or in a worker
-    ResolveTally tally;                ///< over the regions written (summed in completion order)
+    ResolveTally tally;                ///< over the regions written, summed in region id order
 };
 
 class RegionWriter {
@@ -104,10 +105,13 @@ class RegionWriter {
     std::exception_ptr error_;
     std::vector<RegionInfo> results_;
     /// Packed-brick storage the workers are done with, for the next regions:
-    /// at most kSpareStorage, outside the queue's bound (they hold no region).
+    /// at most kSpareStorage, each within a kSpareStorage-th of the queue's
+    /// bound or of 64 MiB, whichever is more (the bound does not count them:
+    /// they hold no region).
     static constexpr std::size_t kSpareStorage = 4;
     std::vector<PackedBricks> spareStorage_;
-    RegionWriterStats stats_;
+    RegionWriterStats stats_;  ///< but its tally: stats() sums regionTallies_
+    std::vector<std::pair<std::uint64_t, ResolveTally>> regionTallies_; ///< per region written, by id
     std::vector<std::thread> threads_;
 };
 
