@@ -210,17 +210,9 @@ class ResolvingSink : public RegionSink {
 } // namespace
 
 TEST_CASE("CPU backend out of core: many zoom regions give the whole-volume reference bit for bit", "[cpu][out-of-core]") {
-    GenerateOptions g;
-    g.pattern = WeavePattern::Knit;
-    g.shape = GarmentShape::Cylinder;
-    g.crossings = 400;
-    const Garment garment = generateGarment(g);
-    SliceOptions opt;
-    opt.radius = garment.yarnRadius;
-    opt.twist = 1.0;
-    opt.spacing = defaultSliceSpacing(voxelSizeFor(garment, opt.radius, 192, 0.0), 1);
-    const SlicePlan plan = planSlices(garment, opt);
-    const VoxelGrid grid = makeGrid(plan, 192, 0);
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Knit, GarmentShape::Cylinder, 400, 1.0, 192);
+    const SlicePlan& plan = run.plan;
+    const VoxelGrid& grid = run.grid;
     const CrossSection xs = makeFiberCrossSection();
     for (Reduce r : {Reduce::Mean, Reduce::Max}) {
         const BrickVolume whole = voxelizeCpu(plan, xs, grid, settings(r));
@@ -252,17 +244,9 @@ TEST_CASE("CPU backend out of core: many zoom regions give the whole-volume refe
 }
 
 TEST_CASE("Skipping footprints beyond the texture's support changes no sample", "[cpu][sampling]") {
-    GenerateOptions g;
-    g.pattern = WeavePattern::Knit;
-    g.shape = GarmentShape::Sphere;
-    g.crossings = 64;
-    const Garment garment = generateGarment(g);
-    SliceOptions opt;
-    opt.radius = garment.yarnRadius;
-    opt.twist = 1.5;
-    opt.spacing = defaultSliceSpacing(voxelSizeFor(garment, opt.radius, 160, 0.0), 1);
-    const SlicePlan plan = planSlices(garment, opt);
-    const VoxelGrid grid = makeGrid(plan, 160, 0);
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Knit, GarmentShape::Sphere, 64, 1.5, 160);
+    const SlicePlan& plan = run.plan;
+    const VoxelGrid& grid = run.grid;
 
     // Textures whose fibre reaches the square's edges and corners, where the
     // bilinear rule clamps, as well as the plies' disk.
@@ -290,8 +274,8 @@ TEST_CASE("Skipping footprints beyond the texture's support changes no sample", 
             for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
                 const Slice slice = placeSlice(seg, k);
                 std::vector<SliceSample> skipping, all;
-                sampleSlice(slice, opt.radius, xs, support, grid, 1, [&](const SliceSample& x) { skipping.push_back(x); });
-                sampleSlice(slice, opt.radius, xs, HUGE_VAL, grid, 1, [&](const SliceSample& x) { all.push_back(x); });
+                sampleSlice(slice, run.radius, xs, support, grid, 1, [&](const SliceSample& x) { skipping.push_back(x); });
+                sampleSlice(slice, run.radius, xs, HUGE_VAL, grid, 1, [&](const SliceSample& x) { all.push_back(x); });
                 total += all.size();
                 if (skipping.size() != all.size()) {
                     ++mismatches;

@@ -134,17 +134,9 @@ TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreem
 
 TEST_CASE("GL: texels read by one gather or by four fetches give the same voxels bit for bit", "[gl][agreement]") {
     YV_REQUIRE_GL();
-    GenerateOptions g;
-    g.pattern = WeavePattern::Twill;
-    g.shape = GarmentShape::Cylinder;
-    g.crossings = 64;
-    const Garment garment = generateGarment(g);
-    SliceOptions opt;
-    opt.radius = garment.yarnRadius;
-    opt.twist = 1.0;
-    opt.spacing = defaultSliceSpacing(voxelSizeFor(garment, opt.radius, 96, 0.0), 1);
-    const SlicePlan plan = planSlices(garment, opt);
-    const VoxelGrid grid = makeGrid(plan, 96, 0.0);
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 64, 1.0, 96);
+    const SlicePlan& plan = run.plan;
+    const VoxelGrid& grid = run.grid;
     // Random texels everywhere, the four edges included: lookups near the
     // border clamp there, and a texture that wrapped instead would differ.
     CrossSection xs = makeFiberCrossSection(64);

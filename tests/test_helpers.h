@@ -4,6 +4,9 @@
 #include "core/bricks.h"
 #include "core/volume_compare.h"
 #include "garment/garment.h"
+#include "garment/generate.h"
+#include "garment/slices.h"
+#include "plan/grid.h"
 #include "gpu/egl_context.h"
 
 #include <glm/geometric.hpp>
@@ -27,6 +30,30 @@
     }
 
 namespace yv::test {
+
+/// A generated garment's slices at the default spacing for `resolution`, and its grid.
+struct GeneratedRun {
+    double radius = 0.0;
+    SlicePlan plan;
+    VoxelGrid grid;
+};
+
+inline GeneratedRun generatedRun(WeavePattern pattern, GarmentShape shape, int crossings, double twist, int resolution) {
+    GenerateOptions g;
+    g.pattern = pattern;
+    g.shape = shape;
+    g.crossings = crossings;
+    const Garment garment = generateGarment(g);
+    SliceOptions opt;
+    opt.radius = garment.yarnRadius;
+    opt.twist = twist;
+    opt.spacing = defaultSliceSpacing(voxelSizeFor(garment, opt.radius, resolution, 0.0), 1);
+    GeneratedRun run;
+    run.radius = opt.radius;
+    run.plan = planSlices(garment, opt);
+    run.grid = makeGrid(run.plan, resolution, 0.0);
+    return run;
+}
 
 /// A straight yarn from `start` along unit `direction`, one control point per
 /// unit of length: a uniform Catmull-Rom through collinear, evenly spaced
