@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -29,18 +30,10 @@ struct ExportArgs {
 
 /// Six comma-separated numbers, e.g. "0,0,0,64,64,32"; throws naming the option.
 std::array<double, 6> parseSix(const std::string& text, const std::string& option) {
+    const std::optional<std::vector<double>> numbers = parseNumberList(text, 6);
+    if (!numbers) throw Error(option + " " + text + ": expected six numbers x0,y0,z0,x1,y1,z1");
     std::array<double, 6> v{};
-    std::stringstream in(text);
-    std::string item;
-    int n = 0;
-    while (std::getline(in, item, ',')) {
-        char* end = nullptr;
-        const double x = std::strtod(item.c_str(), &end);
-        if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(x) || n >= 6)
-            throw Error(option + " " + text + ": expected six numbers x0,y0,z0,x1,y1,z1");
-        v[n++] = x;
-    }
-    if (n != 6) throw Error(option + " " + text + ": expected six numbers x0,y0,z0,x1,y1,z1");
+    std::copy(numbers->begin(), numbers->end(), v.begin());
     return v;
 }
 

@@ -1,6 +1,7 @@
 #include "inspect/camera.h"
 
 #include "core/error.h"
+#include "core/text.h"
 
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
@@ -41,19 +42,13 @@ Camera topDownOrthographic(double x0, double x1, double y0, double y1, double bo
 }
 
 ViewAngles parseView(const std::string& text) {
+    const std::optional<std::vector<double>> numbers = parseNumberList(text, 3);
+    if (!numbers)
+        throw Error("--view '" + text + "': expected azimuth,elevation,distance (degrees, degrees, sphere radii)");
     ViewAngles v;
-    double* parts[] = {&v.azimuth, &v.elevation, &v.distance};
-    std::stringstream in(text);
-    std::string item;
-    int n = 0;
-    while (std::getline(in, item, ',')) {
-        char* end = nullptr;
-        const double x = std::strtod(item.c_str(), &end);
-        if (n == 3 || item.empty() || end != item.c_str() + item.size() || !std::isfinite(x))
-            throw Error("--view '" + text + "': expected azimuth,elevation,distance (degrees, degrees, sphere radii)");
-        *parts[n++] = x;
-    }
-    if (n != 3) throw Error("--view '" + text + "': expected azimuth,elevation,distance (degrees, degrees, sphere radii)");
+    v.azimuth = (*numbers)[0];
+    v.elevation = (*numbers)[1];
+    v.distance = (*numbers)[2];
     if (v.elevation < -90.0 || v.elevation > 90.0)
         throw Error("--view '" + text + "': elevation must lie in [-90, 90] degrees");
     if (v.distance <= 0.0 || v.distance > 1e6) throw Error("--view '" + text + "': distance must lie in (0, 1e6] sphere radii");
