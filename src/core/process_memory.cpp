@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <unistd.h>
 
 namespace yv {
 namespace {
@@ -26,5 +27,10 @@ std::uint64_t readStatusKiB(const char* field) {
 
 std::uint64_t peakResidentBytes() { return readStatusKiB("VmHWM"); }
 std::uint64_t currentResidentBytes() { return readStatusKiB("VmRSS"); }
+
+std::uint64_t physicalMemoryBytes() {
+    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : (std::uint64_t(8) << 30);
+}
 
 } // namespace yv

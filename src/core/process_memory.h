@@ -1,4 +1,4 @@
-// Host memory of this process, read from /proc.
+// Host memory: this process's, read from /proc, and the machine's.
 #pragma once
 
 #include <cstdint>
@@ -9,5 +9,7 @@ namespace yv {
 std::uint64_t peakResidentBytes();
 /// Current resident set size (VmRSS), bytes; 0 if unknown.
 std::uint64_t currentResidentBytes();
+/// Physical memory of the machine, bytes; 8 GiB where the system cannot tell.
+std::uint64_t physicalMemoryBytes();
 
 } // namespace yv

@@ -1,9 +1,8 @@
 #include "cpu/cpu_region_backend.h"
 
-#include "core/progress.h"
+#include "core/process_memory.h"
 
 #include <algorithm>
-#include <unistd.h>
 
 namespace yv {
 
@@ -11,9 +10,7 @@ CpuRegionBackend::CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs
                                    const VoxelizeSettings& settings, CpuRegionCounters& counters,
                                    std::uint64_t sampleBudget)
     : plan_(plan), xs_(xs), grid_(grid), settings_(settings), counters_(counters), quiet_(settings.quiet) {
-    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
-    const std::uint64_t physical =
-        pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : (std::uint64_t(8) << 30);
+    const std::uint64_t physical = physicalMemoryBytes();
     // Filled yarns give about two samples a voxel and fill the bricks they
     // touch about a quarter (14 KiB of accumulator words a brick): some 60
     // bytes a sample, counted three times over for the per-thread copies
@@ -28,21 +25,12 @@ CpuRegionBackend::CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs
 }
 
 void CpuRegionBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& sink) {
-    Progress progress("voxelize", regions.size(), quiet_, "regions");
-    for (const ZoomRegion& region : regions) {
-        if (sink.stopRequested()) break;
-        if (sink.alreadyDone(region)) {
-            ++counters_.resumedRegions;
-            progress.advance(1);
-            continue;
-        }
+    forEachRegionToDo(regions, sink, quiet_, counters_.resumedRegions, [&](const ZoomRegion& region) {
         std::vector<BrickAccumulator> accumulators =
             accumulateBox(plan_, xs_, grid_, settings_, region.segments, region.min, region.max, &counters_.sampling);
         ++counters_.regions;
         sink.consumeAccumulators(region, std::move(accumulators));
-        progress.advance(1);
-    }
-    progress.finish();
+    });
 }
 
 } // namespace yv

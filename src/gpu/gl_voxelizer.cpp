@@ -1,7 +1,6 @@
 #include "gpu/gl_voxelizer.h"
 
 #include "core/error.h"
-#include "core/progress.h"
 #include "gpu/brick_resolver.h"
 #include "gpu/cross_section_texture.h"
 #include "gpu/egl_context.h"
@@ -101,14 +100,7 @@ class GlBackend::Impl {
     }
 
     void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) {
-        Progress progress("voxelize", regions.size(), settings_.base.quiet, "regions");
-        for (const ZoomRegion& region : regions) {
-            if (sink.stopRequested()) break;
-            if (sink.alreadyDone(region)) {
-                ++counters_.resumedRegions;
-                progress.advance(1);
-                continue;
-            }
+        forEachRegionToDo(regions, sink, settings_.base.quiet, counters_.resumedRegions, [&](const ZoomRegion& region) {
             packed_ = sink.emptyPackedBricks();
             // Pieces of one region are finished before the next region starts,
             // so the sink gets each region whole, once.
@@ -131,9 +123,7 @@ class GlBackend::Impl {
             noteResolver();
             sink.consume(region, std::move(packed_));
             packed_ = {};
-            progress.advance(1);
-        }
-        progress.finish();
+        });
         counters_.fragmentCapacity = capacity_;
     }
 

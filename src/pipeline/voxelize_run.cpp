@@ -31,7 +31,6 @@
 #include <filesystem>
 #include <memory>
 #include <thread>
-#include <unistd.h>
 
 namespace yv {
 namespace {
@@ -79,9 +78,7 @@ class StoreSink : public QueueSink {
 
 /// Host memory the writer queue may hold: an eighth of physical memory, at most 4 GiB.
 std::size_t writerQueueBytes() {
-    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
-    const std::size_t physical = pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : (std::size_t(8) << 30);
-    return std::min<std::size_t>(physical / 8, std::size_t(4) << 30);
+    return static_cast<std::size_t>(std::min<std::uint64_t>(physicalMemoryBytes() / 8, std::uint64_t(4) << 30));
 }
 
 class StageTimer {

@@ -7,6 +7,7 @@
 #include "core/bricks.h"
 #include "core/error.h"
 #include "core/packed_bricks.h"
+#include "core/progress.h"
 #include "plan/zoom_plan.h"
 
 #include <string>
@@ -35,6 +36,25 @@ class RegionSink {
     /// hand back the storage of regions it is done with, capacity kept).
     virtual PackedBricks emptyPackedBricks() { return {}; }
 };
+
+/// The region loop both backends share: `compute(region)` for each region the
+/// sink still needs, in plan order, under one progress line; regions the sink
+/// has already (a resumed run) are counted into `resumed`; the loop ends where
+/// the sink asks it to stop (a signal), at a region boundary.
+template <class Compute>
+void forEachRegionToDo(const std::vector<ZoomRegion>& regions, RegionSink& sink, bool quiet, std::uint64_t& resumed,
+                       Compute&& compute) {
+    Progress progress("voxelize", regions.size(), quiet, "regions");
+    for (const ZoomRegion& region : regions) {
+        if (sink.stopRequested()) break;
+        if (sink.alreadyDone(region))
+            ++resumed;
+        else
+            compute(region);
+        progress.advance(1);
+    }
+    progress.finish();
+}
 
 /// A backend that voxelizes the zoom regions of a plan (GlBackend, CpuRegionBackend).
 class RegionRasterizer {
