@@ -58,6 +58,9 @@ def main():
     ap.add_argument("--resolutions", default=None, help="comma-separated resolutions instead of the set's")
     ap.add_argument("--paper-spacing", action="store_true",
                     help="the paper's 25 or 50 slices per segment instead of yarnvox's default (one voxel apart)")
+    ap.add_argument("--voxelize-args", default="",
+                    help="more options for every `yarnvox voxelize` run, e.g. '--cross-section disk' (the dense method's "
+                         "point samples miss the fibre cross-section's fibres where a yarn is thinner than a voxel)")
     ap.add_argument("--out", default=None)
     ap.add_argument("--timeout", type=float, default=900, help="seconds per run")
     ap.add_argument("--work", default="/tmp/yv-stress", help="scratch folder for garments and outputs")
@@ -107,6 +110,7 @@ def main():
                 cmd = [args.yarnvox, "voxelize", bcc, "-o", vdb, "--resolution", str(res), "--stats", stats, "--quiet"]
                 if args.paper_spacing:
                     cmd += ["--slices-per-segment", str(k)]
+                cmd += args.voxelize_args.split()
                 cmd += {"gl": ["--backend", "gl"], "dense": ["--backend", "gl", "--method", "dense"], "cpu": ["--backend", "cpu"]}[method]
                 try:
                     rc, log, wall = run(cmd, args.timeout)

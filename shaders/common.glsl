@@ -106,36 +106,43 @@ float diskCoverage(vec2 c, vec2 u, vec2 v, float r) {
         tOut[i] = min(1.0, (-qb + s) / qa);
         inside[i] = disc > 0.0 && tOut[i] > tIn[i];
     }
-    vec2 point[8];
-    bool exits[8];
-    int n = 0;
+    // Edge by edge with fixed indices, as src/core/footprint.h explains: a
+    // list of boundary points indexed at run time went to scratch memory and
+    // made the disk program 8 to 13 times slower than the texture's.
+    float twice = 0.0, caps = 0.0;
+    bool any = false;
     for (int i = 0; i < 4; ++i) {
         if (!inside[i]) continue;
-        vec2 a = corner[i], d = corner[(i + 1) & 3] - a;
+        any = true;
         int next = (i + 1) & 3;
-        point[n] = a + tIn[i] * d; exits[n] = false; ++n;
-        if (tOut[i] < 1.0 || !inside[next] || tIn[next] > 0.0) { point[n] = a + tOut[i] * d; exits[n] = true; ++n; }
-    }
-    if (n == 0) {
-        for (int i = 0; i < 4; ++i) {
-            vec2 e = corner[(i + 1) & 3] - corner[i];
-            if (e.x * -corner[i].y - e.y * -corner[i].x < 0.0) return 0.0;
+        vec2 a = corner[i], d = corner[next] - a;
+        vec2 entry = a + tIn[i] * d;
+        vec2 nextEntry = entry;
+        for (int step = 1; step < 4; ++step) {
+            int k = (i + step) & 3;
+            if (inside[k]) {
+                nextEntry = corner[k] + tIn[k] * (corner[(k + 1) & 3] - corner[k]);
+                break;
+            }
         }
-        return min(1.0, 3.14159265358979 * r2 / area);
-    }
-    float twice = 0.0, caps = 0.0;
-    for (int k = 0; k < n; ++k) {
-        int next = k + 1 == n ? 0 : k + 1;
-        vec2 p = point[k] - c, q = point[next] - c;
-        twice += p.x * q.y - p.y * q.x;
-        if (exits[k]) {
-            vec2 e = point[k], f = point[next];
-            float theta = atan(e.x * f.y - e.y * f.x, dot(e, f));
+        bool exits = tOut[i] < 1.0 || !inside[next] || tIn[next] > 0.0;
+        vec2 exitPoint = exits ? a + tOut[i] * d : nextEntry;
+        vec2 p = entry - c, q = exitPoint - c, o = nextEntry - c;
+        twice += (p.x * q.y - p.y * q.x) + (q.x * o.y - q.y * o.x);
+        if (exits) {
+            float theta = atan(exitPoint.x * nextEntry.y - exitPoint.y * nextEntry.x, dot(exitPoint, nextEntry));
             if (theta < 0.0) theta = theta > -1e-4 ? 0.0 : theta + 6.28318530717959;
             float t2 = theta * theta;
             float excess = theta < 1e-2 ? theta * t2 / 6.0 * (1.0 - t2 / 20.0) : theta - sin(theta);
             caps += 0.5 * r2 * excess;
         }
+    }
+    if (!any) {
+        for (int i = 0; i < 4; ++i) {
+            vec2 e = corner[(i + 1) & 3] - corner[i];
+            if (e.x * -corner[i].y - e.y * -corner[i].x < 0.0) return 0.0;
+        }
+        return min(1.0, 3.14159265358979 * r2 / area);
     }
     return clamp((0.5 * twice + caps) / area, 0.0, 1.0);
 }

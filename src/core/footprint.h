@@ -41,40 +41,49 @@ inline double diskCoverage(glm::dvec2 c, glm::dvec2 u, glm::dvec2 v, double r) {
         tOut[i] = std::min(1.0, (-qb + s) / qa);
         inside[i] = disc > 0.0 && tOut[i] > tIn[i];
     }
-    // Boundary of the clipped region: where each edge's inside part starts,
-    // and where it leaves the disk (an exit, followed by an arc) unless the
-    // next edge goes on inside from the shared corner (which may lie on the circle).
-    glm::dvec2 point[8];
-    bool exits[8];
-    int n = 0;
+    // The clipped region's boundary, edge by edge: the edge's inside part
+    // from its entry to its exit, then on to the entry of the next edge that
+    // has an inside part: along the circle (an arc) where the edge leaves the
+    // disk, or nothing where the next edge goes on inside from the shared
+    // corner (which may lie on the circle). Written per edge with fixed indices
+    // (no list of points) so that the shader's copy unrolls without a
+    // dynamically indexed array; the sums are the same shoelace terms.
+    double twice = 0.0, caps = 0.0;
+    bool any = false;
     for (int i = 0; i < 4; ++i) {
         if (!inside[i]) continue;
-        const glm::dvec2 a = corner[i], d = corner[(i + 1) & 3] - a;
+        any = true;
         const int next = (i + 1) & 3;
-        point[n] = a + tIn[i] * d, exits[n++] = false;
-        if (tOut[i] < 1.0 || !inside[next] || tIn[next] > 0.0) point[n] = a + tOut[i] * d, exits[n++] = true;
-    }
-    if (n == 0) {
-        // No corner inside and no crossing: the disk lies inside or outside.
-        for (int i = 0; i < 4; ++i) {
-            const glm::dvec2 e = corner[(i + 1) & 3] - corner[i];
-            if (e.x * -corner[i].y - e.y * -corner[i].x < 0.0) return 0.0;
+        const glm::dvec2 a = corner[i], d = corner[next] - a;
+        const glm::dvec2 entry = a + tIn[i] * d;
+        glm::dvec2 nextEntry = entry; // the only edge inside: the arc closes on itself
+        for (int step = 1; step < 4; ++step) {
+            const int k = (i + step) & 3;
+            if (inside[k]) {
+                nextEntry = corner[k] + tIn[k] * (corner[(k + 1) & 3] - corner[k]);
+                break;
+            }
         }
-        return std::min(1.0, M_PI * r2 / area);
-    }
-    double twice = 0.0, caps = 0.0;
-    for (int k = 0; k < n; ++k) {
-        const glm::dvec2 p = point[k] - c, q = point[(k + 1) % n] - c;
-        twice += p.x * q.y - p.y * q.x;
-        if (exits[k]) {
-            const glm::dvec2 e = point[k], f = point[(k + 1) % n];
-            double theta = std::atan2(e.x * f.y - e.y * f.x, glm::dot(e, f));
+        const bool exits = tOut[i] < 1.0 || !inside[next] || tIn[next] > 0.0;
+        const glm::dvec2 exit = exits ? a + tOut[i] * d : nextEntry;
+        const glm::dvec2 p = entry - c, q = exit - c, o = nextEntry - c;
+        twice += (p.x * q.y - p.y * q.x) + (q.x * o.y - q.y * o.x);
+        if (exits) {
+            double theta = std::atan2(exit.x * nextEntry.y - exit.y * nextEntry.x, glm::dot(exit, nextEntry));
             // An exit and entry at one corner on the circle: no arc, whatever the rounding.
             if (theta < 0.0) theta = theta > -1e-9 ? 0.0 : theta + 2.0 * M_PI;
             const double t2 = theta * theta;
             const double excess = theta < 1e-2 ? theta * t2 / 6.0 * (1.0 - t2 / 20.0) : theta - std::sin(theta);
             caps += 0.5 * r2 * excess;
         }
+    }
+    if (!any) {
+        // No corner inside and no crossing: the disk lies inside or outside.
+        for (int i = 0; i < 4; ++i) {
+            const glm::dvec2 e = corner[(i + 1) & 3] - corner[i];
+            if (e.x * -corner[i].y - e.y * -corner[i].x < 0.0) return 0.0;
+        }
+        return std::min(1.0, M_PI * r2 / area);
     }
     return std::clamp((0.5 * twice + caps) / area, 0.0, 1.0);
 }
