@@ -3,7 +3,9 @@
 #include "cli/commands.h"
 #include "cli/option_checks.h"
 #include "cli/output_format.h"
+#include "core/error.h"
 #include "core/world_units.h"
+#include "pipeline/cluster.h"
 #include "pipeline/voxelize_run.h"
 
 #include <CLI/CLI.hpp>
@@ -16,7 +18,7 @@ namespace {
 
 void voxelizeAndReport(const VoxelizeRequest& request) {
     const VoxelizeReport r = runVoxelize(request, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
-    if (request.quiet) return;
+    if (request.quiet || r.rankOnly) return;
     std::printf("%s: %llu slices -> %llu active voxels in %llu bricks (grid %dx%dx%d, voxel %.4g), %.2f s voxelize\n"
                 "wrote %s\n",
                 request.input.c_str(), static_cast<unsigned long long>(r.slices),
@@ -115,7 +117,15 @@ void addVoxelizeCommand(CLI::App& app) {
     cmd->add_option("--stats", a->statsPath, "Write run statistics (JSON) to this file");
     cmd->add_flag("-q,--quiet", a->quiet, "No progress and no summary");
     cmd->add_flag("-v,--verbose", a->verbose, "Name the renderer and print GPU limits");
+    cmd->footer(clusterSupport()
+                    ? "MPI: `mpirun -np N yarnvox voxelize ...` shares the zoom regions of one run among N processes "
+                      "(each on its own GPU, by local rank, unless --device is given) through one work dir on a "
+                      "file system they all see (--work-dir, default OUT.vdb.work); rank 0 merges. See README, "
+                      "\"Scale-out with MPI\"."
+                    : "");
     cmd->callback([a, format] {
+        if (cluster() && cluster()->size() > 1 && resolveOutputFormat(*format, a->output, true) != OutputFormat::Vdb)
+            throw Error("-o " + a->output + ": under mpirun the output is a .vdb; convert it afterwards with `yarnvox export`");
         voxelizeInFormat(*format, a->output, a->input, a->quiet, [&](const std::string& vdbPath) {
             VoxelizeRequest run = *a;
             run.output = vdbPath;
