@@ -124,3 +124,19 @@ TEST_CASE("A rank killed part-way then --resume with another rank count gives th
     CHECK(json.find("\"regions_computed\": 0") == std::string::npos);
     fs::remove_all(dir.parent_path());
 }
+
+TEST_CASE("mpirun with several garments writes one .vdb per input and each is the single-process file", "[mpi][cli]") {
+    const fs::path dir = scratchDir("frames");
+    const fs::path a = dir / "a.bcc", b = dir / "b.bcc";
+    REQUIRE(runYarnvox("gen --pattern plain --crossings 16 -o " + a.string()).exitCode == 0);
+    REQUIRE(runYarnvox("gen --pattern knit --crossings 16 -o " + b.string()).exitCode == 0);
+    const std::string opts = " --backend cpu --resolution 128 --fragment-budget 50000 --quiet";
+    REQUIRE(runYarnvox("voxelize " + a.string() + " -o " + (dir / "alone-a.vdb").string() + opts).exitCode == 0);
+    REQUIRE(runYarnvox("voxelize " + b.string() + " -o " + (dir / "alone-b.vdb").string() + opts).exitCode == 0);
+    const auto run = runShell(mpirun(2) + "voxelize " + a.string() + " " + b.string() + " -o " + (dir / "out").string() + opts);
+    INFO(run.output);
+    REQUIRE(run.exitCode == 0);
+    CHECK(sameVdb(dir / "alone-a.vdb", dir / "out" / "a.vdb"));
+    CHECK(sameVdb(dir / "alone-b.vdb", dir / "out" / "b.vdb"));
+    fs::remove_all(dir.parent_path());
+}
