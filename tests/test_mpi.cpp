@@ -53,6 +53,13 @@ std::string readFile(const fs::path& p) {
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+/// The value of `"key": N` in a --stats file (-1 when absent).
+long long jsonNumber(const std::string& json, const std::string& key) {
+    const std::string needle = "\"" + key + "\": ";
+    const std::size_t at = json.find(needle);
+    return at == std::string::npos ? -1 : std::stoll(json.substr(at + needle.size()));
+}
+
 bool sameVdb(const fs::path& a, const fs::path& b) {
     return yv::test::vdbBytesWithoutUuid(a) == yv::test::vdbBytesWithoutUuid(b);
 }
@@ -89,7 +96,11 @@ TEST_CASE("mpirun with 1 2 and 3 ranks writes the .vdb of a single process", "[m
         INFO(run.output);
         REQUIRE(run.exitCode == 0);
         CHECK(sameVdb(reference, out));
-        CHECK(readFile(stats).find("\"ranks\": " + std::to_string(ranks)) != std::string::npos);
+        const std::string json = readFile(stats);
+        CHECK(json.find("\"ranks\": " + std::to_string(ranks)) != std::string::npos);
+        // Every region rasterized exactly once, over all ranks together.
+        CHECK(jsonNumber(json, "regions_computed") == jsonNumber(json, "zoom_regions"));
+        CHECK(jsonNumber(json, "regions_computed") > 20);
         // The default work dir only carried the regions between the ranks.
         CHECK_FALSE(fs::exists(out.string() + ".work"));
     }
