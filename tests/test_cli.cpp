@@ -5,11 +5,13 @@
 
 #include <openvdb/openvdb.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -239,4 +241,56 @@ TEST_CASE("CLI: a .vdb write that fails (the file-size limit, as a full disk) is
     REQUIRE(run("voxelize " + bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution 256").exitCode == 0);
     CHECK(fs::file_size(vdb) > 64 * 1024);
     CHECK(readDensity(vdb).mass > 0.0);
+}
+
+TEST_CASE("CLI: several garments and --list write one output each into the -o directory", "[cli]") {
+    const fs::path dir = fs::temp_directory_path() / ("yv_cli_frames_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir / "sub");
+    const fs::path a = dir / "a.bcc", b = dir / "sub" / "b.bcc";
+    REQUIRE(run("gen --pattern plain --crossings 8 -o " + a.string()).exitCode == 0);
+    REQUIRE(run("gen --pattern knit --crossings 8 -o " + b.string()).exitCode == 0);
+    {
+        std::ofstream list(dir / "frames.txt");
+        list << "# frames, relative to this file\n\n  sub/b.bcc  \n";
+    }
+    const std::string opts = " --backend cpu --resolution 48 --quiet";
+    // Each output is the file a run of its garment alone writes.
+    REQUIRE(run("voxelize " + a.string() + " -o " + (dir / "alone-a.vdb").string() + opts).exitCode == 0);
+    REQUIRE(run("voxelize " + b.string() + " -o " + (dir / "alone-b.vdb").string() + opts).exitCode == 0);
+    const fs::path out = dir / "out", stats = dir / "stats";
+    const RunResult both = run("voxelize " + a.string() + " --list " + (dir / "frames.txt").string() + " -o " +
+                               out.string() + " --stats " + stats.string() + opts);
+    INFO(both.output);
+    REQUIRE(both.exitCode == 0);
+    const auto bytes = [](const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        REQUIRE(s.size() > 57);
+        std::fill(s.begin() + 21, s.begin() + 57, '\0'); // OpenVDB's per-file UUID
+        return s;
+    };
+    CHECK(bytes(out / "a.vdb") == bytes(dir / "alone-a.vdb"));
+    CHECK(bytes(out / "b.vdb") == bytes(dir / "alone-b.vdb"));
+    CHECK(fs::exists(stats / "a.json"));
+    CHECK(fs::exists(stats / "b.json"));
+
+    // Refused before any work, each in one line that names the problem.
+    fs::copy_file(a, dir / "sub" / "a.bcc");
+    const RunResult clash = run("voxelize " + a.string() + " " + (dir / "sub" / "a.bcc").string() + " -o " +
+                                (dir / "clash").string() + opts);
+    CHECK(clash.exitCode == 1);
+    CHECK_THAT(clash.output, Catch::Contains("would both write") && Catch::Contains("a.vdb"));
+    CHECK_FALSE(fs::exists(dir / "clash" / "a.vdb"));
+    {
+        std::ofstream list(dir / "bad.txt");
+        list << "sub/b.bcc\nmissing.bcc\n";
+    }
+    const RunResult badList = run("voxelize --list " + (dir / "bad.txt").string() + " -o " + (dir / "bad").string() + opts);
+    CHECK(badList.exitCode == 1);
+    CHECK_THAT(badList.output, Catch::Contains("bad.txt, line 2") && Catch::Contains("missing.bcc"));
+    const RunResult none = run("voxelize -o " + (dir / "none.vdb").string() + opts);
+    CHECK(none.exitCode == 1);
+    CHECK_THAT(none.output, Catch::Contains("give a garment file"));
+    fs::remove_all(dir);
 }

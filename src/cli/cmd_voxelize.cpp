@@ -1,9 +1,12 @@
 // `yarnvox voxelize`: the options, into a VoxelizeRequest for the pipeline
 // (src/pipeline/voxelize_run.h), and the summary it prints.
 #include "cli/commands.h"
+#include "cli/garment_list.h"
 #include "cli/option_checks.h"
 #include "cli/output_format.h"
+#include "core/error.h"
 #include "core/world_units.h"
+#include "pipeline/cluster.h"
 #include "pipeline/voxelize_run.h"
 
 #include <CLI/CLI.hpp>
@@ -16,7 +19,7 @@ namespace {
 
 void voxelizeAndReport(const VoxelizeRequest& request) {
     const VoxelizeReport r = runVoxelize(request, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
-    if (request.quiet) return;
+    if (request.quiet || r.rankOnly) return;
     std::printf("%s: %llu slices -> %llu active voxels in %llu bricks (grid %dx%dx%d, voxel %.4g), %.2f s voxelize\n"
                 "wrote %s\n",
                 request.input.c_str(), static_cast<unsigned long long>(r.slices),
@@ -35,9 +38,22 @@ void voxelizeAndReport(const VoxelizeRequest& request) {
 void addVoxelizeCommand(CLI::App& app) {
     auto a = std::make_shared<VoxelizeRequest>();
     auto format = std::make_shared<std::string>();
+    auto inputs = std::make_shared<std::vector<std::string>>();
+    auto list = std::make_shared<std::string>();
     CLI::App* cmd = app.add_subcommand("voxelize", "Voxelize a garment (BCC) into an OpenVDB file of fibre density and orientation");
-    cmd->add_option("input", a->input, "Garment .bcc file")->required()->check(CLI::ExistingFile);
-    cmd->add_option("-o,--output", a->output, "Output file: OUT.vdb, OUT.vol or OUT.nvdb (see --format)")->required();
+    cmd->add_option("input", *inputs,
+                    "Garment .bcc file; several (the frames of an animation) are voxelized one after another, "
+                    "one output each")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--list", *list,
+                    "File naming garments, one path per line (relative to the file's folder; blank lines and "
+                    "lines starting with # skipped), voxelized after those on the command line")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("-o,--output", a->output,
+                    "Output file: OUT.vdb, OUT.vol or OUT.nvdb (see --format). With several garments (or --list) "
+                    "a directory (made when missing): DIR/STEM.vdb for each INPUT named STEM.bcc, and --work-dir "
+                    "DIR/STEM, --stats DIR/STEM.json likewise")
+        ->required();
     cmd->add_option("--format", *format,
                     "vdb, vol (Mitsuba: OUT.vol density, OUT.orientation.vol axes, float32) or nvdb (NanoVDB); default "
                     "from the output's extension, else vdb. vol and nvdb are converted from a temporary .vdb "
@@ -115,12 +131,38 @@ void addVoxelizeCommand(CLI::App& app) {
     cmd->add_option("--stats", a->statsPath, "Write run statistics (JSON) to this file");
     cmd->add_flag("-q,--quiet", a->quiet, "No progress and no summary");
     cmd->add_flag("-v,--verbose", a->verbose, "Name the renderer and print GPU limits");
-    cmd->callback([a, format] {
-        voxelizeInFormat(*format, a->output, a->input, a->quiet, [&](const std::string& vdbPath) {
-            VoxelizeRequest run = *a;
-            run.output = vdbPath;
-            voxelizeAndReport(run);
-        });
+    cmd->footer(clusterSupport()
+                    ? "MPI: `mpirun -np N yarnvox voxelize ...` shares the zoom regions of one run among N processes "
+                      "(each on its own GPU, by local rank, unless --device is given) through one work dir on a "
+                      "file system they all see (--work-dir, default OUT.vdb.work); rank 0 merges. See README, "
+                      "\"Scale-out with MPI\"."
+                    : "");
+    cmd->callback([a, format, inputs, list] {
+        std::vector<std::string> garments = *inputs;
+        if (!list->empty())
+            for (const std::string& path : readGarmentList(*list)) garments.push_back(path);
+        if (garments.empty()) throw Error("give a garment file (INPUT) or --list FILE");
+        std::vector<GarmentJob> jobs;
+        if (garments.size() == 1 && list->empty()) {
+            jobs.push_back({garments[0], a->output, a->workDir, a->statsPath});
+        } else {
+            const OutputFormat f = resolveOutputFormat(*format, "", true);
+            const char* extension = f == OutputFormat::Vol ? ".vol" : f == OutputFormat::Nvdb ? ".nvdb" : ".vdb";
+            jobs = planGarmentJobs(garments, a->output, extension, a->workDir, a->statsPath);
+        }
+        for (const GarmentJob& job : jobs) {
+            if (cluster() && cluster()->size() > 1 && resolveOutputFormat(*format, job.output, true) != OutputFormat::Vdb)
+                throw Error("-o " + job.output + ": under mpirun the output is a .vdb; convert it afterwards with `yarnvox export`");
+            // Garments one after another; under mpirun all ranks share each one's regions.
+            voxelizeInFormat(*format, job.output, job.input, a->quiet, [&](const std::string& vdbPath) {
+                VoxelizeRequest run = *a;
+                run.input = job.input;
+                run.output = vdbPath;
+                run.workDir = job.workDir;
+                run.statsPath = job.statsPath;
+                voxelizeAndReport(run);
+            });
+        }
     });
 }
 

@@ -2,14 +2,42 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "pipeline/cluster.h"
 
 #include <CLI/CLI.hpp>
 #include <openvdb/Exceptions.h>
 
 #include <cstdio>
 
+namespace {
+
+/// "rank R: " in a run of several MPI processes, so an error names the process it comes from.
+std::string rankPrefix() {
+    const yv::Cluster* c = yv::cluster();
+    return c && c->size() > 1 ? "rank " + std::to_string(c->rank()) + ": " : "";
+}
+
+int runCommand(int argc, char** argv);
+
+} // namespace
+
 int main(int argc, char** argv) {
     yv::recordCommandLine(argc, argv);
+    try {
+        const yv::ClusterScope mpi(argc, argv);
+        const int code = runCommand(argc, argv);
+        // The other ranks may wait for this one in a collective: end them all.
+        if (code != 0 && yv::cluster() && yv::cluster()->size() > 1) yv::cluster()->abort(code);
+        return code;
+    } catch (const yv::Error& e) {
+        std::fprintf(stderr, "yarnvox: error: %s\n", e.what());
+        return 1;
+    }
+}
+
+namespace {
+
+int runCommand(int argc, char** argv) {
     CLI::App app{"yarnvox: turns yarn-level cloth into sparse volumes of fibre density and orientation"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "yarnvox " YV_VERSION);
@@ -27,19 +55,21 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     } catch (const yv::Error& e) {
-        std::fprintf(stderr, "yarnvox: error: %s\n", e.what());
+        std::fprintf(stderr, "yarnvox: error: %s%s\n", rankPrefix().c_str(), e.what());
         return 1;
     } catch (const openvdb::Exception& e) {
-        std::fprintf(stderr, "yarnvox: OpenVDB error: %s\n", e.what());
+        std::fprintf(stderr, "yarnvox: OpenVDB error: %s%s\n", rankPrefix().c_str(), e.what());
         return 1;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "yarnvox: error: out of host memory\n");
+        std::fprintf(stderr, "yarnvox: error: %sout of host memory\n", rankPrefix().c_str());
         return 1;
     } catch (const std::exception& e) {
         // Whatever else a library throws (a filesystem or system error, a
         // number that does not parse) is still one line and exit 1, not an abort.
-        std::fprintf(stderr, "yarnvox: error: %s\n", e.what());
+        std::fprintf(stderr, "yarnvox: error: %s%s\n", rankPrefix().c_str(), e.what());
         return 1;
     }
     return 0;
 }
+
+} // namespace

@@ -280,22 +280,31 @@ GlContext::GlContext(const GlContextOptions& options) : impl_(std::make_unique<I
                  "driver, or use --backend cpu)");
         // Usable means the display initialises: Mesa also lists DRM nodes of
         // GPUs it has no driver for (e.g. NVIDIA's), and those fail here.
-        const int wanted = options.device >= 0 ? options.device : 0;
+        int wanted = options.device >= 0 ? options.device : options.spreadIndex;
         int usable = 0;
         std::string where;
-        for (size_t i = 0; i < hardware.size() && m.display == EGL_NO_DISPLAY; ++i) {
-            EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, hardware[i], nullptr);
-            if (d == EGL_NO_DISPLAY || !acquireDisplay(d, &eglMajor, &eglMinor)) continue;
-            if (usable++ != wanted) {
-                releaseDisplay(d);
-                continue;
+        const auto take = [&] {
+            usable = 0;
+            for (size_t i = 0; i < hardware.size() && m.display == EGL_NO_DISPLAY; ++i) {
+                EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, hardware[i], nullptr);
+                if (d == EGL_NO_DISPLAY || !acquireDisplay(d, &eglMajor, &eglMinor)) continue;
+                if (usable++ != wanted) {
+                    releaseDisplay(d);
+                    continue;
+                }
+                m.display = d;
+                where = "EGL device " + std::to_string(wanted);
+                const char* devExt = canQuery ? eglQueryDeviceStringEXT(hardware[i], EGL_EXTENSIONS) : nullptr;
+                if (hasToken(devExt, "EGL_EXT_device_drm"))
+                    if (const char* node = eglQueryDeviceStringEXT(hardware[i], EGL_DRM_DEVICE_FILE_EXT))
+                        where += std::string(" (") + node + ")";
             }
-            m.display = d;
-            where = "EGL device " + std::to_string(wanted);
-            const char* devExt = canQuery ? eglQueryDeviceStringEXT(hardware[i], EGL_EXTENSIONS) : nullptr;
-            if (hasToken(devExt, "EGL_EXT_device_drm"))
-                if (const char* node = eglQueryDeviceStringEXT(hardware[i], EGL_DRM_DEVICE_FILE_EXT))
-                    where += std::string(" (") + node + ")";
+        };
+        take();
+        // Spread over fewer GPUs than processes: wrap around.
+        if (m.display == EGL_NO_DISPLAY && options.device < 0 && usable > 0) {
+            wanted %= usable;
+            take();
         }
         if (m.display != EGL_NO_DISPLAY) {
             m.info.platform = "device";

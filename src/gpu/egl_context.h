@@ -12,6 +12,9 @@ struct GlContextOptions {
     /// first hardware device, else the surfaceless (software) platform.
     int device = -1;
     bool debug = false; ///< Request a debug context and print driver messages.
+    /// With device -1: take the hardware device at this index modulo the usable
+    /// count (the processes of an MPI run on one node spread over its GPUs).
+    int spreadIndex = 0;
 };
 
 /// Limits and names read off the live context; budgets are derived from these.

@@ -65,7 +65,7 @@ class GlBackend::Impl {
     Impl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                 const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters)
         : plan_(plan), grid_(grid), settings_(settings), counters_(counters),
-          context_(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr}), reduce_(settings.base.reduce),
+          context_(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr, settings.spreadIndex}), reduce_(settings.base.reduce),
           words_(wordsPerVoxel(reduce_)) {
         const GlInfo& info = context_.info();
         counters_.renderer = info.renderer;

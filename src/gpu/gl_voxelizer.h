@@ -23,6 +23,7 @@ namespace yv {
 struct GlVoxelizeSettings {
     VoxelizeSettings base;
     int device = -1; ///< EGL device index (-1: first GPU, else llvmpipe)
+    int spreadIndex = 0; ///< with device -1: GPU index modulo the GPU count (MPI local rank)
     /// Fragment-list capacity in fragments (0: from queried limits and free
     /// GPU memory). Tests force it small to exercise overflow and retry.
     std::uint64_t fragmentCapacity = 0;

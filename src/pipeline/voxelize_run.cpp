@@ -13,6 +13,7 @@
 #include "gpu/dense_voxelizer.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_voxelizer.h"
+#include "pipeline/cluster.h"
 #include "pipeline/run_fingerprint.h"
 #include "pipeline/yarn_radius.h"
 #include "plan/feasibility.h"
@@ -27,10 +28,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <thread>
+#include <unordered_map>
 
 namespace yv {
 namespace {
@@ -75,6 +80,74 @@ class StoreSink : public QueueSink {
     BrickStore& store_;
     bool resume_;
 };
+
+/// Test hook, never set in real runs: YARNVOX_TEST_KILL_RANK=R:K makes rank R
+/// kill itself (SIGKILL, as a crashed node would end) once it has rasterized K
+/// regions, so tests can check what the other ranks and --resume make of it.
+struct KillHook {
+    int rank = -1;
+    std::uint64_t after = 0;
+    static KillHook fromEnvironment() {
+        KillHook hook;
+        if (const char* text = std::getenv("YARNVOX_TEST_KILL_RANK")) {
+            unsigned long long after = 0;
+            if (std::sscanf(text, "%d:%llu", &hook.rank, &after) != 2) hook.rank = -1;
+            hook.after = after;
+        }
+        return hook;
+    }
+};
+
+/// One rank's part of an MPI run: all ranks walk the regions in the same
+/// order (largest first) and each takes a region only when the hand-out gives
+/// it to this rank; the others' regions count as done here.
+class ClaimSink : public StoreSink {
+  public:
+    ClaimSink(BrickStore& store, RegionWriter& writer, bool resume, Cluster& cluster, const std::vector<ZoomRegion>& order)
+        : StoreSink(store, writer, resume), cluster_(cluster), hook_(KillHook::fromEnvironment()) {
+        for (std::size_t i = 0; i < order.size(); ++i) positionOf_.emplace(order[i].id, i);
+        cluster_.beginHandout(order.size());
+    }
+    bool alreadyDone(const ZoomRegion& r) override {
+        const std::uint64_t position = positionOf_.at(r.id);
+        // Hand-out positions only grow, for every rank: skip ahead to this one.
+        while (!exhausted_ && (!claim_ || *claim_ < position)) {
+            claim_ = cluster_.claim();
+            exhausted_ = !claim_;
+        }
+        if (exhausted_ || *claim_ != position) {
+            ++elsewhere;
+            return true;
+        }
+        // Dies holding a region it was given: the run can never finish without it.
+        if (hook_.rank == cluster_.rank() && consumed == hook_.after) std::raise(SIGKILL);
+        if (StoreSink::alreadyDone(r)) {
+            ++resumed;
+            return true;
+        }
+        return false;
+    }
+    std::uint64_t elsewhere = 0; ///< regions other ranks were given
+    std::uint64_t resumed = 0;   ///< regions of this rank found complete on disk
+
+  private:
+    Cluster& cluster_;
+    KillHook hook_;
+    std::unordered_map<std::uint64_t, std::uint64_t> positionOf_;
+    std::optional<std::uint64_t> claim_;
+    bool exhausted_ = false;
+};
+
+/// The regions in the order they are handed out: largest first (by the
+/// planner's fragment estimate), so no rank starts a big one last while the
+/// others sit idle; ties in plan order.
+std::vector<ZoomRegion> largestFirst(const std::vector<ZoomRegion>& regions) {
+    std::vector<ZoomRegion> order = regions;
+    std::stable_sort(order.begin(), order.end(), [](const ZoomRegion& a, const ZoomRegion& b) {
+        return a.estimatedFragments > b.estimatedFragments;
+    });
+    return order;
+}
 
 /// Host memory the writer queue may hold: an eighth of physical memory, at most 4 GiB.
 std::size_t writerQueueBytes() {
@@ -125,6 +198,11 @@ struct Backend {
     bool isGl = false;
 
     std::uint64_t resumedRegions() const { return isGl ? gl.resumedRegions : cpu.resumedRegions; }
+    /// The counts of a whole MPI run, on rank 0.
+    void setRegionTotals(std::uint64_t computed, std::uint64_t resumed) {
+        (isGl ? gl.regions : cpu.regions) = computed;
+        (isGl ? gl.resumedRegions : cpu.resumedRegions) = resumed;
+    }
     std::uint64_t samples() const { return isGl ? gl.fragments : cpu.sampling.samples; }
 };
 
@@ -136,12 +214,19 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     if (!args.statsPath.empty()) checkOutputPath(args.statsPath, "--stats", {args.input, args.output});
     if (!args.statsPath.empty() && args.statsPath == args.output)
         throw Error("--stats " + args.statsPath + ": is the same file as -o: refusing to overwrite it");
+    // Several processes under mpirun share the regions of one run; one (or
+    // mpirun -np 1) runs as a plain process.
+    Cluster* const group = cluster() && cluster()->size() > 1 ? cluster() : nullptr;
+    if (group && args.method == "dense") throw Error("--method dense runs in one process, not under mpirun -np 2 or more");
     VoxelizeRequest a = args;
     a.backend = resolveBackend(args, note);
+    // Every rank must write regions of the same run: rank 0's choice holds.
+    if (group) a.backend = group->broadcast(a.backend == "gl") ? "gl" : "cpu";
     if (a.method == "dense" && a.backend != "gl") throw Error("--method dense needs --backend gl");
     if (a.method == "dense" && (!a.workDir.empty() || a.resume)) throw Error("--work-dir and --resume need the sparse method");
+    // Under mpirun rank 0 speaks for the run: the others see the same things.
     const auto tell = [&](const std::string& line) {
-        if (!a.quiet) note(line);
+        if (!a.quiet && (!group || group->rank() == 0)) note(line);
     };
     StageTimer timer;
     JsonObject stages;
@@ -172,7 +257,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     // Disk the run needs at least, before minutes of work.
     {
         const std::string outputDir = std::filesystem::path(a.output).parent_path().string();
-        const bool store = !a.workDir.empty() || a.keepWorkDir || a.resume;
+        const bool store = !a.workDir.empty() || a.keepWorkDir || a.resume || group;
         const RunPlace place{outputDir, store ? (a.workDir.empty() ? outputDir : a.workDir) : ""};
         const std::string problem = checkNeeds(estimateNeeds(garment, radius.radius, voxelSize, a.precision == "half"),
                                                place, scale.voxelSource);
@@ -274,6 +359,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             GlVoxelizeSettings& gl = backend.glSettings;
             gl.base = settings;
             gl.device = a.device;
+            gl.spreadIndex = group ? group->localRank() : 0;
             gl.fragmentCapacity = a.fragmentCapacity;
             gl.verbose = a.verbose && !a.quiet;
             backend.rasterizer = std::make_unique<GlBackend>(plan, xs, grid, gl, backend.gl);
@@ -281,7 +367,10 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             backend.rasterizer = std::make_unique<CpuRegionBackend>(plan, xs, grid, settings, backend.cpu, a.fragmentCapacity);
         }
         RegionRasterizer& rasterizer = *backend.rasterizer;
-        const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {rasterizer.fragmentBudget(), rasterizer.maxRegionSize(), a.supersample});
+        // The ranks' budgets differ (each sees what the others left free):
+        // all plan with rank 0's, so they plan the same regions.
+        const std::uint64_t budget = group ? group->broadcast(rasterizer.fragmentBudget()) : rasterizer.fragmentBudget();
+        const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {budget, rasterizer.maxRegionSize(), a.supersample});
         backend.gl.plannedRegions = zoom.regions.size();
         stages.set("plan", timer.lap());
         if (a.verbose)
@@ -292,7 +381,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         // With one, they stream through a bounded queue to it while the
         // backend moves on, and the merge then writes the .vdb from the files.
         const bool ownWorkDir = a.workDir.empty();
-        const bool inMemory = ownWorkDir && !a.keepWorkDir;
+        const bool inMemory = ownWorkDir && !a.keepWorkDir && !group;
         const std::string workDir = ownWorkDir ? a.output + ".work" : a.workDir;
         StoreManifest manifest;
         manifest.fingerprint =
@@ -331,24 +420,61 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             assembler.write(meta);
             stages.set("write", timer.lap());
         } else {
-            BrickStore store(workDir, manifest, a.resume);
+            // Rank 0 opens (or clears, or resumes) the work dir; the others join it after.
+            std::optional<BrickStore> opened;
+            if (!group || group->rank() == 0) opened.emplace(workDir, manifest, a.resume);
+            if (group) {
+                group->broadcast(0);
+                if (group->rank() != 0) opened.emplace(workDir, manifest, JoinStore{});
+            }
+            BrickStore& store = *opened;
             RegionWriter writer(store, settings.reduce, settings.overlap, writerQueueBytes(), workers);
-            StoreSink sink(store, writer, a.resume);
+            const std::vector<ZoomRegion> order = group ? largestFirst(zoom.regions) : std::vector<ZoomRegion>{};
+            std::optional<StoreSink> ownSink;
+            std::optional<ClaimSink> claimSink;
+            if (group)
+                claimSink.emplace(store, writer, a.resume, *group, order);
+            else
+                ownSink.emplace(store, writer, a.resume);
+            StoreSink& sink = group ? *claimSink : *ownSink;
             {
                 const InterruptScope interruptible;
-                rasterizer.run(zoom.regions, sink);
+                rasterizer.run(group ? order : zoom.regions, sink);
             }
             writer.finish(); // every region handed over is on disk before the run stops
-            if (interruptSignal()) {
-                const std::string& line = commandLine();
-                const bool resuming = line.find(" --resume") != std::string::npos;
-                throw Error("interrupted by " + interruptSignalName() + " after " +
-                            std::to_string(sink.consumed + backend.resumedRegions()) + " of " +
-                            std::to_string(zoom.regions.size()) + " regions, all of them kept in " + workDir +
-                            "; go on with: " + line + (resuming ? "" : " --resume"));
-            }
             writerStats = writer.stats();
             recomputed = sink.recomputed;
+            std::uint64_t consumed = sink.consumed, resumed = backend.resumedRegions();
+            bool interrupted = interruptSignal() != 0;
+            if (group) {
+                // Rank 0 sums what every rank did; the others are done here.
+                const ResolveTally& t = writerStats.tally;
+                const std::vector<double> sums = group->endHandout(
+                    {interrupted ? 1.0 : 0.0, double(consumed), double(claimSink->resumed), double(recomputed),
+                     double(t.activeVoxels), double(t.voxelsOverOne), t.densitySum, t.rawDensitySum, t.excessOverOne});
+                if (a.verbose && !a.quiet)
+                    note("rank " + std::to_string(group->rank()) + ": " + std::to_string(sink.consumed) +
+                         " regions rasterized, " + std::to_string(claimSink->resumed) + " found done on disk");
+                if (group->rank() != 0) {
+                    report.rankOnly = true;
+                    return report;
+                }
+                interrupted = sums[0] > 0.0;
+                consumed = static_cast<std::uint64_t>(sums[1]);
+                resumed = static_cast<std::uint64_t>(sums[2]);
+                recomputed = static_cast<std::uint64_t>(sums[3]);
+                writerStats.tally = ResolveTally{static_cast<std::uint64_t>(sums[4]), static_cast<std::uint64_t>(sums[5]),
+                                                 sums[6], sums[7], sums[8]};
+                backend.setRegionTotals(consumed, resumed);
+            }
+            if (interrupted) {
+                const std::string& line = commandLine();
+                const bool resuming = line.find(" --resume") != std::string::npos;
+                throw Error("interrupted by " + (group ? std::string("a signal") : interruptSignalName()) + " after " +
+                            std::to_string(consumed + resumed) + " of " + std::to_string(zoom.regions.size()) +
+                            " regions, all of them kept in " + workDir + "; go on with: " + line +
+                            (resuming ? "" : " --resume"));
+            }
             store.markComplete(zoom.regions.size());
             report.voxelizeSeconds = timer.lap();
             stages.set("voxelize", report.voxelizeSeconds);
@@ -363,6 +489,12 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             // Regions taken from a resumed run were not resolved here.
             report.tally = writerStats.tally;
             report.tallyComplete = backend.resumedRegions() == 0;
+            if (group && ownWorkDir && !a.keepWorkDir) {
+                // A default work dir served only to share the regions between the ranks.
+                opened.reset();
+                std::error_code ec;
+                std::filesystem::remove_all(workDir, ec);
+            }
         }
 
         samples = backend.samples();
@@ -406,7 +538,8 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             .set("store_write_seconds", writerStats.writeSeconds)
             .set("store_wait_seconds", writerStats.submitWaitSeconds)
             .set("store_peak_queued_bytes", writerStats.peakQueuedBytes)
-            .set("regions_to", inMemory ? "memory" : "work dir");
+            .set("regions_to", inMemory ? "memory" : "work dir")
+            .set("ranks", static_cast<std::uint64_t>(group ? group->size() : 1));
     }
 
     const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;

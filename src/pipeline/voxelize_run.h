@@ -41,6 +41,7 @@ struct VoxelizeReport {
     Overlap overlap = Overlap::Clamp;
     ResolveTally tally;
     bool tallyComplete = true; ///< false when regions came from a resumed run
+    bool rankOnly = false;     ///< a rank other than 0 of an MPI run: rank 0 wrote and reports
     JsonObject stats;          ///< what --stats writes
 };
 

@@ -198,6 +198,21 @@ BrickStore::BrickStore(std::string dir, const StoreManifest& manifest, bool resu
     }
 }
 
+BrickStore::BrickStore(std::string dir, const StoreManifest& manifest, JoinStore) : dir_(std::move(dir)), manifest_(manifest) {
+    checkGrid(manifest.grid, dir_);
+    dirFd_ = openDirectory(dir_);
+    try {
+        const StoreManifest disk = readManifest(dir_);
+        if (const std::string diff = runDifference(disk, manifest_); !diff.empty())
+            throw Error(dir_ + ": the work dir rank 0 opened is of a different run than this rank's (" + diff +
+                        "): every rank must see the same input and options");
+        manifest_.completeRegions = disk.completeRegions;
+    } catch (...) {
+        ::close(dirFd_);
+        throw;
+    }
+}
+
 BrickStore::BrickStore(std::string dir) : dir_(std::move(dir)), readOnly_(true) {
     dirFd_ = openDirectory(dir_);
     try {

@@ -31,6 +31,9 @@ struct RegionWriteTimings {
     double writeSeconds = 0.0;  ///< write, fsync, rename, fsync the directory
 };
 
+/// Tag for the constructor that joins a store another process opened.
+struct JoinStore {};
+
 class BrickStore {
   public:
     /// Opens `dir` (created if missing) for a run. resume: keep the regions of
@@ -39,6 +42,10 @@ class BrickStore {
     /// the store's own files; throws instead when `dir` holds any file the
     /// store did not write. Holds an exclusive lock on `dir` while alive.
     BrickStore(std::string dir, const StoreManifest& manifest, bool resume);
+    /// Joins the store that rank 0 of an MPI run opened for writing (it holds
+    /// the lock for all ranks): takes no lock and deletes nothing; throws
+    /// yv::Error when the manifest on disk is of a different run.
+    BrickStore(std::string dir, const StoreManifest& manifest, JoinStore);
     /// Opens an existing store read-only (merge, inspection): shared lock, no
     /// file is changed or deleted; hasVerifiedRegion, writeRegion and markComplete throw.
     explicit BrickStore(std::string dir);

@@ -1,0 +1,170 @@
+// The cluster of an MPI run (Open MPI): rank 0 hands out work items from a
+// thread of its own while it works on items itself; the other ranks ask it for
+// their next item when they are ready for one, so a slow rank holds no one up.
+#include "pipeline/cluster.h"
+
+#include "core/error.h"
+
+// The C API only: Debian's Open MPI would otherwise pull in its deprecated
+// C++ bindings, which need libmpi_cxx.
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+namespace yv {
+namespace {
+
+constexpr int kClaimTag = 1, kItemTag = 2;
+
+/// Waits for `request` without spinning: Open MPI's blocking calls poll at
+/// full speed, which would take a core from the ranks still rasterizing on
+/// the same machine (tests run three ranks on two cores).
+void waitPolitely(MPI_Request& request, MPI_Status* status = MPI_STATUS_IGNORE) {
+    for (int done = 0;;) {
+        MPI_Test(&request, &done, status);
+        if (done) return;
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+}
+
+class MpiCluster : public Cluster {
+  public:
+    MpiCluster() {
+        MPI_Comm_dup(MPI_COMM_WORLD, &comm_);
+        MPI_Comm_rank(comm_, &rank_);
+        MPI_Comm_size(comm_, &size_);
+        MPI_Comm node;
+        MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
+        MPI_Comm_rank(node, &localRank_);
+        MPI_Comm_free(&node);
+    }
+    ~MpiCluster() override {
+        if (server_.joinable()) server_.join();
+        MPI_Comm_free(&comm_);
+    }
+
+    int rank() const override { return rank_; }
+    int size() const override { return size_; }
+    int localRank() const override { return localRank_; }
+
+    std::uint64_t broadcast(std::uint64_t value) override {
+        MPI_Request request;
+        MPI_Ibcast(&value, 1, MPI_UINT64_T, 0, comm_, &request);
+        waitPolitely(request);
+        return value;
+    }
+
+    void beginHandout(std::uint64_t count) override {
+        count_ = count;
+        next_ = 0;
+        exhausted_ = false;
+        if (rank_ == 0 && size_ > 1) server_ = std::thread([this] { serve(); });
+    }
+
+    std::optional<std::uint64_t> claim() override {
+        if (exhausted_) return std::nullopt;
+        std::int64_t item = -1;
+        if (rank_ == 0) {
+            item = take();
+        } else {
+            const int ask = 0;
+            MPI_Send(&ask, 1, MPI_INT, 0, kClaimTag, comm_);
+            MPI_Request request;
+            MPI_Irecv(&item, 1, MPI_INT64_T, 0, kItemTag, comm_, &request);
+            waitPolitely(request);
+        }
+        if (item < 0) {
+            exhausted_ = true; // rank 0 says "none" to each rank once
+            return std::nullopt;
+        }
+        return static_cast<std::uint64_t>(item);
+    }
+
+    std::vector<double> endHandout(const std::vector<double>& values) override {
+        while (claim()) {
+        }
+        if (server_.joinable()) server_.join();
+        std::vector<double> sums(values.size());
+        MPI_Request request;
+        MPI_Ireduce(values.data(), sums.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, 0, comm_,
+                    &request);
+        waitPolitely(request);
+        return rank_ == 0 ? sums : values;
+    }
+
+    [[noreturn]] void abort(int exitCode) override {
+        MPI_Abort(comm_, exitCode);
+        std::_Exit(exitCode);
+    }
+
+  private:
+    /// The next item in order, or -1 once all are out.
+    std::int64_t take() {
+        const std::lock_guard lock(mutex_);
+        return next_ < count_ ? static_cast<std::int64_t>(next_++) : -1;
+    }
+
+    /// Rank 0's server: answers every other rank's asks until each has been
+    /// told there is nothing left.
+    void serve() {
+        for (int told = 0; told < size_ - 1;) {
+            int ask = 0;
+            MPI_Status status;
+            MPI_Request request;
+            MPI_Irecv(&ask, 1, MPI_INT, MPI_ANY_SOURCE, kClaimTag, comm_, &request);
+            waitPolitely(request, &status);
+            const std::int64_t item = take();
+            MPI_Send(&item, 1, MPI_INT64_T, status.MPI_SOURCE, kItemTag, comm_);
+            if (item < 0) ++told;
+        }
+    }
+
+    MPI_Comm comm_ = MPI_COMM_NULL;
+    int rank_ = 0, size_ = 1, localRank_ = 0;
+    std::mutex mutex_;
+    std::uint64_t count_ = 0, next_ = 0;
+    bool exhausted_ = false;
+    std::thread server_;
+};
+
+std::unique_ptr<MpiCluster> gCluster;
+
+/// Started by mpirun (or srun with PMIx)? Only then is MPI initialised, so a
+/// plain run of an MPI build behaves as a build without it.
+bool startedByLauncher() {
+    for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"})
+        if (std::getenv(name)) return true;
+    return false;
+}
+
+} // namespace
+
+Cluster* cluster() { return gCluster.get(); }
+
+ClusterScope::ClusterScope(int& argc, char**& argv) {
+    if (!startedByLauncher()) return;
+    // Rank 0's server thread and its main thread take turns with MPI, never at once.
+    int provided = 0;
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
+    if (provided < MPI_THREAD_SERIALIZED) {
+        MPI_Finalize();
+        throw Error("the MPI library offers no MPI_THREAD_SERIALIZED: rank 0 cannot hand out regions while it works");
+    }
+    gCluster = std::make_unique<MpiCluster>();
+}
+
+ClusterScope::~ClusterScope() {
+    if (!gCluster) return;
+    gCluster.reset();
+    MPI_Finalize();
+}
+
+bool clusterSupport() { return true; }
+
+} // namespace yv

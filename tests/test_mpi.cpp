@@ -1,0 +1,153 @@
+// `mpirun -np N yarnvox voxelize`: any number of ranks writes the .vdb of one
+// process, and a run that lost a rank resumes, with another N, to the same file.
+// Built and run only with -DYARNVOX_MPI=ON, where mpirun must work: a missing
+// or broken Open MPI fails these tests rather than skipping them.
+#include "run_cli.h"
+#include "test_helpers.h"
+#include "vdb_bytes.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using yv::test::runShell;
+using yv::test::runYarnvox;
+
+namespace {
+
+/// `mpirun -np RANKS` as every MPI test starts it, with what this machine and
+/// CI need, in one place:
+/// - --allow-run-as-root: CI runs as root, which Open MPI refuses otherwise;
+/// - --oversubscribe: three ranks on a two-core machine;
+/// - btl self,vader and no single-copy (CMA) mechanism: in a container,
+///   ptrace-based copies between processes are often not permitted, and there
+///   is no network to look for;
+/// - mpi_yield_when_idle: ranks that wait give their core to those working.
+std::string mpirun(int ranks) {
+    REQUIRE(fs::exists(YV_MPIEXEC));
+    return std::string(YV_MPIEXEC) + " --allow-run-as-root --oversubscribe --mca btl self,vader"
+                                     " --mca btl_vader_single_copy_mechanism none --mca mpi_yield_when_idle 1 -np " +
+           std::to_string(ranks) + " " + YV_BINARY_DIR + "/yarnvox ";
+}
+
+fs::path scratchDir(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("yv_mpi_" + std::to_string(getpid())) / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::size_t regionFiles(const fs::path& dir) {
+    std::size_t n = 0;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) n += e.path().extension() == ".yvb";
+    return n;
+}
+
+std::string readFile(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// The value of `"key": N` in a --stats file (-1 when absent).
+long long jsonNumber(const std::string& json, const std::string& key) {
+    const std::string needle = "\"" + key + "\": ";
+    const std::size_t at = json.find(needle);
+    return at == std::string::npos ? -1 : std::stoll(json.substr(at + needle.size()));
+}
+
+bool sameVdb(const fs::path& a, const fs::path& b) {
+    return yv::test::vdbBytesWithoutUuid(a) == yv::test::vdbBytesWithoutUuid(b);
+}
+
+/// A garment whose run has dozens of small regions, so every rank gets some.
+fs::path makeGarment(const fs::path& dir) {
+    const fs::path bcc = dir / "g.bcc";
+    const auto gen = runYarnvox("gen --pattern twill --shape cylinder --crossings 64 -o " + bcc.string());
+    REQUIRE(gen.exitCode == 0);
+    return bcc;
+}
+
+std::string options(const std::string& backend) {
+    return " --backend " + backend +
+           " --resolution 512 --yarn-radius 0.1 --slices-per-segment 2 --twist 2 --fragment-budget 50000 --quiet";
+}
+
+} // namespace
+
+TEST_CASE("mpirun with 1 2 and 3 ranks writes the .vdb of a single process", "[mpi][cli]") {
+    const std::string backend = GENERATE(as<std::string>(), "gl", "cpu");
+    if (backend == "gl") YV_REQUIRE_GL();
+    INFO("--backend " << backend);
+    const fs::path dir = scratchDir("ranks-" + backend);
+    const fs::path bcc = makeGarment(dir);
+    const fs::path reference = dir / "reference.vdb";
+    const auto single = runYarnvox("voxelize " + bcc.string() + " -o " + reference.string() + options(backend));
+    REQUIRE(single.exitCode == 0);
+    for (const int ranks : {1, 2, 3}) {
+        INFO("mpirun -np " << ranks);
+        const fs::path out = dir / ("ranks" + std::to_string(ranks) + ".vdb"), stats = dir / "stats.json";
+        const auto run = runShell(mpirun(ranks) + "voxelize " + bcc.string() + " -o " + out.string() + options(backend) +
+                                  " --stats " + stats.string());
+        INFO(run.output);
+        REQUIRE(run.exitCode == 0);
+        CHECK(sameVdb(reference, out));
+        const std::string json = readFile(stats);
+        CHECK(json.find("\"ranks\": " + std::to_string(ranks)) != std::string::npos);
+        // Every region rasterized exactly once, over all ranks together.
+        CHECK(jsonNumber(json, "regions_computed") == jsonNumber(json, "zoom_regions"));
+        CHECK(jsonNumber(json, "regions_computed") > 20);
+        // The default work dir only carried the regions between the ranks.
+        CHECK_FALSE(fs::exists(out.string() + ".work"));
+    }
+    fs::remove_all(dir.parent_path());
+}
+
+TEST_CASE("A rank killed part-way then --resume with another rank count gives the same .vdb", "[mpi][cli]") {
+    YV_REQUIRE_GL();
+    const fs::path dir = scratchDir("killed");
+    const fs::path bcc = makeGarment(dir);
+    const fs::path reference = dir / "reference.vdb", work = dir / "work", out = dir / "out.vdb";
+    REQUIRE(runYarnvox("voxelize " + bcc.string() + " -o " + reference.string() + options("gl")).exitCode == 0);
+
+    // Rank 1 dies (SIGKILL) holding its third region: the run stops, naming it.
+    const std::string args = "voxelize " + bcc.string() + " -o " + out.string() + options("gl") + " --work-dir " + work.string();
+    const auto killed = runShell("YARNVOX_TEST_KILL_RANK=1:2 " + mpirun(2) + args);
+    INFO(killed.output);
+    CHECK(killed.exitCode != 0);
+    CHECK_THAT(killed.output, Catch::Contains("rank 1"));
+    CHECK_FALSE(fs::exists(out));
+    const std::size_t kept = regionFiles(work);
+    CHECK(kept >= 2);
+
+    // Three ranks finish what is missing and write the same file.
+    const fs::path stats = dir / "stats.json";
+    const auto resumed = runShell(mpirun(3) + args + " --resume --stats " + stats.string());
+    INFO(resumed.output);
+    REQUIRE(resumed.exitCode == 0);
+    CHECK(sameVdb(reference, out));
+    const std::string json = readFile(stats);
+    CHECK(json.find("\"regions_resumed\": " + std::to_string(kept)) != std::string::npos);
+    CHECK(json.find("\"regions_computed\": 0") == std::string::npos);
+    fs::remove_all(dir.parent_path());
+}
+
+TEST_CASE("mpirun with several garments writes one .vdb per input and each is the single-process file", "[mpi][cli]") {
+    const fs::path dir = scratchDir("frames");
+    const fs::path a = dir / "a.bcc", b = dir / "b.bcc";
+    REQUIRE(runYarnvox("gen --pattern plain --crossings 16 -o " + a.string()).exitCode == 0);
+    REQUIRE(runYarnvox("gen --pattern knit --crossings 16 -o " + b.string()).exitCode == 0);
+    const std::string opts = " --backend cpu --resolution 128 --fragment-budget 50000 --quiet";
+    REQUIRE(runYarnvox("voxelize " + a.string() + " -o " + (dir / "alone-a.vdb").string() + opts).exitCode == 0);
+    REQUIRE(runYarnvox("voxelize " + b.string() + " -o " + (dir / "alone-b.vdb").string() + opts).exitCode == 0);
+    const auto run = runShell(mpirun(2) + "voxelize " + a.string() + " " + b.string() + " -o " + (dir / "out").string() + opts);
+    INFO(run.output);
+    REQUIRE(run.exitCode == 0);
+    CHECK(sameVdb(dir / "alone-a.vdb", dir / "out" / "a.vdb"));
+    CHECK(sameVdb(dir / "alone-b.vdb", dir / "out" / "b.vdb"));
+    fs::remove_all(dir.parent_path());
+}
