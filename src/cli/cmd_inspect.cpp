@@ -342,6 +342,11 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     if (r.kind == RenderKind::Slices) {
         const RunSlices run = loadRunSlices(input, RunSlicesOptions{a.garment, a.yarnRadius});
         slices = sliceInstances(run.plan, run.grid);
+        // A framed region shows its own slices, not the ones in front of it.
+        if (r.region) {
+            const VoxelBox box = source->regionBounds(*r.region);
+            keepSlicesWithin(slices, glm::dvec3(box.min), glm::dvec3(box.max));
+        }
         r.slices = &slices;
         notes = run.notes;
         notes.insert(notes.begin(), "slices of " + run.garmentPath);

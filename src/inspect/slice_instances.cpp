@@ -6,6 +6,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <bit>
 #include <limits>
@@ -31,6 +32,18 @@ SliceInstances sliceInstances(const SlicePlan& plan, const VoxelGrid& grid) {
         }
     });
     return out;
+}
+
+void keepSlicesWithin(SliceInstances& slices, glm::dvec3 lo, glm::dvec3 hi) {
+    std::size_t kept = 0;
+    for (std::uint64_t i = 0; i < slices.count(); ++i) {
+        const glm::dvec3 c(slices.center(i));
+        if (glm::any(glm::lessThan(c, lo)) || glm::any(glm::greaterThanEqual(c, hi))) continue;
+        slices.records[2 * kept] = slices.records[2 * i];
+        slices.records[2 * kept + 1] = slices.records[2 * i + 1];
+        ++kept;
+    }
+    slices.records.resize(2 * kept);
 }
 
 void sortBackToFront(const SliceInstances& slices, glm::dvec3 eye, std::vector<std::uint32_t>& order) {

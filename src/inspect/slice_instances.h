@@ -26,6 +26,9 @@ struct SliceInstances {
 /// Places every slice of `plan` (in parallel over its segments) in `grid`'s voxel coordinates.
 SliceInstances sliceInstances(const SlicePlan& plan, const VoxelGrid& grid);
 
+/// Keeps the slices whose centre lies in [lo, hi) (voxel coordinates), in their order.
+void keepSlicesWithin(SliceInstances& slices, glm::dvec3 lo, glm::dvec3 hi);
+
 /// Fills `order` with the slice indices sorted by distance from `eye`,
 /// farthest first (ties by index), sorting on every core (TBB).
 void sortBackToFront(const SliceInstances& slices, glm::dvec3 eye, std::vector<std::uint32_t>& order);
