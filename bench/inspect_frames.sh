@@ -10,7 +10,8 @@
 #
 #   bench/inspect_frames.sh GARMENT.bcc|VOLUME.vdb|WORKDIR "RESOLUTIONS" [WIDTHxHEIGHT] [voxelize options...]
 #   env: YV_GPU_BUDGET (default 2G), YV_REPEAT (default 5), YV_VIEW (default 30,20,4),
-#        YV_MODES (default "raycast mip orientation")
+#        YV_MODES (default "raycast mip orientation"; "slices" draws the garment's
+#        slices once, with the sort and draw times, no skipping to compare)
 set -euo pipefail
 input=$1 resolutions=$2 size=${3:-800x600}
 shift $(( $# < 3 ? $# : 3 ))
@@ -46,9 +47,13 @@ for res in $resolutions; do
             $((ms / 1000)) $((ms % 1000)) "$(stat -c %s "$volume")"
     fi
     for mode in $modes; do
-        for skip in on off; do
+        skips="on off"
+        [ "$mode" = slices ] && skips=on
+        for skip in $skips; do
             flags=()
             [ "$skip" = off ] && flags+=(--no-skip)
+            # The garment the volume was made from (a volume given records its own).
+            [ "$mode" = slices ] && [ "$res" != given ] && flags+=(--garment "$input")
             "$yarnvox" inspect "$volume" --render "$mode" --size "$size" --view "$view" --gpu-budget "$budget" \
                 --repeat "$repeat" --json "${flags[@]}" -o "$scratch/frame.png" |
                 python3 -c 'import json, sys

@@ -8,6 +8,7 @@
 #include "inspect/inspect_render.h"
 #include "inspect/inspect_store.h"
 #include "inspect/inspect_vdb.h"
+#include "inspect/run_slices.h"
 #include "inspect/transfer_function.h"
 
 #include <CLI/CLI.hpp>
@@ -268,11 +269,46 @@ std::pair<int, int> parseSize(const std::string& text) {
 }
 
 struct RenderArgs {
-    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M";
+    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M", garment;
     std::int64_t region = -1;
-    bool noSkip = false, showSamples = false;
+    bool noSkip = false, showSamples = false, regions = false;
     int device = -1, repeat = 1;
+    double yarnRadius = 0.0;
 };
+
+/// The zoom regions' boxes, hot by their active voxels (the store keeps no fragment counts).
+std::vector<RegionHeat> regionHeat(const std::string& input) {
+    if (!std::filesystem::is_directory(input))
+        throw Error(input + ": a .vdb has no zoom regions (--regions needs the run's work directory)");
+    std::vector<RegionHeat> out;
+    for (const RegionRow& r : inspectStore(input, false).regions)
+        out.push_back(RegionHeat{r.info.id, VoxelBox{r.info.min, r.info.max}, double(r.info.activeVoxels)});
+    return out;
+}
+
+/// The heat scale the outlines' colours stand for.
+std::pair<double, double> heatRange(const std::vector<RegionHeat>& regions) {
+    double low = regions.front().heat, high = low;
+    for (const RegionHeat& h : regions) low = std::min(low, h.heat), high = std::max(high, h.heat);
+    return {low, high};
+}
+
+JsonObject regionHeatJson(const std::vector<RegionHeat>& regions) {
+    const auto [low, high] = heatRange(regions);
+    return JsonObject()
+        .set("regions", std::uint64_t(regions.size()))
+        .set("measure", "active_voxels")
+        .set("low", low)
+        .set("high", high)
+        .set("colours", "blue (low), red, yellow (high)");
+}
+
+void printRegionHeat(const std::vector<RegionHeat>& regions) {
+    const auto [low, high] = heatRange(regions);
+    std::printf("region outlines: %zu regions coloured by active voxels, blue %.0f, red %.0f, yellow %.0f (the legend "
+                "bar at the bottom left)\n",
+                regions.size(), low, 0.5 * (low + high), high);
+}
 
 void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     RenderRequest r;
@@ -293,17 +329,49 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     r.device = a.device;
     r.repeat = a.repeat;
     if (a.output.empty()) throw Error("--render needs -o FILE.png");
+    if (r.kind != RenderKind::Slices && (!a.garment.empty() || a.yarnRadius > 0.0))
+        throw Error("--garment and --yarn-radius go with --render slices");
+    if (a.regions && r.kind == RenderKind::Cut) throw Error("--regions goes with the perspective renders, not a cut");
     checkOutputPath(a.output, "-o", {input});
     if (r.kind != RenderKind::Cut) loadTransferFunction(r.transferFunction); // a bad --tf fails before any work
 
     const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
+    if (a.regions) r.outlines = regionHeat(input);
+    SliceInstances slices;
+    std::vector<std::string> notes;
+    if (r.kind == RenderKind::Slices) {
+        const RunSlices run = loadRunSlices(input, RunSlicesOptions{a.garment, a.yarnRadius});
+        slices = sliceInstances(run.plan, run.grid);
+        // A framed region shows its own slices, not the ones in front of it.
+        if (r.region) {
+            const VoxelBox box = source->regionBounds(*r.region);
+            keepSlicesWithin(slices, glm::dvec3(box.min), glm::dvec3(box.max));
+        }
+        r.slices = &slices;
+        notes = run.notes;
+        notes.insert(notes.begin(), "slices of " + run.garmentPath);
+    }
     const RenderReport rep = renderVolume(*source, r);
     writePng(a.output, rep.image);
     if (json) {
         JsonObject out;
         out.set("path", input).set("output", a.output).set("render", a.render).set("width", rep.image.width)
             .set("height", rep.image.height);
-        if (r.kind != RenderKind::Cut)
+        if (!r.outlines.empty()) out.set("region_heat", regionHeatJson(r.outlines));
+        if (r.kind == RenderKind::Slices) {
+            out.set("view", a.view)
+                .set("renderer", rep.renderer)
+                .set("slices", rep.slices)
+                .set("frames", r.repeat)
+                .set("sort_seconds_median", rep.sortSeconds)
+                .set("sort_seconds_best", rep.bestSortSeconds)
+                .set("frame_seconds_median", rep.frameSeconds)
+                .set("frame_seconds_best", rep.bestFrameSeconds)
+                .set("load_seconds", rep.loadSeconds);
+            std::string joined;
+            for (const std::string& n : notes) joined += (joined.empty() ? "" : "; ") + n;
+            out.set("notes", joined);
+        } else if (r.kind != RenderKind::Cut)
             out.set("view", a.view)
                 .set("renderer", rep.renderer)
                 .set("skip_empty", r.skipEmpty)
@@ -324,6 +392,15 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     if (r.kind == RenderKind::Cut) {
         std::printf("%s: cut %s, %dx%d pixels, one a voxel\n", a.output.c_str(), a.cut.c_str(), rep.image.width,
                     rep.image.height);
+        return;
+    }
+    if (!r.outlines.empty()) printRegionHeat(r.outlines);
+    if (r.kind == RenderKind::Slices) {
+        std::printf("%s: slices, %dx%d, on %s\n", a.output.c_str(), r.width, r.height, rep.renderer.c_str());
+        for (const std::string& n : notes) std::printf("  %s\n", n.c_str());
+        std::printf("  %llu slices; back-to-front sort %.3f s (on %s), draw %.3f s%s (uploading %.3f s)\n",
+                    static_cast<unsigned long long>(rep.slices), rep.sortSeconds, "every core", rep.frameSeconds,
+                    r.repeat > 1 ? " (medians)" : "", rep.loadSeconds);
         return;
     }
     std::printf("%s: %s, %dx%d, on %s\n", a.output.c_str(), a.render.c_str(), r.width, r.height, rep.renderer.c_str());
@@ -369,8 +446,10 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--render", render->render,
                     "Draw a picture to -o instead of printing numbers: raycast (transfer function), mip (maximum "
-                    "density along each ray), cut (one plane of voxels, --cut) or orientation (|axis| as RGB)")
-        ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation"}));
+                    "density along each ray), cut (one plane of voxels, --cut), orientation (|axis| as RGB) or slices "
+                    "(the run's garment as alpha-blended slices shaded by fibre orientation, sorted back to front on "
+                    "every core; the garment and slice options the run recorded, or --garment)")
+        ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation", "slices"}));
     cmd->add_option("-o,--output", render->output, "--render: the PNG to write (replaced atomically)");
     cmd->add_option("--view", render->view,
                     "--render: azimuth,elevation,distance: degrees about +z from +x, degrees above the xy plane, "
@@ -380,6 +459,16 @@ void addInspectCommand(CLI::App& app) {
     cmd->add_option("--region", render->region,
                     "--render: frame and draw only this zoom region of a work directory")
         ->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--regions", render->regions,
+                  "--render (not cut): draw the work directory's zoom-region boxes over the picture, coloured by "
+                  "heat (active voxels: blue, red, yellow; legend bar at the bottom left, scale printed)");
+    cmd->add_option("--garment", render->garment,
+                    "--render slices: the garment (.bcc) to draw, instead of the one the run recorded (needed for a "
+                    ".vdb not made by yarnvox or a garment that moved)")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--yarn-radius", render->yarnRadius,
+                    "--render slices: yarn radius in world units, instead of the one the run recorded")
+        ->check(CLI::PositiveNumber);
     std::string presets;
     for (const std::string& n : transferFunctionPresets()) presets += (presets.empty() ? "" : ", ") + n;
     cmd->add_option("--tf", render->tf,

@@ -4,6 +4,7 @@
 #include "gpu/egl_context.h"
 #include "inspect/brick_atlas.h"
 #include "inspect/raycast_renderer.h"
+#include "inspect/slice_renderer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -16,8 +17,41 @@ RenderKind parseRenderKind(const std::string& text) {
     if (text == "mip") return RenderKind::Mip;
     if (text == "cut") return RenderKind::Cut;
     if (text == "orientation") return RenderKind::Orientation;
-    throw Error("--render '" + text + "': expected raycast, mip, cut or orientation");
+    if (text == "slices") return RenderKind::Slices;
+    throw Error("--render '" + text + "': expected raycast, mip, cut, orientation or slices");
 }
+
+namespace {
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+/// The garment's slices, framed like the volume renders.
+RenderReport renderSlices(const VoxelBox& box, const RenderRequest& request) {
+    if (!request.slices) throw Error("--render slices needs the run's garment (--garment FILE.bcc)");
+    GlContext context(GlContextOptions{request.device, false});
+    RenderReport report;
+    report.renderer = context.info().renderer;
+    report.slices = request.slices->count();
+    const auto start = std::chrono::steady_clock::now();
+    SliceRenderer renderer(*request.slices);
+    report.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const Camera camera = frameBox(box, request.view, request.width, request.height);
+    std::vector<double> sorts, draws;
+    for (int i = 0; i < request.repeat; ++i) {
+        SliceFrame f = renderer.render(camera);
+        sorts.push_back(f.sortSeconds), draws.push_back(f.drawSeconds);
+        if (i == 0) report.image = std::move(f.image);
+    }
+    report.frameSeconds = median(draws), report.bestFrameSeconds = *std::min_element(draws.begin(), draws.end());
+    report.sortSeconds = median(sorts), report.bestSortSeconds = *std::min_element(sorts.begin(), sorts.end());
+    drawRegionOutlines(report.image, camera, request.outlines);
+    return report;
+}
+
+} // namespace
 
 RenderReport renderVolume(const VolumeSource& source, const RenderRequest& request) {
     if (source.occupiedBricks().empty()) throw Error("nothing to render: the volume has no active voxels");
@@ -27,6 +61,7 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
         report.image = renderCut(source, box, request.cut);
         return report;
     }
+    if (request.kind == RenderKind::Slices) return renderSlices(box, request);
     if (request.kind == RenderKind::Orientation && !source.hasOrientation())
         throw Error("--render orientation: the volume has no orientation grid");
     const bool orientation = request.kind == RenderKind::Orientation;
@@ -71,6 +106,7 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
     } else {
         report.image = r.image;
     }
+    drawRegionOutlines(report.image, camera, request.outlines);
     return report;
 }
 

@@ -6,18 +6,21 @@
 
 #include "inspect/camera.h"
 #include "inspect/png_image.h"
+#include "inspect/region_outlines.h"
+#include "inspect/slice_instances.h"
 #include "inspect/volume_cut.h"
 #include "inspect/volume_source.h"
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace yv {
 
-enum class RenderKind { Raycast, Mip, Cut, Orientation };
+enum class RenderKind { Raycast, Mip, Cut, Orientation, Slices };
 
-/// Parses raycast|mip|cut|orientation; throws yv::Error otherwise.
+/// Parses raycast|mip|cut|orientation|slices; throws yv::Error otherwise.
 RenderKind parseRenderKind(const std::string& text);
 
 struct RenderRequest {
@@ -32,6 +35,8 @@ struct RenderRequest {
     std::uint64_t gpuBudgetBytes = 512ull << 20; ///< capped at half the free GPU memory where the driver tells
     int device = -1;
     int repeat = 1; ///< frames drawn (the same picture), for timing
+    const SliceInstances* slices = nullptr; ///< Slices: the run's slices (in the source's voxel coordinates)
+    std::vector<RegionHeat> outlines;       ///< region boxes drawn over the picture (not over a cut)
 };
 
 struct RenderReport {
@@ -42,6 +47,8 @@ struct RenderReport {
     std::uint64_t budgetBytes = 0; ///< the budget the level was chosen for
     double meanSamples = 0.0, loadSeconds = 0.0;
     double frameSeconds = 0.0, bestFrameSeconds = 0.0; ///< median and fastest of the repeated frames
+    double sortSeconds = 0.0, bestSortSeconds = 0.0;   ///< Slices: the back-to-front sort (frame: the draw)
+    std::uint64_t slices = 0;
 };
 
 /// Renders `source` as `request` asks. Throws yv::Error (no GL context, an

@@ -72,7 +72,8 @@ std::string encodeMetadata(const VolumeMetadata& m) {
     out << "input=" << m.input << "\nbackend=" << m.backend << "\ncross_section=" << m.crossSection
         << "\nresolution=" << m.resolution << "\nslice_count=" << m.sliceCount << "\nyarn_radius=" << m.yarnRadius
         << "\nyarn_radius_source=" << m.yarnRadiusSource        << "\ntwist=" << m.twist << "\nsupersample=" << m.supersample << "\noverlap=" << m.overlap
-        << "\nslice_spacing=" << m.sliceSpacing << "\n";
+        << "\nslice_spacing=" << m.sliceSpacing << "\nslices_per_segment=" << m.slicesPerSegment
+        << "\nslice_spacing_option=" << m.sliceSpacingOption << "\n";
     return out.str();
 }
 
@@ -94,6 +95,8 @@ VolumeMetadata decodeMetadata(const std::string& text) {
         else if (key == "supersample") m.supersample = std::stoi(value);
         else if (key == "overlap") m.overlap = value;
         else if (key == "slice_spacing") m.sliceSpacing = std::stod(value);
+        else if (key == "slices_per_segment") m.slicesPerSegment = std::stoi(value);
+        else if (key == "slice_spacing_option") m.sliceSpacingOption = std::stod(value);
     }
     return m;
 }

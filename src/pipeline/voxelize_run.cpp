@@ -300,6 +300,8 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     meta.supersample = a.supersample;
     meta.overlap = toString(settings.overlap);
     meta.sliceSpacing = plan.maxSpacing;
+    meta.slicesPerSegment = a.slicesPerSegment;
+    meta.sliceSpacingOption = a.spacing;
 
     VdbWriteTimings writeTimings;
     VdbWriteOptions writeOptions;

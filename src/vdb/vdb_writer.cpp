@@ -455,6 +455,9 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     fileMeta.insertMeta("supersample", openvdb::Int32Metadata(metadata.supersample));
     fileMeta.insertMeta("overlap", openvdb::StringMetadata(metadata.overlap));
     fileMeta.insertMeta("slice_spacing", openvdb::DoubleMetadata(metadata.sliceSpacing));
+    // How the slices were placed, so `inspect --render slices` places them again.
+    fileMeta.insertMeta("slices_per_segment", openvdb::Int32Metadata(metadata.slicesPerSegment));
+    fileMeta.insertMeta("slice_spacing_option", openvdb::DoubleMetadata(metadata.sliceSpacingOption));
     fileMeta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
     if (m.levels.size() > 1) fileMeta.insertMeta("lod_levels", openvdb::Int32Metadata(int(m.levels.size()) - 1));
 

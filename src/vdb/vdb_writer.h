@@ -25,6 +25,8 @@ struct VolumeMetadata {
     int supersample = 1;
     std::string overlap = "clamp"; ///< how interpenetrating yarns add up (mean reduction)
     double sliceSpacing = 0.0;     ///< largest distance between slices along a yarn, world units
+    int slicesPerSegment = 0;      ///< --slices-per-segment as asked (0: not asked)
+    double sliceSpacingOption = 0.0; ///< --slice-spacing as asked (0: one slice per supersampled voxel)
 };
 
 /// How each leaf's values are compressed (OpenVDB's options): only the

@@ -1,0 +1,39 @@
+// `inspect --render slices`: the fragment on a slab's front face cuts its
+// ray with the slab's piece of yarn (a disk of the yarn's radius swept
+// along the thickness) and blends, premultiplied, with opacity from the
+// length of yarn the ray crosses; fragments of back faces are dropped, so
+// each slab counts once a pixel.
+in vec3 localPosition;
+flat in vec3 localEye;
+flat in vec3 halfSize;
+flat in vec3 shade;
+uniform float opacityPerVoxel; // extinction along the ray, per voxel of yarn crossed
+layout(location = 0) out vec4 colour;
+
+void main() {
+    vec3 toFragment = localPosition - localEye;
+    float tFragment = length(toFragment);
+    vec3 d = toFragment / tFragment;
+    // The ray's interval in the box (slab method; IEEE infinities where d has a zero).
+    vec3 inv = 1.0 / d;
+    vec3 t1 = (-halfSize - localEye) * inv, t2 = (halfSize - localEye) * inv;
+    vec3 lo = min(t1, t2), hi = max(t1, t2);
+    float enter = max(max(lo.x, lo.y), lo.z), leave = min(min(hi.x, hi.y), hi.z);
+    if (tFragment - enter > leave - tFragment) discard; // a back face
+    // ... cut with the infinite cylinder x^2 + y^2 < radius^2.
+    float a = dot(d.xy, d.xy), b = dot(localEye.xy, d.xy);
+    float c = dot(localEye.xy, localEye.xy) - halfSize.x * halfSize.x;
+    if (a > 1e-12) {
+        float disc = b * b - a * c;
+        if (disc <= 0.0) discard;
+        float s = sqrt(disc);
+        enter = max(enter, (-b - s) / a);
+        leave = min(leave, (-b + s) / a);
+    } else if (c >= 0.0) {
+        discard;
+    }
+    float crossed = leave - enter;
+    if (crossed <= 0.0) discard;
+    float alpha = 1.0 - exp(-opacityPerVoxel * crossed);
+    colour = vec4(shade * alpha, alpha);
+}

@@ -1,0 +1,36 @@
+// The slices of `yarnvox inspect --render slices` (the paper's own view of
+// the garment, its section 3.5): one record a slice in the voxel grid's
+// coordinates, as the renderer draws them, and their back-to-front order
+// for alpha blending, sorted on every core.
+#pragma once
+
+#include "garment/slices.h"
+#include "plan/grid.h"
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace yv {
+
+/// Two vec4 a slice, in voxel units (voxel (i, j, k) fills [i, i+1) x ...):
+/// (centre, thickness along the yarn) and (unit tangent, yarn radius).
+struct SliceInstances {
+    std::vector<glm::vec4> records; ///< 2 per slice
+    std::uint64_t count() const { return records.size() / 2; }
+    glm::vec3 center(std::uint64_t i) const { return glm::vec3(records[2 * i]); }
+};
+
+/// Places every slice of `plan` (in parallel over its segments) in `grid`'s voxel coordinates.
+SliceInstances sliceInstances(const SlicePlan& plan, const VoxelGrid& grid);
+
+/// Keeps the slices whose centre lies in [lo, hi) (voxel coordinates), in their order.
+void keepSlicesWithin(SliceInstances& slices, glm::dvec3 lo, glm::dvec3 hi);
+
+/// Fills `order` with the slice indices sorted by distance from `eye`,
+/// farthest first (ties by index), sorting on every core (TBB).
+void sortBackToFront(const SliceInstances& slices, glm::dvec3 eye, std::vector<std::uint32_t>& order);
+
+} // namespace yv
