@@ -10,7 +10,8 @@
 #
 #   bench/inspect_frames.sh GARMENT.bcc|VOLUME.vdb|WORKDIR "RESOLUTIONS" [WIDTHxHEIGHT] [voxelize options...]
 #   env: YV_GPU_BUDGET (default 2G), YV_REPEAT (default 5), YV_VIEW (default 30,20,4),
-#        YV_MODES (default "raycast mip orientation")
+#        YV_MODES (default "raycast mip orientation"; also texture-slicing, half-angle, splatting,
+#        which have no empty-space skipping to turn off and are timed once)
 set -euo pipefail
 input=$1 resolutions=$2 size=${3:-800x600}
 shift $(( $# < 3 ? $# : 3 ))
@@ -46,7 +47,9 @@ for res in $resolutions; do
             $((ms / 1000)) $((ms % 1000)) "$(stat -c %s "$volume")"
     fi
     for mode in $modes; do
-        for skip in on off; do
+        skips="on off"
+        case "$mode" in texture-slicing | half-angle | splatting) skips=on ;; esac
+        for skip in $skips; do
             flags=()
             [ "$skip" = off ] && flags+=(--no-skip)
             "$yarnvox" inspect "$volume" --render "$mode" --size "$size" --view "$view" --gpu-budget "$budget" \

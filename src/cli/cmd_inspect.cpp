@@ -268,8 +268,9 @@ std::pair<int, int> parseSize(const std::string& text) {
 }
 
 struct RenderArgs {
-    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M";
+    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M", light;
     std::int64_t region = -1;
+    int slices = 0;
     bool noSkip = false, showSamples = false;
     int device = -1, repeat = 1;
 };
@@ -288,6 +289,16 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
         r.cut = parseCut(a.cut);
     } else if (!a.cut.empty()) {
         throw Error("--cut goes with --render cut");
+    }
+    const bool sliced = r.kind == RenderKind::TextureSlicing || r.kind == RenderKind::HalfAngle;
+    const bool marched = r.kind == RenderKind::Raycast || r.kind == RenderKind::Mip || r.kind == RenderKind::Orientation;
+    if ((a.noSkip || a.showSamples) && !marched)
+        throw Error(std::string(a.noSkip ? "--no-skip" : "--show-samples") + " goes with --render raycast, mip or orientation");
+    if (a.slices > 0 && !sliced) throw Error("--slices goes with --render texture-slicing or half-angle");
+    r.slices = a.slices;
+    if (!a.light.empty()) {
+        if (r.kind != RenderKind::HalfAngle) throw Error("--light goes with --render half-angle");
+        r.light = parseLight(a.light);
     }
     r.gpuBudgetBytes = parseBytes(a.budget, "--gpu-budget");
     r.device = a.device;
@@ -318,6 +329,8 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
                 .set("frame_seconds_median", rep.frameSeconds)
                 .set("frame_seconds_best", rep.bestFrameSeconds)
                 .set("load_seconds", rep.loadSeconds);
+        if (rep.slices) out.set("slices", rep.slices);
+        if (rep.splats) out.set("splats", rep.splats);
         std::printf("%s\n", out.dump().c_str());
         return;
     }
@@ -369,8 +382,11 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--render", render->render,
                     "Draw a picture to -o instead of printing numbers: raycast (transfer function), mip (maximum "
-                    "density along each ray), cut (one plane of voxels, --cut) or orientation (|axis| as RGB)")
-        ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation"}));
+                    "density along each ray), cut (one plane of voxels, --cut), orientation (|axis| as RGB), "
+                    "texture-slicing (view-aligned slices blended back to front), half-angle (slices lit by a "
+                    "directional light, --light, with shadows) or splatting (each voxel a Gaussian splat, for "
+                    "comparing coarse levels with raycast)")
+        ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation", "texture-slicing", "half-angle", "splatting"}));
     cmd->add_option("-o,--output", render->output, "--render: the PNG to write (replaced atomically)");
     cmd->add_option("--view", render->view,
                     "--render: azimuth,elevation,distance: degrees about +z from +x, degrees above the xy plane, "
@@ -383,9 +399,16 @@ void addInspectCommand(CLI::App& app) {
     std::string presets;
     for (const std::string& n : transferFunctionPresets()) presets += (presets.empty() ? "" : ", ") + n;
     cmd->add_option("--tf", render->tf,
-                    "--render raycast|orientation: transfer function, a preset (" + presets +
+                    "--render raycast|orientation|texture-slicing|half-angle|splatting: transfer function, a preset (" + presets +
                         ") or a colour map file (lines 'density r g b opacity', formats/transfer-function.md)")
         ->capture_default_str();
+    cmd->add_option("--slices", render->slices,
+                    "--render texture-slicing|half-angle: slices through the box (0: one per voxel of the drawn "
+                    "level across the box's depth)")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    cmd->add_option("--light", render->light,
+                    "--render half-angle: azimuth,elevation the light comes from, degrees as in --view (default 75,45)");
     cmd->add_flag("--no-skip", render->noSkip, "--render: march every ray through the whole box (no empty-space skipping)");
     cmd->add_flag("--show-samples", render->showSamples, "--render: picture the samples taken per pixel instead");
     cmd->add_option("--cut", render->cut, "--render cut: the plane, x|y|z:INDEX (voxel index)");

@@ -6,6 +6,7 @@
 
 #include "inspect/camera.h"
 #include "inspect/png_image.h"
+#include "inspect/slicing_renderer.h"
 #include "inspect/volume_cut.h"
 #include "inspect/volume_source.h"
 
@@ -15,9 +16,9 @@
 
 namespace yv {
 
-enum class RenderKind { Raycast, Mip, Cut, Orientation };
+enum class RenderKind { Raycast, Mip, Cut, Orientation, TextureSlicing, HalfAngle, Splatting };
 
-/// Parses raycast|mip|cut|orientation; throws yv::Error otherwise.
+/// Parses raycast|mip|cut|orientation|texture-slicing|half-angle|splatting; throws yv::Error otherwise.
 RenderKind parseRenderKind(const std::string& text);
 
 struct RenderRequest {
@@ -32,6 +33,8 @@ struct RenderRequest {
     std::uint64_t gpuBudgetBytes = 512ull << 20; ///< capped at half the free GPU memory where the driver tells
     int device = -1;
     int repeat = 1; ///< frames drawn (the same picture), for timing
+    int slices = 0;     ///< texture-slicing, half-angle: 0 is one per level voxel along the slicing direction
+    LightAngles light;  ///< half-angle
 };
 
 struct RenderReport {
@@ -39,6 +42,7 @@ struct RenderReport {
     std::string renderer;        ///< the GL renderer's name (empty for a cut)
     int level = 0;               ///< 0: full resolution; L: means of 2^L voxels a side
     std::uint64_t fineBricks = 0, levelBricks = 0, gpuBytes = 0, proxyTriangles = 0;
+    std::uint64_t slices = 0, splats = 0; ///< texture-slicing and half-angle; splatting
     std::uint64_t budgetBytes = 0; ///< the budget the level was chosen for
     double meanSamples = 0.0, loadSeconds = 0.0;
     double frameSeconds = 0.0, bestFrameSeconds = 0.0; ///< median and fastest of the repeated frames
