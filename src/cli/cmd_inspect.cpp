@@ -317,7 +317,7 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
         if (r.kind != RenderKind::Cut)
             out.set("view", a.view)
                 .set("renderer", rep.renderer)
-                .set("skip_empty", r.skipEmpty)
+                .set("skip_empty", r.skipEmpty && marched)
                 .set("gpu_budget_bytes", rep.budgetBytes)
                 .set("level", rep.level)
                 .set("fine_bricks", rep.fineBricks)
@@ -349,6 +349,13 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     else
         std::printf("  %llu bricks at full resolution, %s on the GPU\n", static_cast<unsigned long long>(rep.levelBricks),
                     bytesText(double(rep.gpuBytes)).c_str());
+    if (!marched) {
+        const std::string drawn = rep.splats ? std::to_string(rep.splats) + " voxels splatted (the empty ones culled on the GPU)"
+                                             : std::to_string(rep.slices) + " slices";
+        std::printf("  %s; frame %.3f s%s (loading %.3f s)\n", drawn.c_str(), rep.frameSeconds, r.repeat > 1 ? " (median)" : "",
+                    rep.loadSeconds);
+        return;
+    }
     std::printf("  empty-space skipping %s%s; mean samples per pixel %.2f; frame %.3f s%s (loading %.3f s)\n",
                 r.skipEmpty ? "on" : "off",
                 r.skipEmpty ? (" (" + std::to_string(rep.proxyTriangles) + " proxy triangles)").c_str() : "",

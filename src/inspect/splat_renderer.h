@@ -25,7 +25,7 @@ struct SplatSettings {
 
 struct SplatResult {
     RgbImage image;             ///< over black
-    std::uint64_t splats = 0;   ///< voxels drawn (the empty ones of occupied bricks are culled on the GPU)
+    std::uint64_t splats = 0;   ///< voxels of the occupied bricks drawn (the empty ones are culled on the GPU)
     double frameSeconds = 0.0;  ///< sorting and drawing, to glFinish
 };
 
