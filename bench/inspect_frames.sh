@@ -62,5 +62,5 @@ r["resolution"] = int(sys.argv[2]) if sys.argv[2].isdigit() else sys.argv[2]
 print(json.dumps(r))' "$input" "$res"
         done
     done
-    [ "$res" != given ] && rm -f "$volume"
+    if [ "$res" != given ]; then rm -f "$volume"; fi
 done

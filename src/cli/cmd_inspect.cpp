@@ -416,8 +416,8 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--light", render->light,
                     "--render half-angle: azimuth,elevation the light comes from, degrees as in --view (default 75,45)");
-    cmd->add_flag("--no-skip", render->noSkip, "--render: march every ray through the whole box (no empty-space skipping)");
-    cmd->add_flag("--show-samples", render->showSamples, "--render: picture the samples taken per pixel instead");
+    cmd->add_flag("--no-skip", render->noSkip, "--render raycast|mip|orientation: march every ray through the whole box (no empty-space skipping)");
+    cmd->add_flag("--show-samples", render->showSamples, "--render raycast|mip|orientation: picture the samples taken per pixel instead");
     cmd->add_option("--cut", render->cut, "--render cut: the plane, x|y|z:INDEX (voxel index)");
     cmd->add_option("--gpu-budget", render->budget,
                     "--render: GPU memory for the brick atlas (K, M, G); a volume that needs more is drawn at a "

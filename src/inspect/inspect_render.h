@@ -1,7 +1,8 @@
 // `yarnvox inspect --render`: one picture of a work directory or a .vdb.
 // Picks the level of detail the GPU budget allows, streams only that
 // level's bricks into a brick atlas, frames the volume (or one zoom region)
-// and ray casts it; a cut is read at full resolution on the host instead.
+// and ray casts it (or slices or splats it: slicing_renderer.h,
+// splat_renderer.h); a cut is read at full resolution on the host instead.
 #pragma once
 
 #include "inspect/camera.h"
