@@ -11,7 +11,8 @@
 #   bench/inspect_frames.sh GARMENT.bcc|VOLUME.vdb|WORKDIR "RESOLUTIONS" [WIDTHxHEIGHT] [voxelize options...]
 #   env: YV_GPU_BUDGET (default 2G), YV_REPEAT (default 5), YV_VIEW (default 30,20,4),
 #        YV_MODES (default "raycast mip orientation"; "slices" draws the garment's
-#        slices once, with the sort and draw times, no skipping to compare)
+#        slices, with the sort and draw times; texture-slicing, half-angle and
+#        splatting too: these have no empty-space skipping to turn off and are timed once)
 set -euo pipefail
 input=$1 resolutions=$2 size=${3:-800x600}
 shift $(( $# < 3 ? $# : 3 ))
@@ -48,7 +49,7 @@ for res in $resolutions; do
     fi
     for mode in $modes; do
         skips="on off"
-        [ "$mode" = slices ] && skips=on
+        case "$mode" in slices | texture-slicing | half-angle | splatting) skips=on ;; esac
         for skip in $skips; do
             flags=()
             [ "$skip" = off ] && flags+=(--no-skip)
@@ -64,5 +65,5 @@ r["resolution"] = int(sys.argv[2]) if sys.argv[2].isdigit() else sys.argv[2]
 print(json.dumps(r))' "$input" "$res"
         done
     done
-    [ "$res" != given ] && rm -f "$volume"
+    if [ "$res" != given ]; then rm -f "$volume"; fi
 done

@@ -269,8 +269,9 @@ std::pair<int, int> parseSize(const std::string& text) {
 }
 
 struct RenderArgs {
-    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M", garment;
+    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M", garment, light;
     std::int64_t region = -1;
+    int slices = 0;
     bool noSkip = false, showSamples = false, regions = false;
     int device = -1, repeat = 1;
     double yarnRadius = 0.0;
@@ -325,6 +326,16 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     } else if (!a.cut.empty()) {
         throw Error("--cut goes with --render cut");
     }
+    const bool sliced = r.kind == RenderKind::TextureSlicing || r.kind == RenderKind::HalfAngle;
+    const bool marched = r.kind == RenderKind::Raycast || r.kind == RenderKind::Mip || r.kind == RenderKind::Orientation;
+    if ((a.noSkip || a.showSamples) && !marched)
+        throw Error(std::string(a.noSkip ? "--no-skip" : "--show-samples") + " goes with --render raycast, mip or orientation");
+    if (a.slices > 0 && !sliced) throw Error("--slices goes with --render texture-slicing or half-angle");
+    r.slicePlanes = a.slices;
+    if (!a.light.empty()) {
+        if (r.kind != RenderKind::HalfAngle) throw Error("--light goes with --render half-angle");
+        r.light = parseLight(a.light);
+    }
     r.gpuBudgetBytes = parseBytes(a.budget, "--gpu-budget");
     r.device = a.device;
     r.repeat = a.repeat;
@@ -374,7 +385,7 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
         } else if (r.kind != RenderKind::Cut)
             out.set("view", a.view)
                 .set("renderer", rep.renderer)
-                .set("skip_empty", r.skipEmpty)
+                .set("skip_empty", r.skipEmpty && marched)
                 .set("gpu_budget_bytes", rep.budgetBytes)
                 .set("level", rep.level)
                 .set("fine_bricks", rep.fineBricks)
@@ -386,6 +397,8 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
                 .set("frame_seconds_median", rep.frameSeconds)
                 .set("frame_seconds_best", rep.bestFrameSeconds)
                 .set("load_seconds", rep.loadSeconds);
+        if (rep.slices) out.set("slices", rep.slices);
+        if (rep.splats) out.set("splats", rep.splats);
         std::printf("%s\n", out.dump().c_str());
         return;
     }
@@ -413,6 +426,13 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     else
         std::printf("  %llu bricks at full resolution, %s on the GPU\n", static_cast<unsigned long long>(rep.levelBricks),
                     bytesText(double(rep.gpuBytes)).c_str());
+    if (!marched) {
+        const std::string drawn = rep.splats ? std::to_string(rep.splats) + " voxels splatted (the empty ones culled on the GPU)"
+                                             : std::to_string(rep.slices) + " slices";
+        std::printf("  %s; frame %.3f s%s (loading %.3f s)\n", drawn.c_str(), rep.frameSeconds, r.repeat > 1 ? " (median)" : "",
+                    rep.loadSeconds);
+        return;
+    }
     std::printf("  empty-space skipping %s%s; mean samples per pixel %.2f; frame %.3f s%s (loading %.3f s)\n",
                 r.skipEmpty ? "on" : "off",
                 r.skipEmpty ? (" (" + std::to_string(rep.proxyTriangles) + " proxy triangles)").c_str() : "",
@@ -446,10 +466,14 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--render", render->render,
                     "Draw a picture to -o instead of printing numbers: raycast (transfer function), mip (maximum "
-                    "density along each ray), cut (one plane of voxels, --cut), orientation (|axis| as RGB) or slices "
+                    "density along each ray), cut (one plane of voxels, --cut), orientation (|axis| as RGB), slices "
                     "(the run's garment as alpha-blended slices shaded by fibre orientation, sorted back to front on "
-                    "every core; the garment and slice options the run recorded, or --garment)")
-        ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation", "slices"}));
+                    "every core; the garment and slice options the run recorded, or --garment), texture-slicing "
+                    "(view-aligned planes blended back to front, --slices), half-angle (planes lit by a directional "
+                    "light, --light, with shadows) or splatting (each voxel a Gaussian splat, for comparing coarse "
+                    "levels with raycast)")
+        ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation", "slices", "texture-slicing", "half-angle",
+                               "splatting"}));
     cmd->add_option("-o,--output", render->output, "--render: the PNG to write (replaced atomically)");
     cmd->add_option("--view", render->view,
                     "--render: azimuth,elevation,distance: degrees about +z from +x, degrees above the xy plane, "
@@ -472,11 +496,18 @@ void addInspectCommand(CLI::App& app) {
     std::string presets;
     for (const std::string& n : transferFunctionPresets()) presets += (presets.empty() ? "" : ", ") + n;
     cmd->add_option("--tf", render->tf,
-                    "--render raycast|orientation: transfer function, a preset (" + presets +
+                    "--render raycast|orientation|texture-slicing|half-angle|splatting: transfer function, a preset (" + presets +
                         ") or a colour map file (lines 'density r g b opacity', formats/transfer-function.md)")
         ->capture_default_str();
-    cmd->add_flag("--no-skip", render->noSkip, "--render: march every ray through the whole box (no empty-space skipping)");
-    cmd->add_flag("--show-samples", render->showSamples, "--render: picture the samples taken per pixel instead");
+    cmd->add_option("--slices", render->slices,
+                    "--render texture-slicing|half-angle: slices through the box (0: one per voxel of the drawn "
+                    "level across the box's depth)")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    cmd->add_option("--light", render->light,
+                    "--render half-angle: azimuth,elevation the light comes from, degrees as in --view (default 75,45)");
+    cmd->add_flag("--no-skip", render->noSkip, "--render raycast|mip|orientation: march every ray through the whole box (no empty-space skipping)");
+    cmd->add_flag("--show-samples", render->showSamples, "--render raycast|mip|orientation: picture the samples taken per pixel instead");
     cmd->add_option("--cut", render->cut, "--render cut: the plane, x|y|z:INDEX (voxel index)");
     cmd->add_option("--gpu-budget", render->budget,
                     "--render: GPU memory for the brick atlas (K, M, G); a volume that needs more is drawn at a "

@@ -5,6 +5,7 @@
 #include "inspect/brick_atlas.h"
 #include "inspect/raycast_renderer.h"
 #include "inspect/slice_renderer.h"
+#include "inspect/splat_renderer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -18,7 +19,11 @@ RenderKind parseRenderKind(const std::string& text) {
     if (text == "cut") return RenderKind::Cut;
     if (text == "orientation") return RenderKind::Orientation;
     if (text == "slices") return RenderKind::Slices;
-    throw Error("--render '" + text + "': expected raycast, mip, cut, orientation or slices");
+    if (text == "texture-slicing") return RenderKind::TextureSlicing;
+    if (text == "half-angle") return RenderKind::HalfAngle;
+    if (text == "splatting") return RenderKind::Splatting;
+    throw Error("--render '" + text +
+                "': expected raycast, mip, cut, orientation, slices, texture-slicing, half-angle or splatting");
 }
 
 namespace {
@@ -51,6 +56,41 @@ RenderReport renderSlices(const VoxelBox& box, const RenderRequest& request) {
     return report;
 }
 
+/// texture-slicing, half-angle and splatting: `request.repeat` frames of
+/// the atlas's level, framed on `box` as the ray caster frames it.
+void renderSlicedOrSplatted(const BrickAtlas& atlas, const VoxelBox& box, const RenderRequest& request,
+                            const TransferFunction& tf, RenderReport& report) {
+    const Camera camera = frameBox(box, request.view, request.width, request.height);
+    std::vector<double> frames;
+    if (request.kind == RenderKind::Splatting) {
+        SplatRenderer renderer(atlas);
+        SplatSettings settings;
+        settings.transferFunction = tf;
+        for (int i = 0; i < std::max(1, request.repeat); ++i) {
+            SplatResult r = renderer.render(camera, settings);
+            frames.push_back(r.frameSeconds);
+            report.splats = r.splats;
+            report.image = std::move(r.image);
+        }
+    } else {
+        SlicingRenderer renderer(atlas, request.kind == RenderKind::HalfAngle ? SlicingMode::HalfAngle : SlicingMode::TextureSlicing);
+        SlicingSettings settings;
+        settings.transferFunction = tf;
+        settings.slices = request.slicePlanes;
+        settings.light = request.light;
+        for (int i = 0; i < std::max(1, request.repeat); ++i) {
+            SlicingResult r = renderer.render(camera, settings);
+            frames.push_back(r.frameSeconds);
+            report.slices = std::uint64_t(r.slices);
+            report.image = std::move(r.image);
+        }
+    }
+    std::sort(frames.begin(), frames.end());
+    report.frameSeconds = frames[frames.size() / 2];
+    report.bestFrameSeconds = frames.front();
+    drawRegionOutlines(report.image, camera, request.outlines);
+}
+
 } // namespace
 
 RenderReport renderVolume(const VolumeSource& source, const RenderRequest& request) {
@@ -80,6 +120,15 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
     streamLevelBricks(source, box, plan, orientation, [&](const LevelBrick& b) { atlas.upload(b); });
     atlas.finish();
     report.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    report.level = plan.level;
+    report.fineBricks = plan.fineBricks;
+    report.levelBricks = plan.bricks.size();
+    report.gpuBytes = plan.gpuBytes;
+    if (request.kind == RenderKind::TextureSlicing || request.kind == RenderKind::HalfAngle ||
+        request.kind == RenderKind::Splatting) {
+        renderSlicedOrSplatted(atlas, box, request, tf, report);
+        return report;
+    }
 
     RaycastRenderer renderer(atlas, request.kind == RenderKind::Mip           ? RenderMode::Mip
                                     : request.kind == RenderKind::Orientation ? RenderMode::Orientation
@@ -92,10 +141,6 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
     std::vector<double> frames = {r.frameSeconds};
     for (int i = 1; i < request.repeat; ++i) frames.push_back(renderer.render(camera, settings).frameSeconds);
     std::sort(frames.begin(), frames.end());
-    report.level = plan.level;
-    report.fineBricks = plan.fineBricks;
-    report.levelBricks = plan.bricks.size();
-    report.gpuBytes = plan.gpuBytes;
     report.proxyTriangles = request.skipEmpty ? r.proxyTriangles : 0;
     report.meanSamples = r.meanSamples;
     report.frameSeconds = frames[frames.size() / 2];
