@@ -10,7 +10,9 @@
 #
 #   bench/inspect_frames.sh GARMENT.bcc|VOLUME.vdb|WORKDIR "RESOLUTIONS" [WIDTHxHEIGHT] [voxelize options...]
 #   env: YV_GPU_BUDGET (default 2G), YV_REPEAT (default 5), YV_VIEW (default 30,20,4),
-#        YV_MODES (default "raycast mip orientation")
+#        YV_MODES (default "raycast mip orientation"; also isosurface and
+#        volumetric-triangles, which draws the garment the volume records,
+#        so it has no empty-space skipping to turn off)
 set -euo pipefail
 input=$1 resolutions=$2 size=${3:-800x600}
 shift $(( $# < 3 ? $# : 3 ))
@@ -46,7 +48,9 @@ for res in $resolutions; do
             $((ms / 1000)) $((ms % 1000)) "$(stat -c %s "$volume")"
     fi
     for mode in $modes; do
-        for skip in on off; do
+        skips="on off"
+        [ "$mode" = volumetric-triangles ] && skips=on
+        for skip in $skips; do
             flags=()
             [ "$skip" = off ] && flags+=(--no-skip)
             "$yarnvox" inspect "$volume" --render "$mode" --size "$size" --view "$view" --gpu-budget "$budget" \

@@ -8,7 +8,10 @@
 #include "inspect/inspect_render.h"
 #include "inspect/inspect_store.h"
 #include "inspect/inspect_vdb.h"
+#include "inspect/isosurface_mesh.h"
 #include "inspect/transfer_function.h"
+#include "inspect/volumetric_triangles.h"
+#include "pipeline/preview_slices.h"
 
 #include <CLI/CLI.hpp>
 
@@ -268,8 +271,11 @@ std::pair<int, int> parseSize(const std::string& text) {
 }
 
 struct RenderArgs {
-    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M";
+    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M", mesh;
     std::int64_t region = -1;
+    double iso = 0.5;
+    int meshLevel = -1;
+    PreviewSliceOptions slices; ///< volumetric-triangles: how the garment is sliced
     bool noSkip = false, showSamples = false;
     int device = -1, repeat = 1;
 };
@@ -283,6 +289,7 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     r.transferFunction = a.tf;
     r.skipEmpty = !a.noSkip;
     r.showSamples = a.showSamples;
+    r.isoValue = a.iso;
     if (r.kind == RenderKind::Cut) {
         if (a.cut.empty()) throw Error("--render cut needs --cut x|y|z:INDEX");
         r.cut = parseCut(a.cut);
@@ -296,8 +303,24 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     checkOutputPath(a.output, "-o", {input});
     if (r.kind != RenderKind::Cut) loadTransferFunction(r.transferFunction); // a bad --tf fails before any work
 
-    const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
-    const RenderReport rep = renderVolume(*source, r);
+    RenderReport rep;
+    if (r.kind == RenderKind::VolumetricTriangles) {
+        // A garment is sliced as voxelize slices it; a volume's slices come
+        // from the garment it was made from, framed by the volume's own box.
+        const bool garment = !std::filesystem::is_directory(input) && std::filesystem::path(input).extension() != ".vdb";
+        const PreviewSlices slices = garment ? garmentPreviewSlices(input, a.slices) : volumePreviewSlices(input, a.slices);
+        VoxelBox box = sliceBox(slices.plan, slices.grid);
+        if (!garment) {
+            const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
+            box = r.region ? source->regionBounds(*r.region) : source->bounds();
+        } else if (r.region) {
+            throw Error("--region needs a work directory, not a garment");
+        }
+        rep = renderVolumetricTriangles(slices.plan, slices.grid, box, r);
+    } else {
+        const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
+        rep = renderVolume(*source, r);
+    }
     writePng(a.output, rep.image);
     if (json) {
         JsonObject out;
@@ -326,6 +349,11 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
                     rep.image.height);
         return;
     }
+    if (r.kind == RenderKind::VolumetricTriangles) {
+        std::printf("%s: volumetric-triangles, %dx%d, on %s; frame %.3f s%s (slices placed and drawn)\n", a.output.c_str(),
+                    r.width, r.height, rep.renderer.c_str(), rep.frameSeconds, r.repeat > 1 ? " (median)" : "");
+        return;
+    }
     std::printf("%s: %s, %dx%d, on %s\n", a.output.c_str(), a.render.c_str(), r.width, r.height, rep.renderer.c_str());
     if (rep.level > 0)
         std::printf("  the %llu occupied bricks exceed the GPU budget (%s): drawn at level %d, each voxel the mean of "
@@ -340,6 +368,44 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
                 r.skipEmpty ? "on" : "off",
                 r.skipEmpty ? (" (" + std::to_string(rep.proxyTriangles) + " proxy triangles)").c_str() : "",
                 rep.meanSamples, rep.frameSeconds, r.repeat > 1 ? " (median)" : "", rep.loadSeconds);
+}
+
+/// --mesh: the isosurface at --iso as a mesh, at --mesh-level or at full
+/// resolution when its estimated size is within kMeshTriangleLimit.
+void meshToFile(const std::string& input, const RenderArgs& a, bool json) {
+    checkMeshPath(a.mesh);
+    checkOutputPath(a.mesh, "--mesh", {input});
+    const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
+    if (source->occupiedBricks().empty()) throw Error("nothing to mesh: the volume has no active voxels");
+    const VoxelBox box = a.region >= 0 ? source->regionBounds(std::uint64_t(a.region)) : source->bounds();
+    const int level = std::max(a.meshLevel, 0);
+    const std::uint64_t estimate = estimateMeshTriangles(*source, box, level);
+    if (a.meshLevel < 0 && estimate > kMeshTriangleLimit) {
+        int coarser = 1;
+        while (coarser < 21 && estimateMeshTriangles(*source, box, coarser) > kMeshTriangleLimit) ++coarser;
+        throw Error("--mesh " + a.mesh + ": the full-resolution isosurface would have about " +
+                    std::to_string(estimate / 1000000) + " million triangles (about " +
+                    bytesText(double(estimate) * 19.0) + " as PLY), above the " +
+                    std::to_string(kMeshTriangleLimit / 1000000) + " million written without --mesh-level; give --mesh-level " +
+                    std::to_string(coarser) + " (about " +
+                    std::to_string(estimateMeshTriangles(*source, box, coarser) / 1000000) + " million) or coarser");
+    }
+    const IsosurfaceMesh mesh = extractIsosurface(*source, box, a.iso, level);
+    writeMesh(a.mesh, mesh);
+    if (json) {
+        std::printf("%s\n", JsonObject()
+                                .set("path", input)
+                                .set("mesh", a.mesh)
+                                .set("iso", a.iso)
+                                .set("level", level)
+                                .set("vertices", std::uint64_t(mesh.vertices.size()))
+                                .set("triangles", std::uint64_t(mesh.triangles.size()))
+                                .dump()
+                                .c_str());
+        return;
+    }
+    std::printf("%s: isosurface at density %g%s, %zu vertices, %zu triangles (voxel coordinates)\n", a.mesh.c_str(), a.iso,
+                level ? (", level " + std::to_string(level)).c_str() : "", mesh.vertices.size(), mesh.triangles.size());
 }
 
 } // namespace
@@ -369,8 +435,11 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--render", render->render,
                     "Draw a picture to -o instead of printing numbers: raycast (transfer function), mip (maximum "
-                    "density along each ray), cut (one plane of voxels, --cut) or orientation (|axis| as RGB)")
-        ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation"}));
+                    "density along each ray), cut (one plane of voxels, --cut), orientation (|axis| as RGB) or "
+                    "isosurface (the surface at density --iso, shaded by the density gradient) or volumetric-triangles "
+                    "(the garment's slices as blurred volumetric triangles, no voxelizing; the path may be a .bcc "
+                    "garment, or a volume whose recorded garment is still there)")
+        ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation", "isosurface", "volumetric-triangles"}));
     cmd->add_option("-o,--output", render->output, "--render: the PNG to write (replaced atomically)");
     cmd->add_option("--view", render->view,
                     "--render: azimuth,elevation,distance: degrees about +z from +x, degrees above the xy plane, "
@@ -388,6 +457,30 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--no-skip", render->noSkip, "--render: march every ray through the whole box (no empty-space skipping)");
     cmd->add_flag("--show-samples", render->showSamples, "--render: picture the samples taken per pixel instead");
+    cmd->add_option("--iso", render->iso, "--render isosurface and --mesh: the density the surface lies at")
+        ->check(CLI::Range(1e-6, 1e6))
+        ->capture_default_str();
+    cmd->add_option("--mesh", render->mesh,
+                    "Write the isosurface at --iso as a mesh (.ply binary or .obj, voxel coordinates), extracted by "
+                    "OpenVDB's volumeToMesh; refused when larger than about 100 million triangles unless --mesh-level");
+    cmd->add_option("--mesh-level", render->meshLevel,
+                    "--mesh: extract at this level of detail (0: full resolution; L: each voxel the mean of 2^L a side)")
+        ->check(CLI::Range(0, 20));
+    cmd->add_option("--yarn-radius", render->slices.yarnRadius,
+                    "--render volumetric-triangles: yarn radius, world units (default: the volume's, else the garment "
+                    "file's, else estimated)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--resolution", render->slices.resolution,
+                    "--render volumetric-triangles of a garment: voxels on the longest axis of the grid it is drawn on "
+                    "(sets the blur and the slice spacing; default " + std::to_string(kPreviewResolution) + ")")
+        ->check(CLI::Range(8, 1 << 20));
+    cmd->add_option("--slice-spacing", render->slices.spacing,
+                    "--render volumetric-triangles: distance between slices along a yarn, world units (default: one "
+                    "voxel, as voxelize)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--slices-per-segment", render->slices.slicesPerSegment,
+                    "--render volumetric-triangles: slices per curve segment, instead of --slice-spacing")
+        ->check(CLI::Range(1, 100000));
     cmd->add_option("--cut", render->cut, "--render cut: the plane, x|y|z:INDEX (voxel index)");
     cmd->add_option("--gpu-budget", render->budget,
                     "--render: GPU memory for the brick atlas (K, M, G); a volume that needs more is drawn at a "
@@ -399,10 +492,13 @@ void addInspectCommand(CLI::App& app) {
     cmd->add_option("--device", render->device, "--render: EGL device index (-1: the first GPU, else llvmpipe)")
         ->capture_default_str();
     cmd->callback([args, render] {
+        if (render->meshLevel >= 0 && render->mesh.empty()) throw Error("--mesh-level goes with --mesh");
+        if (!render->mesh.empty()) meshToFile(args->path, *render, args->json && render->render.empty());
         if (!render->render.empty()) {
             renderToPng(args->path, *render, args->json);
             return;
         }
+        if (!render->mesh.empty()) return;
         if (!render->output.empty()) throw Error("-o goes with --render");
         if (std::filesystem::is_directory(args->path))
             reportStore(args->path, args->json, args->verify, args->sort, args->limit);

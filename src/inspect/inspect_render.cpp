@@ -16,7 +16,9 @@ RenderKind parseRenderKind(const std::string& text) {
     if (text == "mip") return RenderKind::Mip;
     if (text == "cut") return RenderKind::Cut;
     if (text == "orientation") return RenderKind::Orientation;
-    throw Error("--render '" + text + "': expected raycast, mip, cut or orientation");
+    if (text == "isosurface") return RenderKind::Isosurface;
+    if (text == "volumetric-triangles") return RenderKind::VolumetricTriangles;
+    throw Error("--render '" + text + "': expected raycast, mip, cut, orientation, isosurface or volumetric-triangles");
 }
 
 RenderReport renderVolume(const VolumeSource& source, const RenderRequest& request) {
@@ -27,6 +29,8 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
         report.image = renderCut(source, box, request.cut);
         return report;
     }
+    if (request.kind == RenderKind::VolumetricTriangles)
+        throw Error("--render volumetric-triangles draws a garment's slices (renderVolumetricTriangles), not a volume's voxels");
     if (request.kind == RenderKind::Orientation && !source.hasOrientation())
         throw Error("--render orientation: the volume has no orientation grid");
     const bool orientation = request.kind == RenderKind::Orientation;
@@ -48,10 +52,12 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
 
     RaycastRenderer renderer(atlas, request.kind == RenderKind::Mip           ? RenderMode::Mip
                                     : request.kind == RenderKind::Orientation ? RenderMode::Orientation
+                                    : request.kind == RenderKind::Isosurface  ? RenderMode::Isosurface
                                                                               : RenderMode::Raycast);
     RaycastSettings settings;
     settings.skipEmpty = request.skipEmpty;
     settings.transferFunction = tf;
+    settings.isoValue = request.isoValue;
     const Camera camera = frameBox(box, request.view, request.width, request.height);
     RaycastResult r = renderer.render(camera, settings);
     std::vector<double> frames = {r.frameSeconds};

@@ -15,9 +15,9 @@
 
 namespace yv {
 
-enum class RenderKind { Raycast, Mip, Cut, Orientation };
+enum class RenderKind { Raycast, Mip, Cut, Orientation, Isosurface, VolumetricTriangles };
 
-/// Parses raycast|mip|cut|orientation; throws yv::Error otherwise.
+/// Parses raycast|mip|cut|orientation|isosurface|volumetric-triangles; throws yv::Error otherwise.
 RenderKind parseRenderKind(const std::string& text);
 
 struct RenderRequest {
@@ -29,6 +29,7 @@ struct RenderRequest {
     bool skipEmpty = true;
     bool showSamples = false; ///< the picture shows samples per pixel instead
     CutPlane cut;
+    double isoValue = 0.5; ///< isosurface: the density the surface lies at
     std::uint64_t gpuBudgetBytes = 512ull << 20; ///< capped at half the free GPU memory where the driver tells
     int device = -1;
     int repeat = 1; ///< frames drawn (the same picture), for timing
