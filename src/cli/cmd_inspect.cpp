@@ -316,7 +316,7 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
         } else if (r.region) {
             throw Error("--region needs a work directory, not a garment");
         }
-        rep = renderVolumetricTriangles(slices.plan, slices.grid, box, r);
+        rep = renderVolumetricTriangles(slices.plan, slices.grid, box, r, slices.yarnDensity);
     } else {
         const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
         rep = renderVolume(*source, r);
@@ -478,6 +478,9 @@ void addInspectCommand(CLI::App& app) {
                     "--render volumetric-triangles: distance between slices along a yarn, world units (default: one "
                     "voxel, as voxelize)")
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--cross-section", render->slices.crossSection,
+                    "--render volumetric-triangles: fibre density on each slice, fibers, disk or FILE.png; its mean "
+                    "over the yarn's disk is the preview's density (default: the volume's, else fibers)");
     cmd->add_option("--slices-per-segment", render->slices.slicesPerSegment,
                     "--render volumetric-triangles: slices per curve segment, instead of --slice-spacing")
         ->check(CLI::Range(1, 100000));

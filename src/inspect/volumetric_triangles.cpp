@@ -53,7 +53,7 @@ VoxelBox sliceBox(const SlicePlan& plan, const VoxelGrid& grid) {
 }
 
 RenderReport renderVolumetricTriangles(const SlicePlan& plan, const VoxelGrid& grid, const VoxelBox& box,
-                                       const RenderRequest& request) {
+                                       const RenderRequest& request, double yarnDensity) {
     if (plan.sliceCount == 0) throw Error("nothing to render: the garment has no slices");
     if (box.empty()) throw Error("nothing to render: the slices reach no voxel of the grid");
     const TransferFunction tf = loadTransferFunction(request.transferFunction);
@@ -152,9 +152,11 @@ RenderReport renderVolumetricTriangles(const SlicePlan& plan, const VoxelGrid& g
     glGetTextureImage(target, 0, GL_RED, GL_FLOAT, GLsizei(absorbance.size() * sizeof(float)), absorbance.data());
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlError("reading volumetric triangles back");
-    // The transfer function's opacity per voxel at density 1 gives the
-    // extinction; its colour is the fibre's. Over black, as the ray cast.
-    const glm::vec4 fibre = tf.back();
+    // The absorbance is the length of yarn on the ray, in voxels; the
+    // transfer function's opacity per voxel at the yarn's density turns it
+    // into opacity, its colour is the fibre's. Over black, as the ray cast.
+    const std::size_t entry = std::size_t(std::lround(std::clamp(yarnDensity, 0.0, 1.0) * double(tf.size() - 1)));
+    const glm::vec4 fibre = tf[entry];
     const double extinction = -std::log(1.0 - std::min(double(fibre.a), 0.9999));
     report.image = RgbImage(w, h);
     for (int y = 0; y < h; ++y)

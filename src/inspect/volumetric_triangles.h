@@ -18,10 +18,11 @@ VoxelBox sliceBox(const SlicePlan& plan, const VoxelGrid& grid);
 
 /// Draws the slices of `plan`, placed on `grid` (coordinates in its voxels),
 /// with the camera framing `box` as the other renders frame a volume. Each
-/// slice is density 1 inside the yarn's disk over its slab; the picture's
-/// colour and opacity per voxel of that density are the transfer function's
-/// at density 1. Throws yv::Error (no GL context, no slices).
+/// slice's slab holds fibre of density `yarnDensity` inside the yarn's disk;
+/// the picture's colour and opacity per voxel of yarn are the transfer
+/// function's at that density, as the ray cast of a volume of it would
+/// show. Throws yv::Error (no GL context, no slices).
 RenderReport renderVolumetricTriangles(const SlicePlan& plan, const VoxelGrid& grid, const VoxelBox& box,
-                                       const RenderRequest& request);
+                                       const RenderRequest& request, double yarnDensity = 1.0);
 
 } // namespace yv

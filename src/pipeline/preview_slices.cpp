@@ -48,13 +48,29 @@ std::string findGarment(const std::string& recorded, const std::string& volumePa
     throw Error(volumePath + ": made from " + recorded + ", which is not there" + ask);
 }
 
+/// Mean density of `xs` over the unit disk (texel centres inside it).
+double diskMean(const CrossSection& xs) {
+    double sum = 0.0;
+    int n = 0;
+    for (int y = 0; y < xs.size; ++y)
+        for (int x = 0; x < xs.size; ++x) {
+            const double u = (x + 0.5) / xs.size * 2.0 - 1.0, v = (y + 0.5) / xs.size * 2.0 - 1.0;
+            if (u * u + v * v > 1.0) continue;
+            sum += xs.density[std::size_t(y) * std::size_t(xs.size) + std::size_t(x)] / 255.0;
+            ++n;
+        }
+    return n ? sum / n : 1.0;
+}
+
 } // namespace
 
 PreviewSlices garmentPreviewSlices(const std::string& path, const PreviewSliceOptions& o) {
     PreviewSlices p;
     p.garment = path;
     Garment garment = readGarment(path);
-    const YarnRadiusChoice radius = chooseYarnRadius(o.yarnRadius, makeCrossSection("disk"), garment, path);
+    const CrossSection xs = makeCrossSection(o.crossSection.empty() ? "fibers" : o.crossSection);
+    p.yarnDensity = diskMean(xs);
+    const YarnRadiusChoice radius = chooseYarnRadius(o.yarnRadius, xs, garment, path);
     const int resolution = o.resolution > 0 ? o.resolution : kPreviewResolution;
     const double voxelSize = voxelSizeFor(garment, radius.radius, resolution, 0.0);
     p.plan = planPreview(garment, path, o, radius.radius, voxelSize, 1);
@@ -83,6 +99,7 @@ PreviewSlices volumePreviewSlices(const std::string& volumePath, const PreviewSl
             if (!fileMeta->metaValue<std::string>("yarnvox_version").size())
                 throw Error(volumePath + ": not made by yarnvox");
             meta.input = fileMeta->metaValue<std::string>("input");
+            meta.crossSection = fileMeta->metaValue<std::string>("cross_section");
             meta.yarnRadius = fileMeta->metaValue<double>("yarn_radius");
             meta.supersample = fileMeta->metaValue<int>("supersample");
             grid.voxelSize = fileMeta->metaValue<double>("voxel_size");
@@ -100,6 +117,12 @@ PreviewSlices volumePreviewSlices(const std::string& volumePath, const PreviewSl
     }
     PreviewSlices p;
     p.garment = findGarment(meta.input, volumePath);
+    const std::string xsName = !o.crossSection.empty() ? o.crossSection : !meta.crossSection.empty() ? meta.crossSection : "fibers";
+    try {
+        p.yarnDensity = diskMean(makeCrossSection(xsName));
+    } catch (const Error& e) {
+        throw Error(volumePath + ": its cross-section " + xsName + ": " + e.what() + " (give --cross-section)");
+    }
     Garment garment = readGarment(p.garment);
     const double radius = o.yarnRadius > 0.0 ? o.yarnRadius : meta.yarnRadius;
     if (!(radius > 0.0)) throw Error(volumePath + ": records no yarn radius (give --yarn-radius)");

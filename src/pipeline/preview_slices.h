@@ -16,6 +16,7 @@ struct PreviewSliceOptions {
     int resolution = 0;        ///< voxels on the longest axis; 0: kPreviewResolution
     double spacing = 0.0;      ///< slice spacing, world units; 0: one slice per voxel
     int slicesPerSegment = 0;  ///< instead of spacing, when > 0
+    std::string crossSection;  ///< fibers, disk or FILE.png; "": the volume's, else voxelize's default (fibers)
 };
 
 /// The grid a preview of a bare garment uses when no --resolution is given.
@@ -25,6 +26,7 @@ struct PreviewSlices {
     std::string garment; ///< the garment file the slices come from
     SlicePlan plan;
     VoxelGrid grid;
+    double yarnDensity = 1.0; ///< the cross-section's mean density inside the yarn's disk
 };
 
 /// Slices of the garment file at `path`. Throws yv::Error naming the file.
