@@ -326,7 +326,13 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
         JsonObject out;
         out.set("path", input).set("output", a.output).set("render", a.render).set("width", rep.image.width)
             .set("height", rep.image.height);
-        if (r.kind != RenderKind::Cut)
+        if (r.kind == RenderKind::VolumetricTriangles)
+            out.set("view", a.view)
+                .set("renderer", rep.renderer)
+                .set("frames", r.repeat)
+                .set("frame_seconds_median", rep.frameSeconds)
+                .set("frame_seconds_best", rep.bestFrameSeconds);
+        else if (r.kind != RenderKind::Cut)
             out.set("view", a.view)
                 .set("renderer", rep.renderer)
                 .set("skip_empty", r.skipEmpty)
@@ -420,7 +426,8 @@ void addInspectCommand(CLI::App& app) {
     auto render = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand(
         "inspect", "Numbers about a voxelization: a work directory's regions, or a .vdb's grids and voxels");
-    cmd->add_option("path", args->path, "A work directory (--work-dir, --keep-work-dir) or an OpenVDB file with a float 'density' grid")
+    cmd->add_option("path", args->path, "A work directory (--work-dir, --keep-work-dir) or an OpenVDB file with a float 'density' grid (or, "
+                    "for --render volumetric-triangles, a .bcc garment)")
         ->required()
         ->check(CLI::ExistingPath);
     cmd->add_flag("--json", args->json, "Print JSON instead of text");
@@ -435,7 +442,7 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--render", render->render,
                     "Draw a picture to -o instead of printing numbers: raycast (transfer function), mip (maximum "
-                    "density along each ray), cut (one plane of voxels, --cut), orientation (|axis| as RGB) or "
+                    "density along each ray), cut (one plane of voxels, --cut), orientation (|axis| as RGB), "
                     "isosurface (the surface at density --iso, shaded by the density gradient) or volumetric-triangles "
                     "(the garment's slices as blurred volumetric triangles, no voxelizing; the path may be a .bcc "
                     "garment, or a volume whose recorded garment is still there)")

@@ -54,7 +54,7 @@ std::uint64_t estimateMeshTriangles(const VolumeSource& source, const VoxelBox& 
         levelBricks.insert((std::uint64_t(std::uint32_t(b.x) & 0x1fffff) << 42) |
                            (std::uint64_t(std::uint32_t(b.y) & 0x1fffff) << 21) | std::uint64_t(std::uint32_t(b.z) & 0x1fffff));
     }
-    return 128u * std::uint64_t(levelBricks.size());
+    return 384u * std::uint64_t(levelBricks.size());
 }
 
 IsosurfaceMesh extractIsosurface(const VolumeSource& source, const VoxelBox& box, double isoValue, int level) {
