@@ -11,8 +11,10 @@
 #   bench/inspect_frames.sh GARMENT.bcc|VOLUME.vdb|WORKDIR "RESOLUTIONS" [WIDTHxHEIGHT] [voxelize options...]
 #   env: YV_GPU_BUDGET (default 2G), YV_REPEAT (default 5), YV_VIEW (default 30,20,4),
 #        YV_MODES (default "raycast mip orientation"; "slices" draws the garment's
-#        slices, with the sort and draw times; texture-slicing, half-angle and
-#        splatting too: these have no empty-space skipping to turn off and are timed once)
+#        slices, with the sort and draw times; texture-slicing, half-angle,
+#        splatting and volumetric-triangles (the garment the volume records)
+#        have no empty-space skipping to turn off and are timed once; isosurface
+#        is timed with and without)
 set -euo pipefail
 input=$1 resolutions=$2 size=${3:-800x600}
 shift $(( $# < 3 ? $# : 3 ))
@@ -49,7 +51,7 @@ for res in $resolutions; do
     fi
     for mode in $modes; do
         skips="on off"
-        case "$mode" in slices | texture-slicing | half-angle | splatting) skips=on ;; esac
+        case "$mode" in slices | texture-slicing | half-angle | splatting | volumetric-triangles) skips=on ;; esac
         for skip in $skips; do
             flags=()
             [ "$skip" = off ] && flags+=(--no-skip)

@@ -9,7 +9,10 @@
 #include "inspect/inspect_store.h"
 #include "inspect/inspect_vdb.h"
 #include "inspect/run_slices.h"
+#include "inspect/isosurface_mesh.h"
 #include "inspect/transfer_function.h"
+#include "inspect/volumetric_triangles.h"
+#include "pipeline/preview_slices.h"
 
 #include <CLI/CLI.hpp>
 
@@ -269,9 +272,13 @@ std::pair<int, int> parseSize(const std::string& text) {
 }
 
 struct RenderArgs {
-    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M", garment, light;
+    std::string render, output, view = "30,20,4", size = "800x600", tf = "fibre", cut, budget = "512M", garment, light,
+        mesh;
     std::int64_t region = -1;
     int slices = 0;
+    double iso = 0.5;
+    int meshLevel = -1;
+    PreviewSliceOptions preview; ///< volumetric-triangles: how the garment is sliced
     bool noSkip = false, showSamples = false, regions = false;
     int device = -1, repeat = 1;
     double yarnRadius = 0.0;
@@ -320,6 +327,7 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     r.transferFunction = a.tf;
     r.skipEmpty = !a.noSkip;
     r.showSamples = a.showSamples;
+    r.isoValue = a.iso;
     if (r.kind == RenderKind::Cut) {
         if (a.cut.empty()) throw Error("--render cut needs --cut x|y|z:INDEX");
         r.cut = parseCut(a.cut);
@@ -327,9 +335,11 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
         throw Error("--cut goes with --render cut");
     }
     const bool sliced = r.kind == RenderKind::TextureSlicing || r.kind == RenderKind::HalfAngle;
-    const bool marched = r.kind == RenderKind::Raycast || r.kind == RenderKind::Mip || r.kind == RenderKind::Orientation;
+    const bool marched = r.kind == RenderKind::Raycast || r.kind == RenderKind::Mip ||
+                         r.kind == RenderKind::Orientation || r.kind == RenderKind::Isosurface;
     if ((a.noSkip || a.showSamples) && !marched)
-        throw Error(std::string(a.noSkip ? "--no-skip" : "--show-samples") + " goes with --render raycast, mip or orientation");
+        throw Error(std::string(a.noSkip ? "--no-skip" : "--show-samples") +
+                    " goes with --render raycast, mip, orientation or isosurface");
     if (a.slices > 0 && !sliced) throw Error("--slices goes with --render texture-slicing or half-angle");
     r.slicePlanes = a.slices;
     if (!a.light.empty()) {
@@ -340,36 +350,64 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
     r.device = a.device;
     r.repeat = a.repeat;
     if (a.output.empty()) throw Error("--render needs -o FILE.png");
-    if (r.kind != RenderKind::Slices && (!a.garment.empty() || a.yarnRadius > 0.0))
-        throw Error("--garment and --yarn-radius go with --render slices");
+    if (r.kind != RenderKind::Slices && !a.garment.empty()) throw Error("--garment goes with --render slices");
+    if (r.kind != RenderKind::Slices && r.kind != RenderKind::VolumetricTriangles && a.yarnRadius > 0.0)
+        throw Error("--yarn-radius goes with --render slices or volumetric-triangles");
+    if (a.regions && r.kind == RenderKind::VolumetricTriangles)
+        throw Error("--regions goes with the renders of a volume, not volumetric-triangles");
     if (a.regions && r.kind == RenderKind::Cut) throw Error("--regions goes with the perspective renders, not a cut");
     checkOutputPath(a.output, "-o", {input});
     if (r.kind != RenderKind::Cut) loadTransferFunction(r.transferFunction); // a bad --tf fails before any work
 
-    const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
-    if (a.regions) r.outlines = regionHeat(input);
+    RenderReport rep;
     SliceInstances slices;
     std::vector<std::string> notes;
-    if (r.kind == RenderKind::Slices) {
-        const RunSlices run = loadRunSlices(input, RunSlicesOptions{a.garment, a.yarnRadius});
-        slices = sliceInstances(run.plan, run.grid);
-        // A framed region shows its own slices, not the ones in front of it.
-        if (r.region) {
-            const VoxelBox box = source->regionBounds(*r.region);
-            keepSlicesWithin(slices, glm::dvec3(box.min), glm::dvec3(box.max));
+    if (r.kind == RenderKind::VolumetricTriangles) {
+        // A garment is sliced as voxelize slices it; a volume's slices come
+        // from the garment it was made from, framed by the volume's own box.
+        PreviewSliceOptions preview = a.preview;
+        preview.yarnRadius = a.yarnRadius;
+        const bool garment = !std::filesystem::is_directory(input) && std::filesystem::path(input).extension() != ".vdb";
+        const PreviewSlices previewSlices =
+            garment ? garmentPreviewSlices(input, preview) : volumePreviewSlices(input, preview);
+        VoxelBox box = sliceBox(previewSlices.plan, previewSlices.grid);
+        if (!garment) {
+            const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
+            box = r.region ? source->regionBounds(*r.region) : source->bounds();
+        } else if (r.region) {
+            throw Error("--region needs a work directory, not a garment");
         }
-        r.slices = &slices;
-        notes = run.notes;
-        notes.insert(notes.begin(), "slices of " + run.garmentPath);
+        rep = renderVolumetricTriangles(previewSlices.plan, previewSlices.grid, box, r, previewSlices.yarnDensity);
+    } else {
+        const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
+        if (a.regions) r.outlines = regionHeat(input);
+        if (r.kind == RenderKind::Slices) {
+            const RunSlices run = loadRunSlices(input, RunSlicesOptions{a.garment, a.yarnRadius});
+            slices = sliceInstances(run.plan, run.grid);
+            // A framed region shows its own slices, not the ones in front of it.
+            if (r.region) {
+                const VoxelBox box = source->regionBounds(*r.region);
+                keepSlicesWithin(slices, glm::dvec3(box.min), glm::dvec3(box.max));
+            }
+            r.slices = &slices;
+            notes = run.notes;
+            notes.insert(notes.begin(), "slices of " + run.garmentPath);
+        }
+        rep = renderVolume(*source, r);
     }
-    const RenderReport rep = renderVolume(*source, r);
     writePng(a.output, rep.image);
     if (json) {
         JsonObject out;
         out.set("path", input).set("output", a.output).set("render", a.render).set("width", rep.image.width)
             .set("height", rep.image.height);
         if (!r.outlines.empty()) out.set("region_heat", regionHeatJson(r.outlines));
-        if (r.kind == RenderKind::Slices) {
+        if (r.kind == RenderKind::VolumetricTriangles) {
+            out.set("view", a.view)
+                .set("renderer", rep.renderer)
+                .set("frames", r.repeat)
+                .set("frame_seconds_median", rep.frameSeconds)
+                .set("frame_seconds_best", rep.bestFrameSeconds);
+        } else if (r.kind == RenderKind::Slices) {
             out.set("view", a.view)
                 .set("renderer", rep.renderer)
                 .set("slices", rep.slices)
@@ -408,6 +446,11 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
         return;
     }
     if (!r.outlines.empty()) printRegionHeat(r.outlines);
+    if (r.kind == RenderKind::VolumetricTriangles) {
+        std::printf("%s: volumetric-triangles, %dx%d, on %s; frame %.3f s%s (slices placed and drawn)\n", a.output.c_str(),
+                    r.width, r.height, rep.renderer.c_str(), rep.frameSeconds, r.repeat > 1 ? " (median)" : "");
+        return;
+    }
     if (r.kind == RenderKind::Slices) {
         std::printf("%s: slices, %dx%d, on %s\n", a.output.c_str(), r.width, r.height, rep.renderer.c_str());
         for (const std::string& n : notes) std::printf("  %s\n", n.c_str());
@@ -439,6 +482,44 @@ void renderToPng(const std::string& input, const RenderArgs& a, bool json) {
                 rep.meanSamples, rep.frameSeconds, r.repeat > 1 ? " (median)" : "", rep.loadSeconds);
 }
 
+/// --mesh: the isosurface at --iso as a mesh, at --mesh-level or at full
+/// resolution when its estimated size is within kMeshTriangleLimit.
+void meshToFile(const std::string& input, const RenderArgs& a, bool json) {
+    checkMeshPath(a.mesh);
+    checkOutputPath(a.mesh, "--mesh", {input});
+    const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
+    if (source->occupiedBricks().empty()) throw Error("nothing to mesh: the volume has no active voxels");
+    const VoxelBox box = a.region >= 0 ? source->regionBounds(std::uint64_t(a.region)) : source->bounds();
+    const int level = std::max(a.meshLevel, 0);
+    const std::uint64_t estimate = estimateMeshTriangles(*source, box, level);
+    if (a.meshLevel < 0 && estimate > kMeshTriangleLimit) {
+        int coarser = 1;
+        while (coarser < 21 && estimateMeshTriangles(*source, box, coarser) > kMeshTriangleLimit) ++coarser;
+        throw Error("--mesh " + a.mesh + ": the full-resolution isosurface would have about " +
+                    std::to_string(estimate / 1000000) + " million triangles (about " +
+                    bytesText(double(estimate) * 19.0) + " as PLY), above the " +
+                    std::to_string(kMeshTriangleLimit / 1000000) + " million written without --mesh-level; give --mesh-level " +
+                    std::to_string(coarser) + " (about " +
+                    std::to_string(estimateMeshTriangles(*source, box, coarser) / 1000000) + " million) or coarser");
+    }
+    const IsosurfaceMesh mesh = extractIsosurface(*source, box, a.iso, level);
+    writeMesh(a.mesh, mesh);
+    if (json) {
+        std::printf("%s\n", JsonObject()
+                                .set("path", input)
+                                .set("mesh", a.mesh)
+                                .set("iso", a.iso)
+                                .set("level", level)
+                                .set("vertices", std::uint64_t(mesh.vertices.size()))
+                                .set("triangles", std::uint64_t(mesh.triangles.size()))
+                                .dump()
+                                .c_str());
+        return;
+    }
+    std::printf("%s: isosurface at density %g%s, %zu vertices, %zu triangles (voxel coordinates)\n", a.mesh.c_str(), a.iso,
+                level ? (", level " + std::to_string(level)).c_str() : "", mesh.vertices.size(), mesh.triangles.size());
+}
+
 } // namespace
 
 void addInspectCommand(CLI::App& app) {
@@ -451,7 +532,8 @@ void addInspectCommand(CLI::App& app) {
     auto render = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand(
         "inspect", "Numbers about a voxelization: a work directory's regions, or a .vdb's grids and voxels");
-    cmd->add_option("path", args->path, "A work directory (--work-dir, --keep-work-dir) or an OpenVDB file with a float 'density' grid")
+    cmd->add_option("path", args->path, "A work directory (--work-dir, --keep-work-dir) or an OpenVDB file with a float 'density' grid (or, "
+                    "for --render volumetric-triangles, a .bcc garment)")
         ->required()
         ->check(CLI::ExistingPath);
     cmd->add_flag("--json", args->json, "Print JSON instead of text");
@@ -470,10 +552,12 @@ void addInspectCommand(CLI::App& app) {
                     "(the run's garment as alpha-blended slices shaded by fibre orientation, sorted back to front on "
                     "every core; the garment and slice options the run recorded, or --garment), texture-slicing "
                     "(view-aligned planes blended back to front, --slices), half-angle (planes lit by a directional "
-                    "light, --light, with shadows) or splatting (each voxel a Gaussian splat, for comparing coarse "
-                    "levels with raycast)")
+                    "light, --light, with shadows), splatting (each voxel a Gaussian splat, for comparing coarse "
+                    "levels with raycast), isosurface (the surface at density --iso, shaded by the density gradient) "
+                    "or volumetric-triangles (the garment's slices as blurred volumetric triangles, no voxelizing; the "
+                    "path may be a .bcc garment, or a volume whose recorded garment is still there)")
         ->check(CLI::IsMember({"raycast", "mip", "cut", "orientation", "slices", "texture-slicing", "half-angle",
-                               "splatting"}));
+                               "splatting", "isosurface", "volumetric-triangles"}));
     cmd->add_option("-o,--output", render->output, "--render: the PNG to write (replaced atomically)");
     cmd->add_option("--view", render->view,
                     "--render: azimuth,elevation,distance: degrees about +z from +x, degrees above the xy plane, "
@@ -491,7 +575,8 @@ void addInspectCommand(CLI::App& app) {
                     ".vdb not made by yarnvox or a garment that moved)")
         ->check(CLI::ExistingFile);
     cmd->add_option("--yarn-radius", render->yarnRadius,
-                    "--render slices: yarn radius in world units, instead of the one the run recorded")
+                    "--render slices|volumetric-triangles: yarn radius in world units, instead of the one the run "
+                    "recorded (a bare garment: the garment file's, else estimated)")
         ->check(CLI::PositiveNumber);
     std::string presets;
     for (const std::string& n : transferFunctionPresets()) presets += (presets.empty() ? "" : ", ") + n;
@@ -506,8 +591,31 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--light", render->light,
                     "--render half-angle: azimuth,elevation the light comes from, degrees as in --view (default 75,45)");
-    cmd->add_flag("--no-skip", render->noSkip, "--render raycast|mip|orientation: march every ray through the whole box (no empty-space skipping)");
-    cmd->add_flag("--show-samples", render->showSamples, "--render raycast|mip|orientation: picture the samples taken per pixel instead");
+    cmd->add_flag("--no-skip", render->noSkip, "--render raycast|mip|orientation|isosurface: march every ray through the whole box (no empty-space skipping)");
+    cmd->add_flag("--show-samples", render->showSamples, "--render raycast|mip|orientation|isosurface: picture the samples taken per pixel instead");
+    cmd->add_option("--iso", render->iso, "--render isosurface and --mesh: the density the surface lies at")
+        ->check(CLI::Range(1e-6, 1e6))
+        ->capture_default_str();
+    cmd->add_option("--mesh", render->mesh,
+                    "Write the isosurface at --iso as a mesh (.ply binary or .obj, voxel coordinates), extracted by "
+                    "OpenVDB's volumeToMesh; refused when larger than about 100 million triangles unless --mesh-level");
+    cmd->add_option("--mesh-level", render->meshLevel,
+                    "--mesh: extract at this level of detail (0: full resolution; L: each voxel the mean of 2^L a side)")
+        ->check(CLI::Range(0, 20));
+    cmd->add_option("--resolution", render->preview.resolution,
+                    "--render volumetric-triangles of a garment: voxels on the longest axis of the grid it is drawn on "
+                    "(sets the blur and the slice spacing; default " + std::to_string(kPreviewResolution) + ")")
+        ->check(CLI::Range(8, 1 << 20));
+    cmd->add_option("--slice-spacing", render->preview.spacing,
+                    "--render volumetric-triangles: distance between slices along a yarn, world units (default: one "
+                    "voxel, as voxelize)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--cross-section", render->preview.crossSection,
+                    "--render volumetric-triangles: fibre density on each slice, fibers, disk or FILE.png; its mean "
+                    "over the yarn's disk is the preview's density (default: the volume's, else fibers)");
+    cmd->add_option("--slices-per-segment", render->preview.slicesPerSegment,
+                    "--render volumetric-triangles: slices per curve segment, instead of --slice-spacing")
+        ->check(CLI::Range(1, 100000));
     cmd->add_option("--cut", render->cut, "--render cut: the plane, x|y|z:INDEX (voxel index)");
     cmd->add_option("--gpu-budget", render->budget,
                     "--render: GPU memory for the brick atlas (K, M, G); a volume that needs more is drawn at a "
@@ -519,10 +627,13 @@ void addInspectCommand(CLI::App& app) {
     cmd->add_option("--device", render->device, "--render: EGL device index (-1: the first GPU, else llvmpipe)")
         ->capture_default_str();
     cmd->callback([args, render] {
+        if (render->meshLevel >= 0 && render->mesh.empty()) throw Error("--mesh-level goes with --mesh");
+        if (!render->mesh.empty()) meshToFile(args->path, *render, args->json && render->render.empty());
         if (!render->render.empty()) {
             renderToPng(args->path, *render, args->json);
             return;
         }
+        if (!render->mesh.empty()) return;
         if (!render->output.empty()) throw Error("-o goes with --render");
         if (std::filesystem::is_directory(args->path))
             reportStore(args->path, args->json, args->verify, args->sort, args->limit);

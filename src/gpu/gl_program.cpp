@@ -142,6 +142,14 @@ GlProgram GlProgram::graphics(const std::string& vertexName, const std::string& 
     return GlProgram(link({vs.id, fs.id}, vertexName + " + " + fragmentName));
 }
 
+GlProgram GlProgram::graphicsWithGeometry(const std::string& vertexName, const std::string& geometryName,
+                                          const std::string& fragmentName, const std::vector<std::string>& defines) {
+    StageGuard vs{compileShaderStage(GL_VERTEX_SHADER, vertexName, defines)};
+    StageGuard gs{compileShaderStage(GL_GEOMETRY_SHADER, geometryName, defines)};
+    StageGuard fs{compileShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines)};
+    return GlProgram(link({vs.id, gs.id, fs.id}, vertexName + " + " + geometryName + " + " + fragmentName));
+}
+
 GlProgram::~GlProgram() {
     // A program outliving its context has nothing left to free.
     if (id_ != 0 && eglGetCurrentContext() != EGL_NO_CONTEXT) glDeleteProgram(id_);

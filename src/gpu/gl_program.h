@@ -20,6 +20,9 @@ class GlProgram {
     /// Graphics program from a vertex and a fragment shader file.
     static GlProgram graphics(const std::string& vertexName, const std::string& fragmentName,
                               const std::vector<std::string>& defines = {});
+    /// Graphics program with a geometry shader between the two.
+    static GlProgram graphicsWithGeometry(const std::string& vertexName, const std::string& geometryName,
+                                          const std::string& fragmentName, const std::vector<std::string>& defines = {});
     ~GlProgram();
     GlProgram(GlProgram&& other) noexcept;
     GlProgram& operator=(GlProgram&& other) noexcept;

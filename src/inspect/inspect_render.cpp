@@ -22,8 +22,11 @@ RenderKind parseRenderKind(const std::string& text) {
     if (text == "texture-slicing") return RenderKind::TextureSlicing;
     if (text == "half-angle") return RenderKind::HalfAngle;
     if (text == "splatting") return RenderKind::Splatting;
+    if (text == "isosurface") return RenderKind::Isosurface;
+    if (text == "volumetric-triangles") return RenderKind::VolumetricTriangles;
     throw Error("--render '" + text +
-                "': expected raycast, mip, cut, orientation, slices, texture-slicing, half-angle or splatting");
+                "': expected raycast, mip, cut, orientation, slices, texture-slicing, half-angle, splatting, "
+                "isosurface or volumetric-triangles");
 }
 
 namespace {
@@ -102,6 +105,8 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
         return report;
     }
     if (request.kind == RenderKind::Slices) return renderSlices(box, request);
+    if (request.kind == RenderKind::VolumetricTriangles)
+        throw Error("--render volumetric-triangles draws a garment's slices (renderVolumetricTriangles), not a volume's voxels");
     if (request.kind == RenderKind::Orientation && !source.hasOrientation())
         throw Error("--render orientation: the volume has no orientation grid");
     const bool orientation = request.kind == RenderKind::Orientation;
@@ -132,10 +137,12 @@ RenderReport renderVolume(const VolumeSource& source, const RenderRequest& reque
 
     RaycastRenderer renderer(atlas, request.kind == RenderKind::Mip           ? RenderMode::Mip
                                     : request.kind == RenderKind::Orientation ? RenderMode::Orientation
+                                    : request.kind == RenderKind::Isosurface  ? RenderMode::Isosurface
                                                                               : RenderMode::Raycast);
     RaycastSettings settings;
     settings.skipEmpty = request.skipEmpty;
     settings.transferFunction = tf;
+    settings.isoValue = request.isoValue;
     const Camera camera = frameBox(box, request.view, request.width, request.height);
     RaycastResult r = renderer.render(camera, settings);
     std::vector<double> frames = {r.frameSeconds};

@@ -20,10 +20,12 @@
 
 namespace yv {
 
-enum class RenderKind { Raycast, Mip, Cut, Orientation, Slices, TextureSlicing, HalfAngle, Splatting };
+enum class RenderKind {
+    Raycast, Mip, Cut, Orientation, Slices, TextureSlicing, HalfAngle, Splatting, Isosurface, VolumetricTriangles
+};
 
-/// Parses raycast|mip|cut|orientation|slices|texture-slicing|half-angle|splatting;
-/// throws yv::Error otherwise.
+/// Parses raycast|mip|cut|orientation|slices|texture-slicing|half-angle|
+/// splatting|isosurface|volumetric-triangles; throws yv::Error otherwise.
 RenderKind parseRenderKind(const std::string& text);
 
 struct RenderRequest {
@@ -35,6 +37,7 @@ struct RenderRequest {
     bool skipEmpty = true;
     bool showSamples = false; ///< the picture shows samples per pixel instead
     CutPlane cut;
+    double isoValue = 0.5; ///< isosurface: the density the surface lies at
     std::uint64_t gpuBudgetBytes = 512ull << 20; ///< capped at half the free GPU memory where the driver tells
     int device = -1;
     int repeat = 1; ///< frames drawn (the same picture), for timing

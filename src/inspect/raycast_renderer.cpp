@@ -26,7 +26,8 @@ struct RaycastRenderer::Impl {
         std::vector<std::string> defines;
         if (m == RenderMode::Mip) defines.push_back("MIP");
         if (m == RenderMode::Orientation) defines.push_back("ORIENTATION");
-        march = GlProgram::graphics("inspect_fullscreen.vert", "inspect_raycast.frag", defines);
+        march = GlProgram::graphics("inspect_fullscreen.vert",
+                                    m == RenderMode::Isosurface ? "inspect_isosurface.frag" : "inspect_raycast.frag", defines);
 
         const std::vector<glm::vec3> triangles = proxyTriangles(a.plan());
         proxyVertices = GLsizei(triangles.size());
@@ -137,6 +138,12 @@ RaycastResult RaycastRenderer::render(const Camera& camera, const RaycastSetting
     glUniform3f(p.uniform("boxMax"), float(boxMax.x), float(boxMax.y), float(boxMax.z));
     glUniform1f(p.uniform("step"), float(s.stepVoxels * plan.scale));
     glUniform1f(p.uniform("densityScale"), 1.0f);
+    glUniform1f(p.uniform("isoValue"), float(s.isoValue));
+    // The isosurface's light: above the eye and behind it, so the side facing
+    // the camera's up is lit and the one below it is in shade.
+    const glm::dmat4 toWorld = glm::inverse(camera.view);
+    const glm::vec3 light(glm::normalize(glm::dvec3(toWorld[1]) + glm::dvec3(toWorld[2])));
+    glUniform3fv(p.uniform("lightDirection"), 1, glm::value_ptr(light));
     glBindTextureUnit(0, entry.textures[0]);
     glBindTextureUnit(1, m.atlas.indirectionTexture());
     glBindTextureUnit(2, m.atlas.densityTexture());

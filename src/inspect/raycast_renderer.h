@@ -1,4 +1,4 @@
-// `--render raycast|mip|orientation`: ray marching through a brick atlas
+// `--render raycast|mip|orientation|isosurface`: ray marching through a brick atlas
 // with OpenGL 4.5 (the context must be current). With empty-space skipping,
 // a first pass rasterises the proxy geometry of occupied bricks into each
 // pixel's entry and exit distances; without it, rays span the level's box.
@@ -15,12 +15,13 @@
 
 namespace yv {
 
-enum class RenderMode { Raycast, Mip, Orientation };
+enum class RenderMode { Raycast, Mip, Orientation, Isosurface };
 
 struct RaycastSettings {
     bool skipEmpty = true;
     TransferFunction transferFunction{};
     double stepVoxels = 0.5; ///< march step in level voxels
+    double isoValue = 0.5;   ///< Isosurface: the density the surface lies at
 };
 
 struct RaycastResult {
