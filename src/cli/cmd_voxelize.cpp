@@ -74,6 +74,10 @@ void addVoxelizeCommand(CLI::App& app) {
         ->check(finiteNumber(kMaxTwist));
     cmd->add_option("--cross-section", a->crossSection, "Fibre density on each slice: fibers, disk, or FILE.png (alpha = density)")
         ->capture_default_str();
+    cmd->add_flag("--albedo", a->albedo,
+                  "Also write the fibres' colour: an 'albedo' grid (linear RGB) from the RGB of the --cross-section PNG "
+                  "(read as sRGB), the density-weighted mean of each voxel's samples. Needs a colour PNG, the mean "
+                  "reduction and the CPU backend (auto picks it); not with --method dense or --lod");
     cmd->add_option("--reduce", a->reduce, "mean: fibre volume fraction and mean axis; max: the paper's max density")
         ->capture_default_str()
         ->check(CLI::IsMember({"mean", "max"}));

@@ -60,6 +60,8 @@ std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& s
     f.add(slices.slicesPerSegment), f.add(slices.spacing), f.add(slices.twist), f.add(slices.radius);
     f.add(xs.size);
     f.add(xs.density.data(), xs.density.size());
+    // --albedo makes other bricks (and region files); without it the hash is what it always was.
+    if (xs.hasAlbedo()) f.add(xs.albedo.data(), xs.albedo.size() * sizeof(xs.albedo[0]));
     f.add(grid.origin), f.add(grid.voxelSize), f.add(grid.dims);
     f.add(static_cast<int>(reduce)), f.add(static_cast<int>(overlap)), f.add(supersample);
     for (const ZoomRegion& r : zoom.regions) f.add(r.id), f.add(r.min), f.add(r.max);
@@ -72,7 +74,7 @@ std::string encodeMetadata(const VolumeMetadata& m) {
     out << "input=" << m.input << "\nbackend=" << m.backend << "\ncross_section=" << m.crossSection
         << "\nresolution=" << m.resolution << "\nslice_count=" << m.sliceCount << "\nyarn_radius=" << m.yarnRadius
         << "\nyarn_radius_source=" << m.yarnRadiusSource        << "\ntwist=" << m.twist << "\nsupersample=" << m.supersample << "\noverlap=" << m.overlap
-        << "\nslice_spacing=" << m.sliceSpacing << "\n";
+        << "\nslice_spacing=" << m.sliceSpacing << "\nalbedo=" << (m.albedo ? 1 : 0) << "\n";
     return out.str();
 }
 
@@ -94,6 +96,7 @@ VolumeMetadata decodeMetadata(const std::string& text) {
         else if (key == "supersample") m.supersample = std::stoi(value);
         else if (key == "overlap") m.overlap = value;
         else if (key == "slice_spacing") m.sliceSpacing = std::stod(value);
+        else if (key == "albedo") m.albedo = value == "1";
     }
     return m;
 }

@@ -100,6 +100,7 @@ class StageTimer {
 std::string resolveBackend(const VoxelizeRequest& a, const std::function<void(const std::string&)>& note) {
     if (a.backend != "auto") return a.backend;
     if (a.method == "dense") return "gl";
+    if (a.albedo) return "cpu"; // the only backend with albedo so far
     try {
         const GlContext probe(GlContextOptions{a.device, false});
         if (probe.info().platform == "device") return "gl";
@@ -107,6 +108,16 @@ std::string resolveBackend(const VoxelizeRequest& a, const std::function<void(co
     }
     if (a.verbose && !a.quiet) note("backend: no GPU found, using the CPU backend (--backend gl forces the software GL path)");
     return "cpu";
+}
+
+/// --albedo's limits, said before any work: the CPU backend's sparse method
+/// with the mean reduction and no --lod carries the colour.
+void checkAlbedoRequest(const VoxelizeRequest& a) {
+    if (!a.albedo) return;
+    if (a.method == "dense") throw Error("--albedo: the dense method has no albedo; use --method sparse");
+    if (a.backend == "gl") throw Error("--albedo: the GL backend has no albedo yet; use --backend cpu (auto picks it)");
+    if (a.reduce != "mean") throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
+    if (a.lod > 0) throw Error("--albedo and --lod: the level-of-detail grids have no albedo yet; leave one of them out");
 }
 
 /// Three significant digits, for messages.
@@ -140,6 +151,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     a.backend = resolveBackend(args, note);
     if (a.method == "dense" && a.backend != "gl") throw Error("--method dense needs --backend gl");
     if (a.method == "dense" && (!a.workDir.empty() || a.resume)) throw Error("--work-dir and --resume need the sparse method");
+    checkAlbedoRequest(a);
     const auto tell = [&](const std::string& line) {
         if (!a.quiet) note(line);
     };
@@ -152,7 +164,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     for (const std::string& w : curveReport.warnings) tell("warning: " + w);
     stages.set("read", timer.lap());
 
-    CrossSection xs = makeCrossSection(a.crossSection);
+    CrossSection xs = makeCrossSection(a.crossSection, a.albedo);
     SliceOptions sliceOptions;
     sliceOptions.twist = a.twist;
     const YarnRadiusChoice radius = chooseYarnRadius(a.yarnRadius, xs, garment, a.input);
@@ -215,12 +227,14 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     meta.supersample = a.supersample;
     meta.overlap = toString(settings.overlap);
     meta.sliceSpacing = plan.maxSpacing;
+    meta.albedo = xs.hasAlbedo();
 
     VdbWriteTimings writeTimings;
     VdbWriteOptions writeOptions;
     writeOptions.compression = parseVdbCompression(a.compression);
     writeOptions.precision = parseVdbPrecision(a.precision);
     writeOptions.lodLevels = checkedLodLevels(a.lod, grid);
+    writeOptions.albedo = xs.hasAlbedo();
     writeOptions.timings = &writeTimings;
 
     // The checks before slicing refuse what cannot leave a voxel; a yarn that

@@ -1,6 +1,7 @@
 // OpenVDB output: a float grid "density" (fog volume, background 0) and a
 // vec3 grid "orientation" sharing one transform, written leaf by leaf; with
-// --lod, the same two grids again at each coarser level.
+// --albedo, a vec3 grid "albedo" (linear RGB) too; with --lod, density and
+// orientation again at each coarser level.
 #pragma once
 
 #include "core/bricks.h"
@@ -25,6 +26,7 @@ struct VolumeMetadata {
     int supersample = 1;
     std::string overlap = "clamp"; ///< how interpenetrating yarns add up (mean reduction)
     double sliceSpacing = 0.0;     ///< largest distance between slices along a yarn, world units
+    bool albedo = false;           ///< --albedo: the bricks carry the fibres' colour (an "albedo" grid)
 };
 
 /// How each leaf's values are compressed (OpenVDB's options): only the
@@ -61,6 +63,9 @@ struct VdbWriteOptions {
     /// each at half the resolution of the level before (vdb/lod_pyramid.h);
     /// at most maxLodLevels(grid).
     int lodLevels = 0;
+    /// --albedo: a third grid "albedo" from VoxelBrick::albedo, which every
+    /// brick must then have (not with lodLevels > 0 yet).
+    bool albedo = false;
     VdbWriteTimings* timings = nullptr; ///< added to when given
 };
 
