@@ -7,7 +7,6 @@
 #include "export/mitsuba_vol.h"
 #include "export/nanovdb_output.h"
 #include "garment/cross_section.h"
-#include "pipeline/run_fingerprint.h"
 #include "run_cli.h"
 #include "store/brick_store.h"
 #include "test_helpers.h"
@@ -176,9 +175,9 @@ TEST_CASE("Albedo: asking for it from a grey or built-in cross-section is a clea
                       Catch::Contains("--albedo needs --reduce mean"));
 }
 
-TEST_CASE("Albedo: region files carry it and read it back bit-exactly; the fingerprint tells the runs apart", "[albedo]") {
+TEST_CASE("Albedo: region files carry it and read it back bit-exactly", "[albedo]") {
     const fs::path png = writeRgbaPng("store.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
-    const CrossSection coloured = loadCrossSectionPng(png.string(), true), plainXs = loadCrossSectionPng(png.string());
+    const CrossSection coloured = loadCrossSectionPng(png.string(), true);
     const StraightRun run = straightRun();
     const BrickVolume volume = voxelizeCpu(run.plan, coloured, run.grid, VoxelizeSettings{});
 
@@ -202,15 +201,6 @@ TEST_CASE("Albedo: region files carry it and read it back bit-exactly; the finge
     CHECK_THROWS_WITH(store.writeRegion(1, glm::ivec3(0), run.grid.dims, mixed), Catch::Contains("albedo"));
     fs::remove_all(dir);
 
-    // --albedo makes another run, so --resume never mixes regions of the two.
-    const fs::path bcc = scratch("fingerprint.bcc");
-    std::ofstream(bcc) << "not parsed, only hashed";
-    ZoomPlan zoom;
-    const auto fingerprint = [&](const CrossSection& xs) {
-        return runFingerprint(bcc.string(), run.plan.options, xs, run.grid, Reduce::Mean, Overlap::Clamp, 1, zoom, "cpu");
-    };
-    CHECK(fingerprint(coloured) != fingerprint(plainXs));
-    CHECK(fingerprint(plainXs) == fingerprint(loadCrossSectionPng(png.string())));
 }
 
 TEST_CASE("Albedo: the .vdb albedo grid reads back through OpenVDB and exports to .vol and .nvdb", "[albedo]") {
@@ -326,5 +316,85 @@ TEST_CASE("Albedo: voxelize --albedo writes the grid and refuses what cannot car
     refused(png.string() + " --albedo --backend gl", "the GL backend has no albedo yet");
     refused(png.string() + " --albedo --method dense", "the dense method has no albedo");
     refused(png.string() + " --albedo --reduce max", "--albedo needs --reduce mean");
-    refused(png.string() + " --albedo --lod 1", "--albedo and --lod");
+
+    // --albedo makes another run: --resume in its work dir without it is refused, with it accepted.
+    const fs::path work = scratch("cli-work");
+    fs::remove_all(work);
+    const std::string kept = base + png.string() + " --work-dir " + work.string() + " --keep-work-dir";
+    REQUIRE(runYarnvox(kept + " --albedo -o " + out.string()).exitCode == 0);
+    refused(png.string() + " --work-dir " + work.string() + " --resume", "belongs to a different run");
+    const test::RunResult resumed = runYarnvox(kept + " --albedo --resume -o " + out.string());
+    INFO(resumed.output);
+    CHECK(resumed.exitCode == 0);
+    CHECK(readFiberGrids(out.string()).albedo);
+    // merge writes it too: the work dir records that the run has albedo.
+    const fs::path merged = scratch("cli-merged.vdb");
+    fs::remove(merged);
+    REQUIRE(runYarnvox("merge " + work.string() + " -o " + merged.string()).exitCode == 0);
+    const FiberGrids mergedGrids = readFiberGrids(merged.string());
+    REQUIRE(mergedGrids.albedo);
+    CHECK(mergedGrids.albedo->activeVoxelCount() == grids.albedo->activeVoxelCount());
+    fs::remove_all(work);
+}
+
+TEST_CASE("Albedo: LOD levels keep the mass-weighted colour of the level below", "[albedo][lod]") {
+    const fs::path png = writeRgbaPng("lod.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
+    const StraightRun run = straightRun();
+    const BrickVolume volume = voxelizeCpu(run.plan, loadCrossSectionPng(png.string(), true), run.grid, VoxelizeSettings{});
+    const fs::path vdb = scratch("albedo-lod.vdb");
+    VdbWriteOptions options;
+    options.albedo = true;
+    options.lodLevels = 2;
+    writeVdb(vdb.string(), volume, VolumeMetadata{}, options);
+
+    openvdb::initialize();
+    openvdb::io::File file(vdb.string());
+    file.open();
+    const auto grid = [&](const std::string& name) {
+        REQUIRE(file.hasGrid(name));
+        return file.readGrid(name);
+    };
+    const auto density0 = openvdb::gridPtrCast<openvdb::FloatGrid>(grid("density"));
+    const auto albedo0 = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grid("albedo"));
+    const auto density1 = openvdb::gridPtrCast<openvdb::FloatGrid>(grid("density_lod1"));
+    const auto albedo1 = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grid("albedo_lod1"));
+    const auto albedo2 = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grid("albedo_lod2"));
+    file.close();
+    REQUIRE((density0 && albedo0 && density1 && albedo1 && albedo2));
+    CHECK(albedo1->activeVoxelCount() == density1->activeVoxelCount());
+    CHECK(albedo2->metaValue<int>("lod_level") == 2);
+
+    // Every level-1 voxel: sum over its 8 children of density * colour, over their density sum.
+    const auto d0 = density0->getConstAccessor();
+    const auto a0 = albedo0->getConstAccessor();
+    std::uint64_t checked = 0;
+    for (auto it = albedo1->cbeginValueOn(); it; ++it) {
+        const openvdb::Coord p = it.getCoord();
+        glm::dvec3 sum(0.0);
+        double mass = 0.0;
+        for (int c = 0; c < 8; ++c) {
+            const openvdb::Coord q(2 * p.x() + (c >> 2), 2 * p.y() + ((c >> 1) & 1), 2 * p.z() + (c & 1));
+            if (!d0.isValueOn(q)) continue;
+            const double d = d0.getValue(q);
+            const openvdb::Vec3s a = a0.getValue(q);
+            sum += d * glm::dvec3(a.x(), a.y(), a.z()), mass += d;
+        }
+        REQUIRE(mass > 0.0);
+        for (int c = 0; c < 3; ++c) REQUIRE((*it)[c] == Approx(sum[c] / mass).margin(1e-5));
+        ++checked;
+    }
+    CHECK(checked > 100);
+    // The whole volume's mass-weighted colour is the same at every level.
+    const auto meanColour = [](const openvdb::FloatGrid& d, const openvdb::Vec3SGrid& a) {
+        const auto da = d.getConstAccessor();
+        glm::dvec3 sum(0.0);
+        double mass = 0.0;
+        for (auto it = a.cbeginValueOn(); it; ++it) {
+            const double w = da.getValue(it.getCoord());
+            sum += w * glm::dvec3((*it).x(), (*it).y(), (*it).z()), mass += w;
+        }
+        return sum / mass;
+    };
+    const glm::dvec3 m0 = meanColour(*density0, *albedo0), m1 = meanColour(*density1, *albedo1);
+    for (int c = 0; c < 3; ++c) CHECK(m1[c] == Approx(m0[c]).epsilon(1e-4));
 }

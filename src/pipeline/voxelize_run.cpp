@@ -111,13 +111,12 @@ std::string resolveBackend(const VoxelizeRequest& a, const std::function<void(co
 }
 
 /// --albedo's limits, said before any work: the CPU backend's sparse method
-/// with the mean reduction and no --lod carries the colour.
+/// with the mean reduction carries the colour.
 void checkAlbedoRequest(const VoxelizeRequest& a) {
     if (!a.albedo) return;
     if (a.method == "dense") throw Error("--albedo: the dense method has no albedo; use --method sparse");
     if (a.backend == "gl") throw Error("--albedo: the GL backend has no albedo yet; use --backend cpu (auto picks it)");
     if (a.reduce != "mean") throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
-    if (a.lod > 0) throw Error("--albedo and --lod: the level-of-detail grids have no albedo yet; leave one of them out");
 }
 
 /// Three significant digits, for messages.

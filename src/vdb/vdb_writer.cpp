@@ -287,7 +287,7 @@ void buildLevel(PyramidLevel& level, SpillFile& spill, std::vector<OctantRecord>
             if (!sums) sums = std::make_unique<CoarseBrick>();
             ByteVector& buffer = buffers.local();
             const std::size_t g = first + i;
-            sums->clear(parentBrickKey(octants[groups[g]].childKey));
+            sums->clear(parentBrickKey(octants[groups[g]].childKey), level.gridCount > 2);
             for (std::size_t k = groups[g]; k < groups[g + 1]; ++k) {
                 buffer.resize(octants[k].bytes());
                 spill.read(octants[k].at(), buffer);
@@ -367,9 +367,7 @@ VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduc
     m.reduce = reduce;
     m.options = options;
     m.levels.resize(std::size_t(checkedLodLevels(options.lodLevels, grid)) + 1);
-    if (options.albedo && m.levels.size() > 1)
-        throw Error("--albedo and --lod: the level-of-detail grids have no albedo yet; leave one of them out");
-    m.levels[0].gridCount = options.albedo ? 3 : 2;
+    for (PyramidLevel& level : m.levels) level.gridCount = options.albedo ? 3 : 2;
     const bool half = options.precision == VdbPrecision::Half;
     const std::uint32_t flags = archiveFlags(options.compression);
     for (std::size_t l = 0; l < m.levels.size(); ++l) {

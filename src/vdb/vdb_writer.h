@@ -1,7 +1,7 @@
 // OpenVDB output: a float grid "density" (fog volume, background 0) and a
 // vec3 grid "orientation" sharing one transform, written leaf by leaf; with
-// --albedo, a vec3 grid "albedo" (linear RGB) too; with --lod, density and
-// orientation again at each coarser level.
+// --albedo, a vec3 grid "albedo" (linear RGB) too; with --lod, the same grids
+// again at each coarser level.
 #pragma once
 
 #include "core/bricks.h"
@@ -64,7 +64,7 @@ struct VdbWriteOptions {
     /// at most maxLodLevels(grid).
     int lodLevels = 0;
     /// --albedo: a third grid "albedo" from VoxelBrick::albedo, which every
-    /// brick must then have (not with lodLevels > 0 yet).
+    /// brick must then have (and albedo_lodL with lodLevels).
     bool albedo = false;
     VdbWriteTimings* timings = nullptr; ///< added to when given
 };
