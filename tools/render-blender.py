@@ -35,7 +35,9 @@ def parse_args():
                    help="optical depth of one voxel full of fibre, across its width (default 3): Density = this / h")
     p.add_argument("--sigma", type=float, default=0.0,
                    help="extinction per world unit at fibre fraction 1 (overrides --optical-depth)")
-    p.add_argument("--color", default="0.80,0.28,0.22", help="single-scattering albedo, r,g,b (default 0.80,0.28,0.22)")
+    p.add_argument("--color", default="0.80,0.28,0.22",
+                   help="single-scattering albedo, r,g,b (default 0.80,0.28,0.22), or 'albedo': the file's albedo "
+                        "grid (yarnvox voxelize --albedo), linear RGB per voxel")
     p.add_argument("--anisotropy", type=float, default=0.0, help="Henyey-Greenstein g (default 0)")
     p.add_argument("--size", default="480x360", help="image width x height in pixels (default 480x360)")
     p.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel (default 16)")
@@ -143,7 +145,12 @@ def make_material(grid_name, density, color, anisotropy):
     nodes = mat.node_tree.nodes
     nodes.clear()
     volume = nodes.new("ShaderNodeVolumePrincipled")
-    volume.inputs["Color"].default_value = (*color, 1.0)
+    if color == "albedo":
+        # Cycles multiplies Color by the Color Attribute's grid: white leaves the grid's colour as it is.
+        volume.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+        volume.inputs["Color Attribute"].default_value = "albedo"
+    else:
+        volume.inputs["Color"].default_value = (*color, 1.0)
     volume.inputs["Density"].default_value = density
     volume.inputs["Density Attribute"].default_value = grid_name
     volume.inputs["Anisotropy"].default_value = anisotropy
@@ -165,7 +172,10 @@ def main():
     density = a.sigma if a.sigma > 0 else a.optical_depth / h
     volume.render.space = "WORLD"       # Density and step size in world units, whatever the object's scale
     volume.render.step_size = 0.0       # automatic: from the voxel size
-    obj.data.materials.append(make_material(a.grid, density, floats(a.color, 3, "--color"), a.anisotropy))
+    if a.color == "albedo" and "albedo" not in [g.name for g in volume.grids]:
+        raise SystemExit(f"render-blender: {a.input} has no 'albedo' grid (voxelize it with --albedo)")
+    color = "albedo" if a.color == "albedo" else floats(a.color, 3, "--color")
+    obj.data.materials.append(make_material(a.grid, density, color, a.anisotropy))
 
     volume.grids[a.grid].load()
     lo, hi = world_bounds(obj, volume, a.input, a.grid)

@@ -87,6 +87,7 @@ void runExport(const ExportArgs& a) {
     VolExportOptions vol;
     vol.densityEncoding = parseVolEncoding(a.volType);
     vol.orientationEncoding = parseVolEncoding(a.orientationVolType.empty() ? a.volType : a.orientationVolType);
+    vol.albedoEncoding = vol.densityEncoding; // colours lie in [0, 1] like densities
     vol.boxConvention = parseVolBoxConvention(a.volBox);
     vol.sggxRoughness = a.sggx;
     const bool cropped = !a.bbox.empty() || !a.bboxWorld.empty() || a.region >= 0;
@@ -96,7 +97,8 @@ void runExport(const ExportArgs& a) {
         throw Error("--region " + std::to_string(a.region) + " needs --work-dir DIR: zoom regions are recorded in the run's work directory, not in the .vdb");
     const FiberGrids grids = readFiberGrids(a.input);
     vol.box = requestedBox(a, grids);
-    for (const std::string& p : exportPaths(format, a.output, bool(grids.orientation), vol)) checkOutputPath(p, "-o", {a.input});
+    for (const std::string& p : exportPaths(format, a.output, bool(grids.orientation), vol, bool(grids.albedo)))
+        checkOutputPath(p, "-o", {a.input});
     convertVdb(a.input, format, a.output, vol, a.quiet);
 }
 
@@ -108,7 +110,8 @@ void addExportCommand(CLI::App& app) {
         "export", "Convert a .vdb (density, orientation) to Mitsuba .vol files or NanoVDB, whole or a box of it");
     cmd->add_option("input", a->input, "The .vdb to convert (yarnvox's, or any with a float 'density' grid)")->required();
     cmd->add_option("-o,--output", a->output,
-                    "OUT.vol (density; orientation at OUT.orientation.vol beside it) or OUT.nvdb (both grids)")
+                    "OUT.vol (density; orientation at OUT.orientation.vol and, from an --albedo run, the linear RGB "
+                    "albedo at OUT.albedo.vol (--vol-type) beside it) or OUT.nvdb (every grid)")
         ->required();
     cmd->add_option("--format", a->format, "vol or nvdb (default: from the output's extension)")
         ->check(CLI::IsMember({"vol", "nvdb"}));
@@ -127,7 +130,7 @@ void addExportCommand(CLI::App& app) {
         ->needs(region);
     cmd->add_option("--vol-type", a->volType,
                     ".vol value type: float32 (Mitsuba 0.6 and 3), float16, or uint8 (one byte a voxel: density * 255; "
-                    "axis components 128 + 127 c)")
+                    "axis components 128 + 127 c; albedo 255 c)")
         ->capture_default_str()
         ->check(CLI::IsMember({"float32", "float16", "uint8"}));
     cmd->add_option("--orientation-vol-type", a->orientationVolType, "Value type of OUT.orientation.vol (default: --vol-type)")

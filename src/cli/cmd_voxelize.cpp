@@ -90,6 +90,11 @@ void addVoxelizeCommand(CLI::App& app) {
         ->check(finiteNumber(kMaxTwist));
     cmd->add_option("--cross-section", a->crossSection, "Fibre density on each slice: fibers, disk, or FILE.png (alpha = density)")
         ->capture_default_str();
+    cmd->add_flag("--albedo", a->albedo,
+                  "Also write the fibres' colour: an 'albedo' grid (linear RGB) from the RGB of the --cross-section PNG "
+                  "(read as sRGB), the density-weighted mean of each voxel's samples. Needs a colour PNG, the mean "
+                  "reduction and the CPU backend (auto picks it); not with --method dense. With --lod, albedo_lod1..N too "
+                  "(mass-weighted)");
     cmd->add_option("--reduce", a->reduce, "mean: fibre volume fraction and mean axis; max: the paper's max density")
         ->capture_default_str()
         ->check(CLI::IsMember({"mean", "max"}));
@@ -109,7 +114,7 @@ void addVoxelizeCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::IsMember({"float", "half"}));
     cmd->add_option("--lod", a->lod,
-                    "Level-of-detail grids: adds density_lod1..N and orientation_lod1..N, each level half the "
+                    "Level-of-detail grids: adds density_lod1..N and orientation_lod1..N (and albedo_lod1..N with --albedo), each level half the "
                     "resolution of the one before (mean density, structure-tensor axis)")
         ->capture_default_str()
         ->check(CLI::Range(0, 20));

@@ -32,8 +32,8 @@ OutputFormat resolveOutputFormat(const std::string& format, const std::string& o
 }
 
 std::vector<std::string> exportPaths(OutputFormat format, const std::string& output, bool withOrientation,
-                                     const VolExportOptions& volOptions) {
-    if (format == OutputFormat::Vol) return volOutputPaths(output, withOrientation, volOptions);
+                                     const VolExportOptions& volOptions, bool withAlbedo) {
+    if (format == OutputFormat::Vol) return volOutputPaths(output, withOrientation, volOptions, withAlbedo);
     return {output};
 }
 
@@ -73,7 +73,8 @@ void voxelizeInFormat(const std::string& format, const std::string& output, cons
     }
     // Every file the conversion writes is checked before minutes of voxelizing.
     const VolExportOptions volOptions;
-    for (const std::string& p : exportPaths(f, output, true, volOptions)) checkOutputPath(p, "-o", {input});
+    // OUT.albedo.vol too, which only runs with --albedo write: checking it always refuses nothing a run needs.
+    for (const std::string& p : exportPaths(f, output, true, volOptions, true)) checkOutputPath(p, "-o", {input});
     const std::string vdb = output + ".partial-" + std::to_string(::getpid()) + ".vdb";
     struct RemoveOnExit {
         std::string path;

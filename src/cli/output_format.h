@@ -21,7 +21,7 @@ OutputFormat resolveOutputFormat(const std::string& format, const std::string& o
 
 /// Every file a conversion to `format` writes for output `output`.
 std::vector<std::string> exportPaths(OutputFormat format, const std::string& output, bool withOrientation,
-                                     const VolExportOptions& volOptions);
+                                     const VolExportOptions& volOptions, bool withAlbedo = false);
 
 /// Converts the grids of the .vdb at `vdbPath` to `output` in `format` (vol
 /// or nvdb) and prints what it wrote unless `quiet`.

@@ -9,11 +9,12 @@
 
 namespace yv {
 
-void combineAccumulators(Reduce reduce, std::uint32_t* dst, const std::uint32_t* src) {
+void combineAccumulators(Reduce reduce, std::uint32_t* dst, const std::uint32_t* src, bool albedo) {
     if (reduce == Reduce::Mean) {
         // Unsigned wrap-around addition is also correct two's-complement
         // addition for the signed tensor terms.
-        for (int i = 0; i < kMeanWords * kBrickVoxels; ++i) dst[i] += src[i];
+        const int words = wordsPerVoxel(reduce, albedo) * kBrickVoxels;
+        for (int i = 0; i < words; ++i) dst[i] += src[i];
         return;
     }
     std::uint32_t* density = dst;
@@ -84,6 +85,11 @@ bool resolveBrick(Reduce reduce, Overlap overlap, const BrickAccumulator& acc, V
     out.key = acc.key;
     out.activeMask.fill(0);
     const std::uint32_t* w = acc.words.data();
+    const bool albedo = reduce == Reduce::Mean && acc.hasAlbedo();
+    if (albedo)
+        out.albedo.assign(kBrickVoxels, glm::vec3(0.0f));
+    else
+        out.albedo.clear();
     bool any = false;
     ResolveTally local;
     for (int v = 0; v < kBrickVoxels; ++v) {
@@ -101,6 +107,10 @@ bool resolveBrick(Reduce reduce, Overlap overlap, const BrickAccumulator& acc, V
                 double t[6];
                 for (int i = 0; i < 6; ++i) t[i] = static_cast<std::int32_t>(w[(1 + i) * kBrickVoxels + v]);
                 axis = canonicalAxis(principalAxis(t));
+                if (albedo)
+                    for (int i = 0; i < 3; ++i)
+                        out.albedo[v][i] = static_cast<float>(
+                            std::min(1.0, double(w[(kMeanWords + i) * kBrickVoxels + v]) / double(w[v])));
             }
         } else {
             density = bitsFloat(w[v]);

@@ -30,17 +30,21 @@ inline glm::ivec3 brickCoord(std::uint64_t key) {
     return {int(key >> 42), int((key >> 21) & 0x1fffff), int(key & 0x1fffff)};
 }
 
-/// Accumulator state of one brick: wordsPerVoxel(reduce) channels of 512
-/// words, channel-major (channel c of voxel v at c * 512 + v), the layout the
-/// GL brick passes write.
+/// Accumulator state of one brick: wordsPerVoxel(reduce, albedo) channels of
+/// 512 words, channel-major (channel c of voxel v at c * 512 + v), the layout
+/// the GL brick passes write.
 struct BrickAccumulator {
     std::uint64_t key = 0;
     std::vector<std::uint32_t> words;
+
+    /// Mean words with the three albedo channels after the tensor.
+    bool hasAlbedo() const { return words.size() == std::size_t(kMeanWords + kAlbedoWords) * 512; }
 };
 
 /// Adds (mean) or maxes (max) `src` into `dst`: associative and commutative,
-/// so any split of the work gives the same bits.
-void combineAccumulators(Reduce reduce, std::uint32_t* dst, const std::uint32_t* src);
+/// so any split of the work gives the same bits. `albedo`: the mean words
+/// carry the albedo channels.
+void combineAccumulators(Reduce reduce, std::uint32_t* dst, const std::uint32_t* src, bool albedo = false);
 
 /// Final values of one brick.
 struct VoxelBrick {
@@ -48,6 +52,9 @@ struct VoxelBrick {
     std::array<float, kBrickVoxels> density{};
     std::array<glm::vec3, kBrickVoxels> orientation{};
     std::array<std::uint64_t, kBrickVoxels / 64> activeMask{}; ///< voxel v active: bit v % 64 of word v / 64
+    /// Linear RGB fibre colour per voxel (zero where inactive), for runs with
+    /// --albedo; empty otherwise, so runs without it carry nothing.
+    std::vector<glm::vec3> albedo;
 
     bool isActive(int v) const { return (activeMask[v >> 6] >> (v & 63)) & 1; }
     int activeCount() const;
@@ -74,7 +81,9 @@ struct ResolveTally {
 /// Turns accumulated words into density and orientation. Mean: density is the
 /// sum of volume fractions, clamped to 1 with Overlap::Clamp; orientation the
 /// principal axis of the structure tensor. Max: the largest sample density and
-/// that sample's axis. Voxels with zero density stay inactive. Adds to `tally`
+/// that sample's axis. Voxels with zero density stay inactive. Accumulators
+/// with albedo words give VoxelBrick::albedo: the summed weighted colour over
+/// the summed volume fraction (before clamping), the density-weighted mean. Adds to `tally`
 /// when given. Returns false when no voxel is active.
 bool resolveBrick(Reduce reduce, Overlap overlap, const BrickAccumulator& acc, VoxelBrick& out,
                   ResolveTally* tally = nullptr);

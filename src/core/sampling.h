@@ -45,7 +45,12 @@ constexpr double kMinVoxelShare = 1.0 / 65536.0;
 /// (float bits), then the orientation code of the densest sample.
 constexpr int kMeanWords = 7;
 constexpr int kMaxWords = 2;
-inline int wordsPerVoxel(Reduce r) { return r == Reduce::Mean ? kMeanWords : kMaxWords; }
+/// With albedo (mean only), three more words: the volume-fraction-weighted
+/// linear colour, R G B, in the same fixed point as the density.
+constexpr int kAlbedoWords = 3;
+inline int wordsPerVoxel(Reduce r, bool albedo = false) {
+    return r == Reduce::Mean ? kMeanWords + (albedo ? kAlbedoWords : 0) : kMaxWords;
+}
 
 /// Relative margin within which two components of a slice normal count as a
 /// tie. The GL backend computes normals in float, the CPU in double: at exactly

@@ -23,10 +23,11 @@ struct ThreadBricks {
     std::uint32_t lastSlot = 0;
     std::uint64_t samples = 0;
 
-    std::uint32_t* words(std::uint64_t key, Reduce reduce) {
+    std::uint32_t* words(std::uint64_t key, Reduce reduce, bool albedo) {
         if (key != lastKey) {
             auto [it, inserted] = slotOf.try_emplace(key, static_cast<std::uint32_t>(bricks.size()));
-            if (inserted) bricks.push_back({key, std::vector<std::uint32_t>(wordsPerVoxel(reduce) * kBrickVoxels, 0)});
+            if (inserted)
+                bricks.push_back({key, std::vector<std::uint32_t>(wordsPerVoxel(reduce, albedo) * kBrickVoxels, 0)});
             lastKey = key;
             lastSlot = it->second;
         }
@@ -37,13 +38,15 @@ struct ThreadBricks {
 } // namespace
 
 void accumulateSample(Reduce reduce, std::uint32_t* words, int v, double volumeFraction, float density,
-                      const glm::dvec3& direction) {
+                      const glm::dvec3& direction, const glm::dvec3* albedo) {
     if (reduce == Reduce::Mean) {
         const glm::dvec3& o = direction;
         words[v] += toFixed(volumeFraction);
         const double terms[6] = {o.x * o.x, o.y * o.y, o.z * o.z, o.x * o.y, o.x * o.z, o.y * o.z};
         for (int i = 0; i < 6; ++i)
             words[(1 + i) * kBrickVoxels + v] += static_cast<std::uint32_t>(toFixedSigned(volumeFraction * terms[i]));
+        if (albedo)
+            for (int i = 0; i < 3; ++i) words[(kMeanWords + i) * kBrickVoxels + v] += toFixed(volumeFraction * (*albedo)[i]);
         return;
     }
     const std::uint32_t d = floatBits(density), code = encodeAxis(direction);
@@ -59,6 +62,9 @@ std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSe
     if (settings.supersample < 1 || settings.supersample > 16)
         throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.supersample) + ")");
     const Reduce reduce = settings.reduce;
+    const bool albedo = xs.hasAlbedo();
+    if (albedo && reduce != Reduce::Mean)
+        throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
     const double radius = plan.options.radius;
     const double support = textureSupport(xs);
     tbb::enumerable_thread_specific<ThreadBricks> perThread;
@@ -89,9 +95,10 @@ std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSe
                                                   if (glm::any(glm::lessThan(v, boxMin)) ||
                                                       glm::any(glm::greaterThanEqual(v, boxMax)))
                                                       return;
-                                                  std::uint32_t* w = local.words(brickKey(v >> 3), reduce);
+                                                  std::uint32_t* w = local.words(brickKey(v >> 3), reduce, albedo);
                                                   accumulateSample(reduce, w, brickOffset(v.x & 7, v.y & 7, v.z & 7),
-                                                                   smp.volumeFraction, smp.density, smp.direction);
+                                                                   smp.volumeFraction, smp.density, smp.direction,
+                                                                   albedo ? &smp.albedo : nullptr);
                                                   ++local.samples;
                                               });
                               }
@@ -129,7 +136,7 @@ std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSe
             if (out.words.empty())
                 out.words = std::move(words);
             else
-                combineAccumulators(reduce, out.words.data(), words.data());
+                combineAccumulators(reduce, out.words.data(), words.data(), albedo);
         }
     });
     if (counters) {

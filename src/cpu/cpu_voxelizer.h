@@ -40,8 +40,9 @@ std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSe
 BrickVolume voxelizeCpu(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                         const VoxelizeSettings& settings, CpuVoxelizeCounters* counters = nullptr);
 
-/// Adds one sample to a brick accumulator (the per-voxel rule of both reductions).
+/// Adds one sample to a brick accumulator (the per-voxel rule of both
+/// reductions); `albedo`, when given, to the mean's albedo words.
 void accumulateSample(Reduce reduce, std::uint32_t* words, int voxelOffset, double volumeFraction, float density,
-                      const glm::dvec3& direction);
+                      const glm::dvec3& direction, const glm::dvec3* albedo = nullptr);
 
 } // namespace yv

@@ -18,6 +18,9 @@ struct SliceSample {
     double volumeFraction; ///< fibre volume this share stands for / voxel volume
     float density;         ///< cross-section density at the sample, in [0, 1]
     glm::dvec3 direction;  ///< fibre direction, unit
+    /// With albedo (CrossSection::hasAlbedo): the density-weighted mean linear
+    /// colour of the sample's footprint cells; zero otherwise.
+    glm::dvec3 albedo{0.0};
 };
 
 /// Calls `emit(const SliceSample&)` for every voxel share of every sample of
@@ -65,6 +68,7 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, doub
         double density, z0, z1;
     };
     Cell cells[m * m];
+    const bool withAlbedo = xs.hasAlbedo();
     for (long j = j0; j <= j1; ++j) {
         const double dc = grid.origin[c] + (j + 0.5) * pixel - slice.center[c];
         for (long i = i0; i <= i1; ++i) {
@@ -82,6 +86,7 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, doub
             // own column through the slab: the sample's volume is split in
             // depth where it actually lies, not only where its centre does.
             double zMin = HUGE_VAL, zMax = -HUGE_VAL, density = 0.0;
+            glm::dvec3 weightedAlbedo(0.0);
             for (int q = 0; q < m; ++q)
                 for (int p = 0; p < m; ++p) {
                     const double ob = ((p + 0.5) / m - 0.5) * pixel, oc = ((q + 0.5) / m - 0.5) * pixel;
@@ -97,6 +102,7 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, doub
                         continue;
                     }
                     density += cell.density;
+                    if (withAlbedo) weightedAlbedo += xs.bilinearAlbedo(cx * invRadius, cy * invRadius);
                     zMin = std::min(zMin, cell.z0);
                     zMax = std::max(zMax, cell.z1);
                 }
@@ -106,6 +112,7 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, doub
             s.voxel[c] = static_cast<int>(j / supersample);
             s.density = static_cast<float>(density / (m * m));
             s.direction = fiberDirection(slice, x, y);
+            if (withAlbedo) s.albedo = glm::min(weightedAlbedo / density, glm::dvec3(1.0));
             // One share per voxel the cells' columns cross (a box filter in depth).
             for (double v = std::floor(zMin); v < zMax; v += 1.0) {
                 double share = 0.0;

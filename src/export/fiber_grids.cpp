@@ -29,6 +29,13 @@ FiberGrids readFiberGrids(const std::string& path) {
             throw Error(path + ": its 'orientation' grid is not a vec3s grid");
         }
     }
+    if (file.hasGrid("albedo")) {
+        g.albedo = openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid("albedo"));
+        if (!g.albedo) {
+            file.close();
+            throw Error(path + ": its 'albedo' grid is not a vec3s grid");
+        }
+    }
     file.close();
     return g;
 }

@@ -12,12 +12,13 @@ namespace yv {
 struct FiberGrids {
     openvdb::FloatGrid::Ptr density;       ///< never null
     openvdb::Vec3SGrid::Ptr orientation;   ///< null when the file has none
+    openvdb::Vec3SGrid::Ptr albedo;        ///< linear RGB (--albedo); null when the file has none
 };
 
-/// Reads `density` (a float grid, required) and `orientation` (a vec3s grid,
-/// optional) from `path`. Throws yv::Error naming the file when it is not an
-/// OpenVDB file, has no float `density` grid, or an `orientation` grid of
-/// another type.
+/// Reads `density` (a float grid, required), `orientation` and `albedo`
+/// (vec3s grids, optional) from `path`. Throws yv::Error naming the file when
+/// it is not an OpenVDB file, has no float `density` grid, or an
+/// `orientation` or `albedo` grid of another type.
 FiberGrids readFiberGrids(const std::string& path);
 
 } // namespace yv

@@ -184,10 +184,12 @@ std::string volSiblingPath(const std::string& densityPath, const std::string& wh
     return (hasExt ? densityPath.substr(0, densityPath.size() - ext.size()) : densityPath) + "." + what + ".vol";
 }
 
-std::vector<std::string> volOutputPaths(const std::string& densityPath, bool withOrientation, const VolExportOptions& options) {
+std::vector<std::string> volOutputPaths(const std::string& densityPath, bool withOrientation, const VolExportOptions& options,
+                                        bool withAlbedo) {
     std::vector<std::string> paths{densityPath};
     if (withOrientation) paths.push_back(volSiblingPath(densityPath, "orientation"));
     if (withOrientation && options.sggxRoughness > 0.0) paths.push_back(volSiblingPath(densityPath, "sggx"));
+    if (withAlbedo) paths.push_back(volSiblingPath(densityPath, "albedo"));
     return paths;
 }
 
@@ -204,6 +206,9 @@ VolExportResult exportMitsubaVol(const FiberGrids& grids, const std::string& den
     const AxisMap map = axisMap(density.transform());
     if (orientation && orientation->transform() != density.transform())
         throw Error(densityPath + ": the 'orientation' grid lies on another transform than 'density'");
+    const openvdb::Vec3SGrid* albedo = grids.albedo.get();
+    if (albedo && albedo->transform() != density.transform())
+        throw Error(densityPath + ": the 'albedo' grid lies on another transform than 'density'");
 
     VolExportResult result;
     if (options.box) {
@@ -223,12 +228,14 @@ VolExportResult exportMitsubaVol(const FiberGrids& grids, const std::string& den
         throw Error(densityPath + ": a box of centres needs at least 2 voxels along each axis, not " + dimsText(result.box.dims()));
     const VoxelBox& box = result.box;
     const glm::ivec3 dims = box.dims();
-    const std::vector<std::string> paths = volOutputPaths(densityPath, orientation != nullptr, options);
+    const std::vector<std::string> paths = volOutputPaths(densityPath, orientation != nullptr, options, albedo != nullptr);
+    const bool sggx = orientation && options.sggxRoughness > 0.0;
 
     // The whole size is known before a byte is written: refuse here, not at a full disk.
     double need = volFileBytes(dims, 1, options.densityEncoding);
     if (orientation) need += volFileBytes(dims, 3, options.orientationEncoding);
-    if (paths.size() > 2) need += volFileBytes(dims, 6, VolEncoding::Float32);
+    if (sggx) need += volFileBytes(dims, 6, VolEncoding::Float32);
+    if (albedo) need += volFileBytes(dims, 3, options.albedoEncoding);
     const std::filesystem::path parent = std::filesystem::path(densityPath).parent_path();
     const std::string dir = parent.empty() ? "." : parent.string();
     std::error_code ec;
@@ -262,7 +269,7 @@ VolExportResult exportMitsubaVol(const FiberGrids& grids, const std::string& den
         appendValues(*files[1], *orientation, box, 3, options.orientationEncoding, true,
                      [](const openvdb::Vec3s& a, float* v) { v[0] = a.x(), v[1] = a.y(), v[2] = a.z(); });
     }
-    if (files.size() > 2) {
+    if (sggx) {
         // Fibre-like SGGX microflakes (Heitz et al. 2015): S = I - (1 - sigma^2) t t^T
         // for the unit fibre axis t; empty voxels keep S = 0 (no flakes).
         const float keep = float(1.0 - options.sggxRoughness * options.sggxRoughness);
@@ -277,6 +284,13 @@ VolExportResult exportMitsubaVol(const FiberGrids& grids, const std::string& den
             v[0] = 1.0f - k * x * x, v[1] = 1.0f - k * y * y, v[2] = 1.0f - k * z * z;
             v[3] = -k * x * y, v[4] = -k * x * z, v[5] = -k * y * z;
         });
+    }
+    if (albedo) {
+        // Linear RGB in [0, 1] (no sign to fold); empty voxels read 0.
+        StagedFile& file = *files.back();
+        appendHeader(file, options.albedoEncoding, dims, 3, result.worldMin, result.worldMax);
+        appendValues(file, *albedo, box, 3, options.albedoEncoding, false,
+                     [](const openvdb::Vec3s& c, float* v) { v[0] = c.x(), v[1] = c.y(), v[2] = c.z(); });
     }
     // Every file complete and on disk before any takes its name.
     for (auto& f : files) f->finish();

@@ -1,7 +1,8 @@
 // Mitsuba's gridvolume files (.vol, version 3; formats/mitsuba-vol.md): a
 // dense box of the sparse grids, density (1 channel) at OUT.vol and the fibre
 // axis (3 channels) beside it at OUT.orientation.vol, optionally the SGGX
-// matrices of fibre-like microflakes (6 channels) at OUT.sggx.vol.
+// matrices of fibre-like microflakes (6 channels) at OUT.sggx.vol, and the
+// fibres' linear RGB albedo (3 channels) at OUT.albedo.vol when the .vdb has one.
 #pragma once
 
 #include "export/fiber_grids.h"
@@ -46,26 +47,27 @@ VoxelBox voxelBoxFromWorld(const openvdb::math::Transform& transform, glm::dvec3
 struct VolExportOptions {
     VolEncoding densityEncoding = VolEncoding::Float32;
     VolEncoding orientationEncoding = VolEncoding::Float32;
+    VolEncoding albedoEncoding = VolEncoding::Float32;
     VolBoxConvention boxConvention = VolBoxConvention::Corners;
     std::optional<VoxelBox> box; ///< none: the bounds of the active voxels and one voxel around them
     double sggxRoughness = 0.0;  ///< above 0: also write OUT.sggx.vol with this sigma
 };
 
 struct VolExportResult {
-    std::vector<std::string> paths; ///< density, then orientation, then SGGX, as written
+    std::vector<std::string> paths; ///< density, then orientation, SGGX and albedo, as written
     VoxelBox box;
     glm::dvec3 worldMin{0.0}, worldMax{0.0}; ///< the header's bounding box
     std::uint64_t bytes = 0;                 ///< all files together
     std::uint64_t densityClamped = 0;        ///< uint8: voxels above 1 written as 255
 };
 
-/// OUT.orientation.vol and OUT.sggx.vol beside OUT.vol ("garment.vol" ->
+/// OUT.orientation.vol, OUT.sggx.vol and OUT.albedo.vol beside OUT.vol ("garment.vol" ->
 /// "garment.orientation.vol"); a name without ".vol" gets the suffix appended.
 std::string volSiblingPath(const std::string& densityPath, const std::string& what);
 
 /// The files an export with these options writes, density first.
 std::vector<std::string> volOutputPaths(const std::string& densityPath, bool withOrientation,
-                                        const VolExportOptions& options);
+                                        const VolExportOptions& options, bool withAlbedo = false);
 
 /// Bytes of one .vol file: the 48-byte header and the dense values.
 double volFileBytes(glm::ivec3 dims, int channels, VolEncoding e);

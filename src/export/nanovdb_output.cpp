@@ -20,6 +20,7 @@ NanoVdbExportResult exportNanoVdb(const FiberGrids& grids, const std::string& pa
     // to NanoVDB's; statistics (bounds, min, max) and checksums are its defaults.
     handles.push_back(nanovdb::openToNanoVDB(*grids.density));
     if (grids.orientation) handles.push_back(nanovdb::openToNanoVDB(*grids.orientation));
+    if (grids.albedo) handles.push_back(nanovdb::openToNanoVDB(*grids.albedo));
 
     std::uint64_t need = 0;
     for (const auto& h : handles) need += h.size();

@@ -146,7 +146,54 @@ struct PngReadGuard {
 
 } // namespace
 
-CrossSection loadCrossSectionPng(const std::string& path) {
+double srgbToLinear(std::uint8_t value) {
+    const double c = value / 255.0;
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+namespace {
+
+/// The PNG's colour as sRGB-encoded RGBA, through libpng's simplified API
+/// (no longjmp; it converts grey, palettes and other gammas to 8-bit sRGB),
+/// rows bottom to top as the density's.
+std::vector<std::uint8_t> readPngRgba(const std::string& path, int size) {
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    std::vector<std::uint8_t> rgba;
+    if (png_image_begin_read_from_file(&image, path.c_str())) {
+        image.format = PNG_FORMAT_RGBA;
+        if (int(image.width) == size && int(image.height) == size) {
+            rgba.resize(PNG_IMAGE_SIZE(image));
+            // A negative row stride stores the last row first.
+            if (png_image_finish_read(&image, nullptr, rgba.data(), -int(PNG_IMAGE_ROW_STRIDE(image)), nullptr))
+                return rgba;
+        }
+    }
+    const std::string message = image.message[0] ? image.message : "size changed while reading";
+    png_image_free(&image);
+    throw Error(path + ": cannot read the PNG's colour for --albedo: " + message);
+}
+
+/// Fills xs.albedo from the PNG's RGB, or throws when it has no colour.
+void loadAlbedo(const std::string& path, CrossSection& xs) {
+    const std::vector<std::uint8_t> rgba = readPngRgba(path, xs.size);
+    bool coloured = false;
+    double linear[256];
+    for (int i = 0; i < 256; ++i) linear[i] = srgbToLinear(std::uint8_t(i));
+    xs.albedo.resize(xs.density.size());
+    for (std::size_t i = 0; i < xs.density.size(); ++i) {
+        const std::uint8_t* p = &rgba[4 * i];
+        if (xs.density[i] != 0 && (p[0] != p[1] || p[1] != p[2])) coloured = true;
+        const double weight = xs.density[i] / 255.0;
+        xs.albedo[i] = glm::vec3(float(weight * linear[p[0]]), float(weight * linear[p[1]]), float(weight * linear[p[2]]));
+    }
+    if (!coloured)
+        throw Error(path + ": --albedo needs a colour cross-section, but every pixel with fibre is grey (R = G = B)");
+}
+
+} // namespace
+
+CrossSection loadCrossSectionPng(const std::string& path, bool withAlbedo) {
     std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!file) throw Error(path + ": cannot open cross-section PNG: " + std::strerror(errno));
     png_byte signature[8];
@@ -205,13 +252,17 @@ CrossSection loadCrossSectionPng(const std::string& path) {
         throw Error(path + ": every pixel of the cross-section has density 0 (" +
                     (hasAlpha ? std::string("fully transparent") : std::string("black")) +
                     "): the volume would be empty (density is the alpha channel, or the grey level without one)");
+    if (withAlbedo) loadAlbedo(path, xs);
     return xs;
 }
 
-CrossSection makeCrossSection(const std::string& spec) {
+CrossSection makeCrossSection(const std::string& spec, bool withAlbedo) {
+    const bool png = spec.size() > 4 && spec.compare(spec.size() - 4, 4, ".png") == 0;
+    if (withAlbedo && !png)
+        throw Error("--albedo: the colour comes from a --cross-section PNG, and '" + spec + "' has none");
     if (spec == "disk") return makeDiskCrossSection();
     if (spec == "fibers") return makeFiberCrossSection();
-    if (spec.size() > 4 && spec.compare(spec.size() - 4, 4, ".png") == 0) return loadCrossSectionPng(spec);
+    if (png) return loadCrossSectionPng(spec, withAlbedo);
     throw Error("--cross-section: expected fibers, disk or a .png file, got '" + spec + "'");
 }
 

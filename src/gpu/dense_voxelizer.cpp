@@ -99,6 +99,7 @@ void convertSlab(const VoxelGrid& grid, int z0, int nz, const std::uint8_t* dens
 
 BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                           const GlVoxelizeSettings& settings, DenseVoxelizeCounters* counters) {
+    if (xs.hasAlbedo()) throw Error("--albedo: the dense method has no albedo; use --method sparse");
     DenseVoxelizeCounters local;
     DenseVoxelizeCounters& c = counters ? *counters : local;
     const int S = settings.base.supersample;

@@ -67,6 +67,8 @@ class GlBackend::Impl {
         : plan_(plan), grid_(grid), settings_(settings), counters_(counters),
           context_(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr, settings.spreadIndex}), reduce_(settings.base.reduce),
           words_(wordsPerVoxel(reduce_)) {
+        // Refused before any GL work: this backend's fragments carry no colour.
+        if (xs.hasAlbedo()) throw Error("--albedo: the GL backend has no albedo yet; use --backend cpu");
         const GlInfo& info = context_.info();
         counters_.renderer = info.renderer;
         counters_.platform = info.platform;

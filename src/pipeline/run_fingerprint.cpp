@@ -60,6 +60,8 @@ std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& s
     f.add(slices.slicesPerSegment), f.add(slices.spacing), f.add(slices.twist), f.add(slices.radius);
     f.add(xs.size);
     f.add(xs.density.data(), xs.density.size());
+    // --albedo makes other bricks (and region files); without it the hash is what it always was.
+    if (xs.hasAlbedo()) f.add(xs.albedo.data(), xs.albedo.size() * sizeof(xs.albedo[0]));
     f.add(grid.origin), f.add(grid.voxelSize), f.add(grid.dims);
     f.add(static_cast<int>(reduce)), f.add(static_cast<int>(overlap)), f.add(supersample);
     for (const ZoomRegion& r : zoom.regions) f.add(r.id), f.add(r.min), f.add(r.max);
@@ -73,7 +75,7 @@ std::string encodeMetadata(const VolumeMetadata& m) {
         << "\nresolution=" << m.resolution << "\nslice_count=" << m.sliceCount << "\nyarn_radius=" << m.yarnRadius
         << "\nyarn_radius_source=" << m.yarnRadiusSource        << "\ntwist=" << m.twist << "\nsupersample=" << m.supersample << "\noverlap=" << m.overlap
         << "\nslice_spacing=" << m.sliceSpacing << "\nslices_per_segment=" << m.slicesPerSegment
-        << "\nslice_spacing_option=" << m.sliceSpacingOption << "\n";
+        << "\nslice_spacing_option=" << m.sliceSpacingOption << "\nalbedo=" << (m.albedo ? 1 : 0) << "\n";
     return out.str();
 }
 
@@ -97,6 +99,7 @@ VolumeMetadata decodeMetadata(const std::string& text) {
         else if (key == "slice_spacing") m.sliceSpacing = std::stod(value);
         else if (key == "slices_per_segment") m.slicesPerSegment = std::stoi(value);
         else if (key == "slice_spacing_option") m.sliceSpacingOption = std::stod(value);
+        else if (key == "albedo") m.albedo = value == "1";
     }
     return m;
 }

@@ -18,7 +18,7 @@ std::uint64_t samplingCodeHash();
 
 /// Hash of everything that decides the bricks: the yarnvox version
 /// (YV_VERSION), the sampling code (samplingCodeHash), the garment file's bytes, the
-/// slice options, the cross-section texture, the grid, the reduction, the overlap rule and
+/// slice options, the cross-section texture (and its albedo), the grid, the reduction, the overlap rule and
 /// supersampling, the zoom regions (ids and bounds), and the backend ("gl", "cpu").
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
                              const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,

@@ -173,6 +173,7 @@ class StageTimer {
 std::string resolveBackend(const VoxelizeRequest& a, const std::function<void(const std::string&)>& note) {
     if (a.backend != "auto") return a.backend;
     if (a.method == "dense") return "gl";
+    if (a.albedo) return "cpu"; // the only backend with albedo so far
     try {
         const GlContext probe(GlContextOptions{a.device, false});
         if (probe.info().platform == "device") return "gl";
@@ -180,6 +181,15 @@ std::string resolveBackend(const VoxelizeRequest& a, const std::function<void(co
     }
     if (a.verbose && !a.quiet) note("backend: no GPU found, using the CPU backend (--backend gl forces the software GL path)");
     return "cpu";
+}
+
+/// --albedo's limits, said before any work: the CPU backend's sparse method
+/// with the mean reduction carries the colour.
+void checkAlbedoRequest(const VoxelizeRequest& a) {
+    if (!a.albedo) return;
+    if (a.method == "dense") throw Error("--albedo: the dense method has no albedo; use --method sparse");
+    if (a.backend == "gl") throw Error("--albedo: the GL backend has no albedo yet; use --backend cpu (auto picks it)");
+    if (a.reduce != "mean") throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
 }
 
 /// Three significant digits, for messages.
@@ -224,6 +234,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     if (group) a.backend = group->broadcast(a.backend == "gl") ? "gl" : "cpu";
     if (a.method == "dense" && a.backend != "gl") throw Error("--method dense needs --backend gl");
     if (a.method == "dense" && (!a.workDir.empty() || a.resume)) throw Error("--work-dir and --resume need the sparse method");
+    checkAlbedoRequest(a);
     // Under mpirun rank 0 speaks for the run: the others see the same things.
     const auto tell = [&](const std::string& line) {
         if (!a.quiet && (!group || group->rank() == 0)) note(line);
@@ -237,7 +248,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     for (const std::string& w : curveReport.warnings) tell("warning: " + w);
     stages.set("read", timer.lap());
 
-    CrossSection xs = makeCrossSection(a.crossSection);
+    CrossSection xs = makeCrossSection(a.crossSection, a.albedo);
     SliceOptions sliceOptions;
     sliceOptions.twist = a.twist;
     const YarnRadiusChoice radius = chooseYarnRadius(a.yarnRadius, xs, garment, a.input);
@@ -302,12 +313,14 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     meta.sliceSpacing = plan.maxSpacing;
     meta.slicesPerSegment = a.slicesPerSegment;
     meta.sliceSpacingOption = a.spacing;
+    meta.albedo = xs.hasAlbedo();
 
     VdbWriteTimings writeTimings;
     VdbWriteOptions writeOptions;
     writeOptions.compression = parseVdbCompression(a.compression);
     writeOptions.precision = parseVdbPrecision(a.precision);
     writeOptions.lodLevels = checkedLodLevels(a.lod, grid);
+    writeOptions.albedo = xs.hasAlbedo();
     writeOptions.timings = &writeTimings;
 
     // The checks before slicing refuse what cannot leave a voxel; a yarn that

@@ -29,6 +29,7 @@ struct VoxelizeRequest {
     std::uint64_t fragmentCapacity = 0; ///< --fragment-budget
     int lod = 0;                        ///< --lod: level-of-detail grids in the .vdb
     bool quiet = false, verbose = false, resume = false, keepWorkDir = false;
+    bool albedo = false; ///< --albedo: the cross-section PNG's colour as an "albedo" grid
 };
 
 /// What a run did: for the summary line (the --stats file has all of it).

@@ -78,6 +78,9 @@ constexpr std::size_t kHeaderSize = kRegionHeaderSize;
 constexpr std::size_t kChunkEntrySize = 24; // RegionHeader::dataOffset() spells it out too
 constexpr std::size_t kMaskBytes = 8 * 8, kDensityBytes = 4 * kBrickVoxels, kOrientationBytes = 12 * kBrickVoxels;
 constexpr std::size_t kBrickBytes = kMaskBytes + kDensityBytes + kOrientationBytes; // 8256
+constexpr std::size_t kAlbedoBytes = 12 * kBrickVoxels; // after the orientation, in runs with --albedo
+constexpr std::uint32_t kFlagAlbedo = 1;                 // header flags (bytes 140..143)
+std::size_t brickBytes(bool albedo) { return kBrickBytes + (albedo ? kAlbedoBytes : 0); }
 // Chunks keep every lz4 call far below its 2 GB limit, bound the scratch
 // memory per thread, and let one region compress on several cores.
 constexpr std::size_t kBricksPerChunk = 2048;              // what we write: 16.1 MiB raw
@@ -119,7 +122,7 @@ std::array<std::uint8_t, kHeaderSize> encodeHeader(const RegionHeader& h) {
     put(&b[120], h.payloadSize, 8);
     put(&b[128], h.storedSize, 8);
     put(&b[136], h.chunkCount, 4);
-    // 140..143 reserved, zero.
+    put(&b[140], h.albedo ? kFlagAlbedo : 0, 4);
     put(&b[144], h.tableChecksum, 8);
     put(&b[152], xxh64(b.data(), 152), 8);
     return b;
@@ -136,19 +139,25 @@ void serializeBrick(const VoxelBrick& b, std::uint8_t* dst) {
     std::memcpy(dst, b.activeMask.data(), kMaskBytes);
     std::memcpy(dst + kMaskBytes, b.density.data(), kDensityBytes);
     std::memcpy(dst + kMaskBytes + kDensityBytes, b.orientation.data(), kOrientationBytes);
+    if (!b.albedo.empty()) std::memcpy(dst + kBrickBytes, b.albedo.data(), kAlbedoBytes);
 }
 
-void deserializeBrick(const std::uint8_t* src, std::uint64_t key, VoxelBrick& b) {
+void deserializeBrick(const std::uint8_t* src, std::uint64_t key, bool albedo, VoxelBrick& b) {
     b.key = key;
     std::memcpy(b.activeMask.data(), src, kMaskBytes);
     std::memcpy(b.density.data(), src + kMaskBytes, kDensityBytes);
     std::memcpy(b.orientation.data(), src + kMaskBytes + kDensityBytes, kOrientationBytes);
+    b.albedo.clear();
+    if (albedo) {
+        b.albedo.resize(kBrickVoxels);
+        std::memcpy(b.albedo.data(), src + kBrickBytes, kAlbedoBytes);
+    }
 }
 
-std::uint64_t countActive(const std::uint8_t* raw, std::size_t bricks) {
+std::uint64_t countActive(const std::uint8_t* raw, std::size_t bricks, std::size_t bytesPerBrick) {
     std::uint64_t n = 0;
     for (std::size_t i = 0; i < bricks; ++i)
-        for (int w = 0; w < 8; ++w) n += std::popcount(get(raw + i * kBrickBytes + 8 * w, 8));
+        for (int w = 0; w < 8; ++w) n += std::popcount(get(raw + i * bytesPerBrick + 8 * w, 8));
     return n;
 }
 
@@ -195,15 +204,18 @@ RegionHeader parseRegionHeader(const std::uint8_t* p, std::uint64_t fileSize, co
     h.storedSize = get(p + 128, 8);
     h.chunkCount = static_cast<std::uint32_t>(get(p + 136, 4));
     h.tableChecksum = get(p + 144, 8);
-    if (get(p + 140, 4) != 0) fail(name, 140, "reserved field is not zero");
+    const std::uint64_t flags = get(p + 140, 4);
+    if (flags & ~std::uint64_t(kFlagAlbedo)) fail(name, 140, "unknown flags " + std::to_string(flags) + ": expected 0 or 1 (albedo)");
+    h.albedo = flags & kFlagAlbedo;
+    const std::size_t bytesPerBrick = brickBytes(h.albedo);
     // Each count is bounded by the file size before it is multiplied, so no product can overflow.
     if (h.brickCount > fileSize / 8 || h.chunkCount > fileSize / kChunkEntrySize || h.storedSize > fileSize)
         fail(name, 104, "brick count " + std::to_string(h.brickCount) + ", chunk count " +
                             std::to_string(h.chunkCount) + " and stored size " + std::to_string(h.storedSize) +
                             " cannot fit in a file of " + std::to_string(fileSize) + " bytes (truncated?)");
-    if (h.payloadSize != h.brickCount * kBrickBytes)
+    if (h.payloadSize != h.brickCount * bytesPerBrick)
         fail(name, 120, "payload size " + std::to_string(h.payloadSize) + ": expected " +
-                            std::to_string(kBrickBytes) + " bytes per brick for " + std::to_string(h.brickCount) +
+                            std::to_string(bytesPerBrick) + " bytes per brick for " + std::to_string(h.brickCount) +
                             " bricks");
     if ((h.brickCount == 0) != (h.chunkCount == 0) || h.chunkCount > h.brickCount)
         fail(name, 136, "chunk count " + std::to_string(h.chunkCount) + " does not fit " +
@@ -258,7 +270,13 @@ EncodedRegion encodeRegion(const StoreManifest& m, std::uint64_t id, glm::ivec3 
     h.grid = m.grid;
     h.reduce = m.reduce;
     h.brickCount = bricks.size();
-    h.payloadSize = h.brickCount * kBrickBytes;
+    h.albedo = !bricks.empty() && !bricks.front().albedo.empty();
+    for (const VoxelBrick& b : bricks)
+        if (b.albedo.size() != (h.albedo ? std::size_t(kBrickVoxels) : 0))
+            throw Error("cannot write " + name + ": brick " + coordText(brickCoord(b.key)) +
+                        (h.albedo ? " has no albedo, others have" : " has albedo, others have none"));
+    const std::size_t bytesPerBrick = brickBytes(h.albedo);
+    h.payloadSize = h.brickCount * bytesPerBrick;
     h.chunkCount = static_cast<std::uint32_t>((bricks.size() + kBricksPerChunk - 1) / kBricksPerChunk);
 
     e.chunks.resize(h.chunkCount);
@@ -268,8 +286,8 @@ EncodedRegion encodeRegion(const StoreManifest& m, std::uint64_t id, glm::ivec3 
     tbb::parallel_for(std::uint32_t(0), h.chunkCount, [&](std::uint32_t c) {
         const std::size_t first = std::size_t(c) * kBricksPerChunk;
         const std::size_t n = std::min(kBricksPerChunk, bricks.size() - first);
-        std::vector<std::uint8_t> raw(n * kBrickBytes);
-        for (std::size_t i = 0; i < n; ++i) serializeBrick(bricks[order[first + i]], &raw[i * kBrickBytes]);
+        std::vector<std::uint8_t> raw(n * bytesPerBrick);
+        for (std::size_t i = 0; i < n; ++i) serializeBrick(bricks[order[first + i]], &raw[i * bytesPerBrick]);
         std::vector<std::uint8_t>& out = e.chunks[c];
         out.resize(static_cast<std::size_t>(LZ4_compressBound(static_cast<int>(raw.size()))));
         const int stored = LZ4_compress_default(reinterpret_cast<const char*>(raw.data()),
@@ -282,7 +300,7 @@ EncodedRegion encodeRegion(const StoreManifest& m, std::uint64_t id, glm::ivec3 
         put(entry + 4, raw.size(), 4);
         put(entry + 8, xxh64(out.data(), out.size()), 8);
         put(entry + 16, xxh64(raw.data(), raw.size()), 8);
-        active[c] = countActive(raw.data(), n);
+        active[c] = countActive(raw.data(), n, bytesPerBrick);
     });
     for (std::uint32_t c = 0; c < h.chunkCount; ++c) {
         h.storedSize += e.chunks[c].size();
@@ -295,6 +313,7 @@ EncodedRegion encodeRegion(const StoreManifest& m, std::uint64_t id, glm::ivec3 
 
 void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::string& name,
                       std::vector<VoxelBrick>* out) {
+    const std::size_t bytesPerBrick = brickBytes(h.albedo);
     const std::uint64_t tableEnd = h.dataOffset();
     if (const std::uint64_t computed = xxh64(p + h.indexOffset(), tableEnd - h.indexOffset());
         computed != h.tableChecksum)
@@ -322,16 +341,16 @@ void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::s
         const std::uint64_t at = h.tableOffset() + kChunkEntrySize * c;
         Chunk& k = chunks[c];
         k = {offset, get(entry, 4), get(entry + 4, 4), brick, get(entry + 8, 8), get(entry + 16, 8)};
-        if (k.raw == 0 || k.raw % kBrickBytes != 0 || k.raw > kMaxChunkRawBytes)
+        if (k.raw == 0 || k.raw % bytesPerBrick != 0 || k.raw > kMaxChunkRawBytes)
             fail(name, at + 4, "chunk " + std::to_string(c) + " raw size " + std::to_string(k.raw) +
-                                   ": expected a positive multiple of " + std::to_string(kBrickBytes) +
+                                   ": expected a positive multiple of " + std::to_string(bytesPerBrick) +
                                    " bytes, at most " + std::to_string(kMaxChunkRawBytes));
         if (k.stored > static_cast<std::uint64_t>(LZ4_compressBound(static_cast<int>(k.raw))) ||
             k.stored > h.fileSize() - offset)
             fail(name, at, "chunk " + std::to_string(c) + " stored size " + std::to_string(k.stored) +
                                " is impossible for " + std::to_string(k.raw) + " raw bytes here");
         offset += k.stored;
-        brick += k.raw / kBrickBytes;
+        brick += k.raw / bytesPerBrick;
     }
     if (brick != h.brickCount || offset != h.fileSize())
         fail(name, h.tableOffset(), "chunk table covers " + std::to_string(brick) + " bricks in " +
@@ -364,11 +383,11 @@ void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::s
             errors[c] = where + ": checksum mismatch after decompression";
             return;
         }
-        const std::size_t n = k.raw / kBrickBytes;
-        active[c] = countActive(raw.data(), n);
+        const std::size_t n = k.raw / bytesPerBrick;
+        active[c] = countActive(raw.data(), n, bytesPerBrick);
         if (out)
             for (std::size_t i = 0; i < n; ++i)
-                deserializeBrick(&raw[i * kBrickBytes], keys[k.firstBrick + i], (*out)[k.firstBrick + i]);
+                deserializeBrick(&raw[i * bytesPerBrick], keys[k.firstBrick + i], h.albedo, (*out)[k.firstBrick + i]);
     });
     for (const std::string& e : errors)
         if (!e.empty()) throw Error(e);

@@ -29,6 +29,7 @@ struct RegionHeader {
     Reduce reduce = Reduce::Mean;
     std::uint64_t brickCount = 0, activeVoxels = 0, payloadSize = 0, storedSize = 0;
     std::uint32_t chunkCount = 0;
+    bool albedo = false; ///< every brick carries VoxelBrick::albedo (flag bit 0)
     std::uint64_t tableChecksum = 0;
 
     std::uint64_t indexOffset() const { return kRegionHeaderSize; }

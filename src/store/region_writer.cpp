@@ -69,8 +69,9 @@ void RegionWriter::submit(std::uint64_t id, glm::ivec3 min, glm::ivec3 max,
                           std::vector<BrickAccumulator> accumulators) {
     // Checked here, in the caller's thread: resolveBrick reads the words unchecked.
     const std::size_t words = std::size_t(wordsPerVoxel(reduce_)) * kBrickVoxels;
+    const std::size_t albedoWords = std::size_t(wordsPerVoxel(reduce_, true)) * kBrickVoxels;
     for (const BrickAccumulator& a : accumulators)
-        if (a.words.size() != words)
+        if (a.words.size() != words && a.words.size() != albedoWords)
             throw Error("region " + std::to_string(id) + ": accumulator of brick key " + std::to_string(a.key) +
                         " has " + std::to_string(a.words.size()) + " words, " + toString(reduce_) + " needs " +
                         std::to_string(words));

@@ -14,18 +14,20 @@ glm::ivec3 octantOrigin(std::uint64_t childKey) { return (brickCoord(childKey) &
 
 /// Sums over each 2^3 block of a brick: block (x, y, z) of the 4^3 covers
 /// voxels (2x..2x+1, ...). `density(v)` and `tensor(v, t)` read voxel v.
-template <typename DensityFn, typename TensorFn>
+/// `colour(v, c)`, when `withAlbedo`, gives voxel v's density times colour.
+template <typename DensityFn, typename TensorFn, typename ColourFn>
 void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active, DensityFn density,
-                      TensorFn tensor, std::vector<std::uint8_t>& out) {
+                      TensorFn tensor, bool withAlbedo, ColourFn colour, std::vector<std::uint8_t>& out) {
     constexpr int kBlocks = 64;
     std::uint64_t mask = 0;
     double densities[kBlocks];
     float tensors[kBlocks][6];
+    float colours[kBlocks][3];
     int n = 0;
     for (int bx = 0; bx < 4; ++bx)
         for (int by = 0; by < 4; ++by)
             for (int bz = 0; bz < 4; ++bz) {
-                double d = 0.0, t[6] = {0, 0, 0, 0, 0, 0};
+                double d = 0.0, t[6] = {0, 0, 0, 0, 0, 0}, rgb[3] = {0, 0, 0};
                 bool any = false;
                 // Children in OpenVDB's voxel order: the same sum on every run.
                 for (int c = 0; c < 8; ++c) {
@@ -36,22 +38,31 @@ void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active
                     double tv[6];
                     tensor(v, tv);
                     for (int i = 0; i < 6; ++i) t[i] += tv[i];
+                    if (withAlbedo) {
+                        double cv[3];
+                        colour(v, cv);
+                        for (int i = 0; i < 3; ++i) rgb[i] += cv[i];
+                    }
                 }
                 if (!any) continue;
                 const int block = (bx << 4) | (by << 2) | bz;
                 mask |= std::uint64_t(1) << block;
                 densities[n] = d;
                 for (int i = 0; i < 6; ++i) tensors[n][i] = static_cast<float>(t[i]);
+                for (int i = 0; i < 3; ++i) colours[n][i] = static_cast<float>(rgb[i]);
                 ++n;
             }
     const std::size_t at = out.size();
-    out.resize(at + sizeof mask + n * (sizeof(double) + 6 * sizeof(float)));
+    const int colourFloats = withAlbedo ? 3 : 0;
+    out.resize(at + sizeof mask + n * (sizeof(double) + (6 + colourFloats) * sizeof(float)));
     std::uint8_t* p = out.data() + at;
     std::memcpy(p, &mask, sizeof mask);
     p += sizeof mask;
     std::memcpy(p, densities, n * sizeof(double));
     p += n * sizeof(double);
     std::memcpy(p, tensors, n * 6 * sizeof(float));
+    p += n * 6 * sizeof(float);
+    if (withAlbedo) std::memcpy(p, colours, n * 3 * sizeof(float));
 }
 
 } // namespace
@@ -74,11 +85,14 @@ int checkedLodLevels(int levels, const VoxelGrid& grid) {
     return levels;
 }
 
-void CoarseBrick::clear(std::uint64_t k) {
+void CoarseBrick::clear(std::uint64_t k, bool withAlbedo) {
     key = k;
+    albedo = withAlbedo;
     touched.fill(0);
     densitySum.fill(0.0);
     for (auto& t : tensor) t.fill(0.0);
+    if (albedo)
+        for (auto& c : albedoSum) c.fill(0.0);
 }
 
 void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out) {
@@ -94,13 +108,23 @@ void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out) {
             t[4] = d * a.x * a.z;
             t[5] = d * a.y * a.z;
         },
+        !brick.albedo.empty(),
+        [&](int v, double c[3]) {
+            for (int i = 0; i < 3; ++i) c[i] = double(brick.density[v]) * brick.albedo[v][i];
+        },
         out);
 }
 
 void appendOctant(const CoarseBrick& sums, const VoxelBrick& resolved, std::vector<std::uint8_t>& out) {
     appendOctantSums(
         resolved.activeMask, [&](int v) { return double(resolved.density[v]); },
-        [&](int v, double t[6]) { std::copy(sums.tensor[v].begin(), sums.tensor[v].end(), t); }, out);
+        [&](int v, double t[6]) { std::copy(sums.tensor[v].begin(), sums.tensor[v].end(), t); },
+        !resolved.albedo.empty(),
+        // The written density and colour: the next level keeps the written colour mass.
+        [&](int v, double c[3]) {
+            for (int i = 0; i < 3; ++i) c[i] = double(resolved.density[v]) * resolved.albedo[v][i];
+        },
+        out);
 }
 
 void placeOctant(std::span<const std::uint8_t> bytes, std::uint64_t childKey, CoarseBrick& parent) {
@@ -108,11 +132,13 @@ void placeOctant(std::span<const std::uint8_t> bytes, std::uint64_t childKey, Co
     if (bytes.size() < sizeof mask) throw Error("level-of-detail scratch record too short");
     std::memcpy(&mask, bytes.data(), sizeof mask);
     const int n = std::popcount(mask);
-    if (bytes.size() != sizeof mask + n * (sizeof(double) + 6 * sizeof(float)))
+    const std::size_t colourFloats = parent.albedo ? 3 : 0;
+    if (bytes.size() != sizeof mask + n * (sizeof(double) + (6 + colourFloats) * sizeof(float)))
         throw Error("level-of-detail scratch record of " + std::to_string(bytes.size()) + " bytes for " +
                     std::to_string(n) + " voxels");
     const std::uint8_t* densities = bytes.data() + sizeof mask;
     const std::uint8_t* tensors = densities + n * sizeof(double);
+    const std::uint8_t* colours = tensors + n * 6 * sizeof(float);
     const glm::ivec3 o = octantOrigin(childKey);
     int i = 0;
     for (int block = 0; block < 64; ++block) {
@@ -125,6 +151,11 @@ void placeOctant(std::span<const std::uint8_t> bytes, std::uint64_t childKey, Co
         parent.touched[v >> 6] |= std::uint64_t(1) << (v & 63);
         parent.densitySum[v] = d;
         for (int k = 0; k < 6; ++k) parent.tensor[v][k] = t[k];
+        if (parent.albedo) {
+            float c[3];
+            std::memcpy(c, colours + i * 3 * sizeof(float), sizeof c);
+            for (int k = 0; k < 3; ++k) parent.albedoSum[v][k] = c[k];
+        }
         ++i;
     }
 }
@@ -132,6 +163,10 @@ void placeOctant(std::span<const std::uint8_t> bytes, std::uint64_t childKey, Co
 bool resolveCoarseBrick(const CoarseBrick& sums, VoxelBrick& out) {
     out.key = sums.key;
     out.activeMask.fill(0);
+    if (sums.albedo)
+        out.albedo.assign(kBrickVoxels, glm::vec3(0.0f));
+    else
+        out.albedo.clear();
     bool any = false;
     for (int v = 0; v < kBrickVoxels; ++v) {
         out.density[v] = 0.0f;
@@ -142,6 +177,9 @@ bool resolveCoarseBrick(const CoarseBrick& sums, VoxelBrick& out) {
         if (!(density > 0.0f)) continue;
         out.density[v] = density;
         out.orientation[v] = glm::vec3(canonicalAxis(principalAxis(sums.tensor[v].data())));
+        if (sums.albedo)
+            for (int k = 0; k < 3; ++k)
+                out.albedo[v][k] = static_cast<float>(std::min(1.0, sums.albedoSum[v][k] / sums.densitySum[v]));
         out.activeMask[v >> 6] |= std::uint64_t(1) << (v & 63);
         any = true;
     }

@@ -6,6 +6,9 @@
 // level 0's axes are (canonicalAxis): never an average of vectors, whose
 // signs mean nothing.
 //
+// With albedo, a coarse voxel's colour is its children's colours weighted by
+// their densities (the mass-weighted mean): the colour of the fibre it holds.
+//
 // Each brick gives its parent brick one octant: 4^3 sums over its 2^3
 // blocks of voxels. Octants of different children never share a voxel, so a
 // parent is built by placing its children's octants, with no sum across
@@ -33,29 +36,34 @@ inline std::uint64_t parentBrickKey(std::uint64_t childKey) { return brickKey(br
 
 /// One brick of a coarse level while its children's octants are placed:
 /// per voxel the sum of the children's densities and of their structure
-/// tensors (xx yy zz xy xz yz).
+/// tensors (xx yy zz xy xz yz), and with albedo of density times colour.
 struct CoarseBrick {
     std::uint64_t key = 0;
+    bool albedo = false; ///< the octants carry colour sums
     std::array<std::uint64_t, kBrickVoxels / 64> touched{}; ///< voxels some child reached
     std::array<double, kBrickVoxels> densitySum{};
     std::array<std::array<double, 6>, kBrickVoxels> tensor{};
+    std::array<std::array<double, 3>, kBrickVoxels> albedoSum{};
 
-    void clear(std::uint64_t k);
+    void clear(std::uint64_t k, bool withAlbedo = false);
 };
 
 /// The octant a level-0 brick gives its parent, as bytes for the scratch
 /// file: a 64-bit mask of the octant's voxels with an active child, then
-/// for those voxels the density sums (double) and the tensor sums (6 floats).
+/// for those voxels the density sums (double), the tensor sums (6 floats) and,
+/// when the brick has an albedo, the density-weighted colour sums (3 floats).
 void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out);
 /// The same for a brick of a coarse level: `resolved` holds its densities as
 /// written (so the next level keeps the written mass), `sums` its tensors.
 void appendOctant(const CoarseBrick& sums, const VoxelBrick& resolved, std::vector<std::uint8_t>& out);
-/// Places the octant bytes of child brick `childKey` into `parent`. Throws
-/// yv::Error when the bytes are not an octant record (a damaged scratch file).
+/// Places the octant bytes of child brick `childKey` into `parent` (with
+/// colour sums when parent.albedo). Throws yv::Error when the bytes are not
+/// an octant record (a damaged scratch file).
 void placeOctant(std::span<const std::uint8_t> bytes, std::uint64_t childKey, CoarseBrick& parent);
 
-/// Densities (sum / 8, rounded once to float) and orientations of a coarse
-/// brick; a voxel is active where its density is above 0. False when none is.
+/// Densities (sum / 8, rounded once to float), orientations and, with
+/// albedo, colours (colour sum / density sum) of a coarse brick; a voxel is
+/// active where its density is above 0. False when none is.
 bool resolveCoarseBrick(const CoarseBrick& sums, VoxelBrick& out);
 
 } // namespace yv

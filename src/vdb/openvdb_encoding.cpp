@@ -158,9 +158,12 @@ LeafLoadInfo LeafEncoder::encode(const VoxelBrick& brick, ByteVector& out) const
         for (int v = 0; v < kBrickVoxels; ++v) values[v] = brick.isActive(v) ? brick.density[v] : 0.0f;
         info = encodeValues(s->os, values, mask, encoding);
     } else {
+        if (encoding.kind == GridKind::Albedo && brick.albedo.size() != std::size_t(kBrickVoxels))
+            throw Error("brick " + std::to_string(brick.key) + " has no albedo for the .vdb's albedo grid");
+        const glm::vec3* source = encoding.kind == GridKind::Albedo ? brick.albedo.data() : brick.orientation.data();
         openvdb::Vec3s values[kBrickVoxels];
         for (int v = 0; v < kBrickVoxels; ++v) {
-            const glm::vec3 a = brick.isActive(v) ? brick.orientation[v] : glm::vec3(0.0f);
+            const glm::vec3 a = brick.isActive(v) ? source[v] : glm::vec3(0.0f);
             values[v] = openvdb::Vec3s(a.x, a.y, a.z);
         }
         info = encodeValues(s->os, values, mask, encoding);
@@ -170,7 +173,8 @@ LeafLoadInfo LeafEncoder::encode(const VoxelBrick& brick, ByteVector& out) const
 }
 
 std::string gridName(GridKind kind, int lodLevel) {
-    const std::string base = kind == GridKind::Density ? "density" : "orientation";
+    const std::string base =
+        kind == GridKind::Density ? "density" : (kind == GridKind::Orientation ? "orientation" : "albedo");
     return lodLevel == 0 ? base : base + "_lod" + std::to_string(lodLevel);
 }
 
@@ -182,7 +186,9 @@ openvdb::GridBase::Ptr makeSkeletonGrid(GridKind kind, const openvdb::math::Tran
         grid->setGridClass(openvdb::GRID_FOG_VOLUME);
     } else {
         grid = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-        grid->setVectorType(openvdb::VEC_INVARIANT); // an axis: not transformed like a position
+        // An axis or a colour: not transformed like a position.
+        grid->setVectorType(openvdb::VEC_INVARIANT);
+        if (kind == GridKind::Albedo) grid->insertMeta("color_space", openvdb::StringMetadata("linear"));
     }
     grid->setName(gridName(kind, lodLevel));
     if (lodLevel > 0) grid->insertMeta("lod_level", openvdb::Int32Metadata(lodLevel));

@@ -21,8 +21,8 @@ namespace yv {
 
 using ByteVector = std::vector<std::uint8_t>;
 
-/// The two grids yarnvox writes.
-enum class GridKind { Density, Orientation };
+/// The grids yarnvox writes: density, orientation and, with --albedo, albedo.
+enum class GridKind { Density, Orientation, Albedo };
 
 /// How one grid's values are stored: OpenVDB's compression flags for this
 /// grid (OpenVDB drops zip for fog volumes, so it can differ per grid) and
@@ -66,12 +66,13 @@ class LeafEncoder {
     std::unique_ptr<Impl> impl_;
 };
 
-/// A grid's name: "density" or "orientation", with "_lodL" for level L > 0.
+/// A grid's name: "density", "orientation" or "albedo", with "_lodL" for level L > 0.
 std::string gridName(GridKind kind, int lodLevel);
 
 /// A grid with no voxels carrying everything else of the output grid: name,
 /// class (density: fog volume), vector type (orientation: invariant, an axis
-/// that is not transformed like a position), transform, half flag, and for
+/// that is not transformed like a position; albedo: invariant, metadata
+/// color_space "linear"), transform, half flag, and for
 /// level-of-detail grids their level ("lod_level"). Its metadata and
 /// transform are what is written.
 openvdb::GridBase::Ptr makeSkeletonGrid(GridKind kind, const openvdb::math::Transform::Ptr& transform, bool half,

@@ -41,14 +41,17 @@ std::uint32_t archiveFlags(VdbCompression c) {
     return openvdb::io::COMPRESS_NONE;
 }
 
-/// One leaf in the scratch file: where its two records are, and its value
-/// mask (the topology needs every mask before the first buffer).
+/// Grids of one level at most: density, orientation, albedo (GridKind order).
+constexpr int kMaxGrids = 3;
+
+/// One leaf in the scratch file: where its records are (one per grid), and
+/// its value mask (the topology needs every mask before the first buffer).
 struct LeafRecord {
     std::uint64_t order = 0; ///< treeOrderKey
-    std::uint64_t densityAt = 0, orientationAt = 0;
-    std::uint32_t densityBytes = 0, orientationBytes = 0;
+    std::uint64_t at[kMaxGrids] = {};
+    std::uint32_t bytes[kMaxGrids] = {};
     std::uint32_t source = 0;
-    LeafLoadInfo load[2]; ///< per grid, for the delayed-load metadata
+    LeafLoadInfo load[kMaxGrids]; ///< per grid, for the delayed-load metadata
     std::array<std::uint64_t, kBrickVoxels / 64> mask{};
 };
 
@@ -117,10 +120,7 @@ ByteVector topologyBytes(const std::vector<LeafRecord>& leaves, const GridEncodi
 /// follow each other in the scratch file are read with one call.
 void copyLeafRecords(const std::vector<LeafRecord>& leaves, GridKind kind, const SpillFile& spill, int fd,
                      std::uint64_t at, const std::string& what) {
-    const auto place = [kind](const LeafRecord& r) {
-        return kind == GridKind::Density ? std::pair{r.densityAt, r.densityBytes}
-                                         : std::pair{r.orientationAt, std::uint32_t(r.orientationBytes)};
-    };
+    const auto place = [kind](const LeafRecord& r) { return std::pair{r.at[int(kind)], r.bytes[int(kind)]}; };
     // Pieces of about kCopyPieceBytes: [first leaf, end leaf) and where they go.
     struct Piece {
         std::size_t begin, end;
@@ -154,13 +154,15 @@ void copyLeafRecords(const std::vector<LeafRecord>& leaves, GridKind kind, const
     });
 }
 
-/// One level of the pyramid (0: the volume itself): its transform, its two
-/// grids' encodings, and its leaves in the scratch file.
+/// One level of the pyramid (0: the volume itself): its transform, its
+/// grids' encodings (density, orientation, and albedo where the run has it),
+/// and its leaves in the scratch file.
 struct PyramidLevel {
     openvdb::math::Transform::Ptr transform;
-    openvdb::GridBase::Ptr skeleton[2];
-    GridEncoding encoding[2];
-    std::unique_ptr<LeafEncoder> encoders[2];
+    int gridCount = 2;
+    openvdb::GridBase::Ptr skeleton[kMaxGrids];
+    GridEncoding encoding[kMaxGrids];
+    std::unique_ptr<LeafEncoder> encoders[kMaxGrids];
     std::vector<LeafRecord> leaves;
     openvdb::CoordBBox activeBounds;
     std::uint64_t activeVoxels = 0;
@@ -182,7 +184,7 @@ struct EncodedBatch {
     std::uint64_t activeVoxels = 0;
 };
 
-/// Encodes `bricks` into leaf records of `level`'s two grids in the scratch
+/// Encodes `bricks` into leaf records of `level`'s grids in the scratch
 /// file, in pieces; with `octants`, also puts each brick's octant for the
 /// next level there.
 EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, std::span<const VoxelBrick> bricks,
@@ -196,21 +198,23 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, std::span<
     batch.records.resize(bricks.size());
     for (std::size_t first = 0; first < bricks.size(); first += kEncodePiece) {
         const std::size_t count = std::min(kEncodePiece, bricks.size() - first);
-        std::vector<ByteVector> encoded[3];
+        // Per grid, then the octants.
+        constexpr int kOctants = kMaxGrids;
+        std::vector<ByteVector> encoded[kMaxGrids + 1];
         for (auto& e : encoded) e.resize(count);
         std::vector<openvdb::CoordBBox> pieceBounds(count);
         tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
             const VoxelBrick& b = bricks[order[first + i].second];
             LeafRecord& r = batch.records[first + i];
-            r.load[0] = level.encoders[0]->encode(b, encoded[0][i]);
-            r.load[1] = level.encoders[1]->encode(b, encoded[1][i]);
-            if (octants) appendOctant(b, encoded[2][i]);
+            for (int g = 0; g < level.gridCount; ++g) r.load[g] = level.encoders[g]->encode(b, encoded[g][i]);
+            if (octants) appendOctant(b, encoded[kOctants][i]);
             const glm::ivec3 o = brickCoord(b.key) * kBrickSize;
             for (int v = 0; v < kBrickVoxels; ++v)
                 if (b.isActive(v)) pieceBounds[i].expand(openvdb::Coord(o.x + (v >> 6), o.y + ((v >> 3) & 7), o.z + (v & 7)));
         });
         // One write per grid (and for the octants) and piece into the scratch file.
-        for (int g = 0; g < (octants ? 3 : 2); ++g) {
+        for (int g = 0; g <= kOctants; ++g) {
+            if (g == kOctants ? !octants : g >= level.gridCount) continue;
             std::size_t total = 0;
             for (const ByteVector& e : encoded[g]) total += e.size();
             ByteVector joined;
@@ -219,12 +223,12 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, std::span<
             std::uint64_t at = spill.append(joined);
             for (std::size_t i = 0; i < count; ++i) {
                 LeafRecord& r = batch.records[first + i];
-                if (g == 2) {
+                if (g == kOctants) {
                     YV_CHECK(encoded[g][i].size() < 0x10000);
                     octants->push_back({bricks[order[first + i].second].key, at << 16 | encoded[g][i].size()});
                 } else {
-                    (g == 0 ? r.densityAt : r.orientationAt) = at;
-                    (g == 0 ? r.densityBytes : r.orientationBytes) = std::uint32_t(encoded[g][i].size());
+                    r.at[g] = at;
+                    r.bytes[g] = std::uint32_t(encoded[g][i].size());
                 }
                 at += encoded[g][i].size();
             }
@@ -283,7 +287,7 @@ void buildLevel(PyramidLevel& level, SpillFile& spill, std::vector<OctantRecord>
             if (!sums) sums = std::make_unique<CoarseBrick>();
             ByteVector& buffer = buffers.local();
             const std::size_t g = first + i;
-            sums->clear(parentBrickKey(octants[groups[g]].childKey));
+            sums->clear(parentBrickKey(octants[groups[g]].childKey), level.gridCount > 2);
             for (std::size_t k = groups[g]; k < groups[g + 1]; ++k) {
                 buffer.resize(octants[k].bytes());
                 spill.read(octants[k].at(), buffer);
@@ -363,6 +367,7 @@ VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduc
     m.reduce = reduce;
     m.options = options;
     m.levels.resize(std::size_t(checkedLodLevels(options.lodLevels, grid)) + 1);
+    for (PyramidLevel& level : m.levels) level.gridCount = options.albedo ? 3 : 2;
     const bool half = options.precision == VdbPrecision::Half;
     const std::uint32_t flags = archiveFlags(options.compression);
     for (std::size_t l = 0; l < m.levels.size(); ++l) {
@@ -372,8 +377,8 @@ VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduc
         level.transform = openvdb::math::Transform::createLinearTransform(h);
         const glm::dvec3 c = grid.origin + 0.5 * h;
         level.transform->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
-        for (GridKind kind : {GridKind::Density, GridKind::Orientation}) {
-            const int g = int(kind);
+        for (int g = 0; g < level.gridCount; ++g) {
+            const auto kind = GridKind(g);
             level.skeleton[g] = makeSkeletonGrid(kind, level.transform, half, int(l));
             level.encoding[g] = {kind, gridCompression(flags, *level.skeleton[g]), flags, half};
             level.encoders[g] = std::make_unique<LeafEncoder>(level.encoding[g]);
@@ -460,10 +465,14 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     fileMeta.insertMeta("slice_spacing_option", openvdb::DoubleMetadata(metadata.sliceSpacingOption));
     fileMeta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
     if (m.levels.size() > 1) fileMeta.insertMeta("lod_levels", openvdb::Int32Metadata(int(m.levels.size()) - 1));
+    if (m.levels[0].gridCount > 2) fileMeta.insertMeta("albedo", openvdb::StringMetadata("linear RGB, density-weighted mean"));
 
-    // The layout: header, then per grid (level by level, density then
-    // orientation) its prefix, topology and leaf records.
-    const std::size_t gridCount = 2 * m.levels.size();
+    // The layout: header, then per grid (level by level, density, orientation
+    // and albedo) its prefix, topology and leaf records.
+    std::vector<std::pair<std::size_t, int>> gridOf; // (level, grid) of each grid in the file
+    for (std::size_t l = 0; l < m.levels.size(); ++l)
+        for (int g = 0; g < m.levels[l].gridCount; ++g) gridOf.emplace_back(l, g);
+    const std::size_t gridCount = gridOf.size();
     const ByteVector header = fileHeaderBytes(fileMeta, std::int32_t(gridCount));
     std::vector<ByteVector> prefix(gridCount), topology(gridCount);
     std::vector<std::uint64_t> gridStart(gridCount), recordsAt(gridCount);
@@ -475,16 +484,17 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
         stats.activeBounds = level.activeBounds;
         stats.activeVoxels = level.activeVoxels;
         stats.leaves = leaves.size();
-        std::uint64_t recordBytes[2] = {0, 0};
+        std::uint64_t recordBytes[kMaxGrids] = {};
         for (std::size_t i = 0; i < leaves.size(); ++i) {
             YV_CHECK(i == 0 || leaves[i].order != leaves[i - 1].order);
             stats.upperNodes += i == 0 || rootChildOfOrder(leaves[i].order) != rootChildOfOrder(leaves[i - 1].order);
             stats.lowerNodes += i == 0 || lowerNodeOfOrder(leaves[i].order) != lowerNodeOfOrder(leaves[i - 1].order);
-            recordBytes[0] += leaves[i].densityBytes;
-            recordBytes[1] += leaves[i].orientationBytes;
+            for (int g = 0; g < level.gridCount; ++g) recordBytes[g] += leaves[i].bytes[g];
         }
-        for (int g = 0; g < 2; ++g) {
-            const std::size_t n = 2 * l + std::size_t(g);
+        const std::size_t levelStart =
+            std::size_t(std::find(gridOf.begin(), gridOf.end(), std::pair<std::size_t, int>(l, 0)) - gridOf.begin());
+        for (int g = 0; g < level.gridCount; ++g) {
+            const std::size_t n = levelStart + std::size_t(g);
             std::vector<LeafLoadInfo> load(leaves.size());
             for (std::size_t i = 0; i < leaves.size(); ++i) load[i] = leaves[i].load[g];
             std::size_t positionsAt = 0;
@@ -513,7 +523,8 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
             writeAllAt(fd.get(), prefix[n], gridStart[n], cannotWrite);
             writeAllAt(fd.get(), topology[n], gridStart[n] + prefix[n].size(), cannotWrite);
             ByteVector().swap(topology[n]);
-            copyLeafRecords(m.levels[n / 2].leaves, GridKind(n % 2), *m.spill, fd.get(), recordsAt[n], cannotWrite);
+            copyLeafRecords(m.levels[gridOf[n].first].leaves, GridKind(gridOf[n].second), *m.spill, fd.get(),
+                            recordsAt[n], cannotWrite);
         }
         // Data on disk before the name: a crash never leaves a complete-looking file.
         if (::fsync(fd.get()) != 0) throw Error(path + ": cannot make the OpenVDB file durable: " + errnoText(errno));
@@ -538,7 +549,9 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
 
 void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMetadata& metadata,
               const VdbWriteOptions& options) {
-    VdbAssembler assembler(path, volume.grid, volume.reduce, options);
+    VdbWriteOptions withAlbedo = options;
+    withAlbedo.albedo = options.albedo || (!volume.bricks.empty() && !volume.bricks.front().albedo.empty());
+    VdbAssembler assembler(path, volume.grid, volume.reduce, withAlbedo);
     assembler.add(volume.bricks);
     assembler.write(metadata);
 }

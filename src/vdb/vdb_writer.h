@@ -1,6 +1,7 @@
 // OpenVDB output: a float grid "density" (fog volume, background 0) and a
 // vec3 grid "orientation" sharing one transform, written leaf by leaf; with
-// --lod, the same two grids again at each coarser level.
+// --albedo, a vec3 grid "albedo" (linear RGB) too; with --lod, the same grids
+// again at each coarser level.
 #pragma once
 
 #include "core/bricks.h"
@@ -27,6 +28,7 @@ struct VolumeMetadata {
     double sliceSpacing = 0.0;     ///< largest distance between slices along a yarn, world units
     int slicesPerSegment = 0;      ///< --slices-per-segment as asked (0: not asked)
     double sliceSpacingOption = 0.0; ///< --slice-spacing as asked (0: one slice per supersampled voxel)
+    bool albedo = false;           ///< --albedo: the bricks carry the fibres' colour (an "albedo" grid)
 };
 
 /// How each leaf's values are compressed (OpenVDB's options): only the
@@ -63,6 +65,9 @@ struct VdbWriteOptions {
     /// each at half the resolution of the level before (vdb/lod_pyramid.h);
     /// at most maxLodLevels(grid).
     int lodLevels = 0;
+    /// --albedo: a third grid "albedo" from VoxelBrick::albedo, which every
+    /// brick must then have (and albedo_lodL with lodLevels).
+    bool albedo = false;
     VdbWriteTimings* timings = nullptr; ///< added to when given
 };
 

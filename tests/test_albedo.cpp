@@ -1,0 +1,400 @@
+// --albedo: the fibres' colour from a colour cross-section PNG, carried from
+// the samples through the brick store to the .vdb, .vol and .nvdb outputs.
+// Inputs are made here: PNGs written with libpng, straight yarns in code.
+#include "core/error.h"
+#include "cpu/cpu_voxelizer.h"
+#include "export/fiber_grids.h"
+#include "export/mitsuba_vol.h"
+#include "export/nanovdb_output.h"
+#include "garment/cross_section.h"
+#include "run_cli.h"
+#include "store/brick_store.h"
+#include "test_helpers.h"
+#include "vdb/vdb_writer.h"
+
+#include <catch2/catch.hpp>
+#include <nanovdb/util/IO.h>
+#include <openvdb/openvdb.h>
+#include <png.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+using namespace yv;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / "yv_albedo_test";
+    fs::create_directories(dir);
+    return dir / name;
+}
+
+/// A square RGBA PNG: texel (x, y) of the cross-section (y up) gets colour(x, y),
+/// alpha 255 inside the unit disk and 0 outside.
+fs::path writeRgbaPng(const std::string& name, int size,
+                      const std::function<std::array<std::uint8_t, 3>(int x, int y)>& colour) {
+    std::vector<std::uint8_t> pixels(std::size_t(size) * size * 4);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const double u = (x + 0.5) / size * 2 - 1, v = (y + 0.5) / size * 2 - 1;
+            const auto c = colour(x, y);
+            // PNG rows run top to bottom.
+            std::uint8_t* p = &pixels[(std::size_t(size - 1 - y) * size + x) * 4];
+            p[0] = c[0], p[1] = c[1], p[2] = c[2];
+            p[3] = u * u + v * v < 1.0 ? 255 : 0;
+        }
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = image.height = std::uint32_t(size);
+    image.format = PNG_FORMAT_RGBA;
+    const fs::path path = scratch(name);
+    REQUIRE(png_image_write_to_file(&image, path.c_str(), 0, pixels.data(), 0, nullptr));
+    return path;
+}
+
+/// A straight yarn of radius 0.3 and length 6 along x, 6 voxels per radius.
+struct StraightRun {
+    SlicePlan plan;
+    VoxelGrid grid;
+};
+StraightRun straightRun() {
+    SliceOptions opt;
+    opt.radius = 0.3;
+    StraightRun r;
+    r.plan = planSlices(test::straightYarn({0.1, 0.2, 0.3}, {1, 0, 0}, 6), opt);
+    r.grid = makeGrid(r.plan, 0, opt.radius / 6.0);
+    return r;
+}
+
+glm::vec3 linearColour(std::array<std::uint8_t, 3> c) {
+    return {float(srgbToLinear(c[0])), float(srgbToLinear(c[1])), float(srgbToLinear(c[2]))};
+}
+
+/// Density-weighted mean albedo over a volume, and its fibre mass.
+glm::dvec3 massWeightedAlbedo(const BrickVolume& v) {
+    glm::dvec3 sum(0.0);
+    double mass = 0.0;
+    for (const VoxelBrick& b : v.bricks)
+        for (int i = 0; i < kBrickVoxels; ++i)
+            if (b.isActive(i)) sum += double(b.density[i]) * glm::dvec3(b.albedo[i]), mass += b.density[i];
+    return sum / mass;
+}
+
+constexpr std::array<std::uint8_t, 3> kRust{200, 90, 40}, kRed{230, 20, 10}, kBlue{15, 40, 220};
+
+} // namespace
+
+TEST_CASE("Albedo: sRGB to linear follows the sRGB transfer function", "[albedo]") {
+    CHECK(srgbToLinear(0) == 0.0);
+    CHECK(srgbToLinear(255) == Approx(1.0));
+    CHECK(srgbToLinear(10) == Approx(10 / 255.0 / 12.92));           // the linear toe
+    CHECK(srgbToLinear(128) == Approx(0.2158605).epsilon(1e-5));     // mid grey is about 21.6 % linear
+}
+
+TEST_CASE("Albedo: a uniformly coloured cross-section gives that colour in every voxel with fibre and none elsewhere", "[albedo]") {
+    const fs::path png = writeRgbaPng("uniform.png", 32, [](int, int) { return kRust; });
+    const CrossSection xs = loadCrossSectionPng(png.string(), true);
+    REQUIRE(xs.hasAlbedo());
+    const StraightRun run = straightRun();
+    const BrickVolume volume = voxelizeCpu(run.plan, xs, run.grid, VoxelizeSettings{});
+    const glm::vec3 expected = linearColour(kRust);
+    std::uint64_t active = 0;
+    for (const VoxelBrick& b : volume.bricks) {
+        REQUIRE(b.albedo.size() == std::size_t(kBrickVoxels));
+        for (int i = 0; i < kBrickVoxels; ++i) {
+            if (!b.isActive(i)) {
+                REQUIRE(b.albedo[i] == glm::vec3(0.0f));
+                continue;
+            }
+            ++active;
+            // Fixed-point rounding: at most half a unit per sample in the colour and
+            // the density sums, against at least 256 units of density per sample:
+            // (1 + c) / 512 at worst.
+            for (int c = 0; c < 3; ++c) REQUIRE(b.albedo[i][c] == Approx(expected[c]).margin(4e-3));
+        }
+    }
+    CHECK(active > 1000);
+
+    // The same run without --albedo carries no colour at all.
+    const BrickVolume plain = voxelizeCpu(run.plan, loadCrossSectionPng(png.string()), run.grid, VoxelizeSettings{});
+    for (const VoxelBrick& b : plain.bricks) REQUIRE(b.albedo.empty());
+    CHECK(plain.activeVoxelCount() == volume.activeVoxelCount());
+}
+
+TEST_CASE("Albedo: a two-colour cross-section gives the density-weighted mean of its colours", "[albedo]") {
+    // Left half red, right half blue: the yarn's mean colour is their average
+    // (equal fibre on both sides); voxels wholly on one side hold that side's colour.
+    const int size = 32;
+    const fs::path png = writeRgbaPng("halves.png", size, [](int x, int) { return x < size / 2 ? kRed : kBlue; });
+    const CrossSection xs = loadCrossSectionPng(png.string(), true);
+    const StraightRun run = straightRun();
+    const BrickVolume volume = voxelizeCpu(run.plan, xs, run.grid, VoxelizeSettings{});
+    const glm::dvec3 mean = massWeightedAlbedo(volume);
+    const glm::dvec3 expected = 0.5 * (glm::dvec3(linearColour(kRed)) + glm::dvec3(linearColour(kBlue)));
+    for (int c = 0; c < 3; ++c) CHECK(mean[c] == Approx(expected[c]).epsilon(0.02));
+
+    int pureRed = 0, pureBlue = 0, mixed = 0;
+    const glm::vec3 red = linearColour(kRed), blue = linearColour(kBlue);
+    for (const VoxelBrick& b : volume.bricks)
+        for (int i = 0; i < kBrickVoxels; ++i) {
+            if (!b.isActive(i)) continue;
+            const glm::vec3 a = b.albedo[i];
+            if (glm::length(a - red) < 3e-3f) ++pureRed;
+            else if (glm::length(a - blue) < 3e-3f) ++pureBlue;
+            else {
+                ++mixed;
+                // A mix lies between the two colours on every channel.
+                for (int c = 0; c < 3; ++c)
+                    REQUIRE(a[c] >= std::min(red[c], blue[c]) - 4e-3f);
+                for (int c = 0; c < 3; ++c)
+                    REQUIRE(a[c] <= std::max(red[c], blue[c]) + 4e-3f);
+            }
+        }
+    CHECK(pureRed > 100);
+    CHECK(pureBlue > 100);
+    CHECK(mixed > 0);
+}
+
+TEST_CASE("Albedo: asking for it from a grey or built-in cross-section is a clear error", "[albedo]") {
+    const fs::path grey = writeRgbaPng("grey.png", 16, [](int x, int) { return std::array<std::uint8_t, 3>{std::uint8_t(x * 9), std::uint8_t(x * 9), std::uint8_t(x * 9)}; });
+    CHECK_THROWS_WITH(loadCrossSectionPng(grey.string(), true),
+                      Catch::Contains("--albedo needs a colour cross-section") && Catch::Contains("grey.png"));
+    CHECK_NOTHROW(loadCrossSectionPng(grey.string(), false));
+    CHECK_THROWS_WITH(makeCrossSection("fibers", true), Catch::Contains("--albedo") && Catch::Contains("PNG"));
+    // The max reduction keeps one sample's density: it has no mean colour to keep.
+    const fs::path png = writeRgbaPng("max.png", 16, [](int, int) { return kRust; });
+    VoxelizeSettings max;
+    max.reduce = Reduce::Max;
+    const StraightRun run = straightRun();
+    CHECK_THROWS_WITH(voxelizeCpu(run.plan, loadCrossSectionPng(png.string(), true), run.grid, max),
+                      Catch::Contains("--albedo needs --reduce mean"));
+}
+
+TEST_CASE("Albedo: region files carry it and read it back bit-exactly", "[albedo]") {
+    const fs::path png = writeRgbaPng("store.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
+    const CrossSection coloured = loadCrossSectionPng(png.string(), true);
+    const StraightRun run = straightRun();
+    const BrickVolume volume = voxelizeCpu(run.plan, coloured, run.grid, VoxelizeSettings{});
+
+    const fs::path dir = scratch("store-work");
+    fs::remove_all(dir);
+    StoreManifest m;
+    m.fingerprint = 42;
+    m.grid = run.grid;
+    BrickStore store(dir.string(), m, false);
+    store.writeRegion(0, glm::ivec3(0), run.grid.dims, volume.bricks);
+    const std::vector<VoxelBrick> back = store.readRegion(0);
+    REQUIRE(back.size() == volume.bricks.size());
+    for (std::size_t i = 0; i < back.size(); ++i) {
+        REQUIRE(back[i].key == volume.bricks[i].key);
+        REQUIRE(back[i].albedo.size() == std::size_t(kBrickVoxels));
+        REQUIRE(std::memcmp(back[i].albedo.data(), volume.bricks[i].albedo.data(), kBrickVoxels * 12) == 0);
+    }
+    // A region that mixes bricks with and without colour is refused.
+    std::vector<VoxelBrick> mixed = volume.bricks;
+    mixed.back().albedo.clear();
+    CHECK_THROWS_WITH(store.writeRegion(1, glm::ivec3(0), run.grid.dims, mixed), Catch::Contains("albedo"));
+    fs::remove_all(dir);
+
+}
+
+TEST_CASE("Albedo: the .vdb albedo grid reads back through OpenVDB and exports to .vol and .nvdb", "[albedo]") {
+    const fs::path png = writeRgbaPng("vdb.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
+    const StraightRun run = straightRun();
+    const BrickVolume volume = voxelizeCpu(run.plan, loadCrossSectionPng(png.string(), true), run.grid, VoxelizeSettings{});
+    const fs::path vdb = scratch("albedo.vdb");
+    VdbWriteOptions options;
+    options.albedo = true;
+    writeVdb(vdb.string(), volume, VolumeMetadata{}, options);
+
+    const FiberGrids grids = readFiberGrids(vdb.string());
+    REQUIRE(grids.albedo);
+    CHECK(grids.albedo->metaValue<std::string>("color_space") == "linear");
+    CHECK(grids.albedo->activeVoxelCount() == volume.activeVoxelCount());
+    CHECK(grids.albedo->transform() == grids.density->transform());
+    const auto accessor = grids.albedo->getConstAccessor();
+    std::uint64_t checked = 0;
+    for (const VoxelBrick& b : volume.bricks) {
+        const glm::ivec3 o = brickCoord(b.key) * kBrickSize;
+        for (int i = 0; i < kBrickVoxels; ++i) {
+            if (!b.isActive(i)) continue;
+            const openvdb::Coord c(o.x + (i >> 6), o.y + ((i >> 3) & 7), o.z + (i & 7));
+            REQUIRE(accessor.isValueOn(c));
+            const openvdb::Vec3s a = accessor.getValue(c);
+            REQUIRE(a == openvdb::Vec3s(b.albedo[i].x, b.albedo[i].y, b.albedo[i].z));
+            ++checked;
+        }
+    }
+    CHECK(checked == volume.activeVoxelCount());
+
+    // Half precision as the orientation: within a half's rounding.
+    const fs::path half = scratch("albedo-half.vdb");
+    options.precision = VdbPrecision::Half;
+    writeVdb(half.string(), volume, VolumeMetadata{}, options);
+    const FiberGrids halfGrids = readFiberGrids(half.string());
+    REQUIRE(halfGrids.albedo);
+    for (auto it = halfGrids.albedo->cbeginValueOn(); it; ++it)
+        for (int c = 0; c < 3; ++c) REQUIRE((*it)[c] == Approx(grids.albedo->tree().getValue(it.getCoord())[c]).epsilon(1e-3));
+
+    // .vol: a third file of 3 channels, every voxel the grid's value (0 outside the fibre).
+    const fs::path vol = scratch("albedo.vol");
+    const VolExportResult r = exportMitsubaVol(grids, vol.string(), VolExportOptions{});
+    REQUIRE(r.paths.size() == 3);
+    CHECK(r.paths[2] == scratch("albedo.albedo.vol").string());
+    std::ifstream in(r.paths[2], std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    REQUIRE(bytes.size() >= 48);
+    std::int32_t header[5];
+    std::memcpy(header, bytes.data() + 4, sizeof header);
+    CHECK(header[0] == 1); // float32
+    const glm::ivec3 dims(header[1], header[2], header[3]);
+    CHECK(dims == r.box.dims());
+    CHECK(header[4] == 3);
+    REQUIRE(bytes.size() == 48 + std::size_t(dims.x) * dims.y * dims.z * 3 * 4);
+    std::uint64_t coloured = 0;
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x) {
+                float v[3];
+                std::memcpy(v, bytes.data() + 48 + ((std::size_t(z) * dims.y + y) * dims.x + x) * 12, 12);
+                const openvdb::Vec3s a = accessor.getValue(openvdb::Coord(r.box.min.x + x, r.box.min.y + y, r.box.min.z + z));
+                REQUIRE(v[0] == a.x());
+                REQUIRE(v[1] == a.y());
+                REQUIRE(v[2] == a.z());
+                coloured += v[0] > 0.0f;
+            }
+    CHECK(coloured == volume.activeVoxelCount());
+
+    // .nvdb: a third grid, named albedo, with the same values.
+    const fs::path nvdb = scratch("albedo.nvdb");
+    CHECK(exportNanoVdb(grids, nvdb.string()).grids == 3);
+    const auto handle = nanovdb::io::readGrid(nvdb.string(), "albedo");
+    const auto* grid = handle.grid<nanovdb::Vec3f>();
+    REQUIRE(grid);
+    CHECK(grid->activeVoxelCount() == volume.activeVoxelCount());
+    const auto nanoAccessor = grid->getAccessor();
+    for (auto it = grids.albedo->cbeginValueOn(); it; ++it) {
+        const nanovdb::Vec3f a = nanoAccessor.getValue(nanovdb::Coord(it.getCoord().x(), it.getCoord().y(), it.getCoord().z()));
+        REQUIRE(a[0] == (*it)[0]);
+        REQUIRE(a[2] == (*it)[2]);
+    }
+}
+
+TEST_CASE("Albedo: voxelize --albedo writes the grid and refuses what cannot carry it", "[albedo][cli]") {
+    using test::runYarnvox;
+    const fs::path bcc = scratch("cli.bcc");
+    REQUIRE(runYarnvox("gen --pattern knit --crossings 4 -o " + bcc.string()).exitCode == 0);
+    const fs::path png = writeRgbaPng("cli.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
+    const fs::path grey = writeRgbaPng("cli-grey.png", 16, [](int, int) { return std::array<std::uint8_t, 3>{90, 90, 90}; });
+    const std::string base = "voxelize " + bcc.string() + " --resolution 48 --quiet --cross-section ";
+    const fs::path out = scratch("cli.vdb");
+    fs::remove(out);
+
+    const test::RunResult ok = runYarnvox(base + png.string() + " --albedo -o " + out.string());
+    INFO(ok.output);
+    REQUIRE(ok.exitCode == 0);
+    const FiberGrids grids = readFiberGrids(out.string());
+    REQUIRE(grids.albedo);
+    CHECK(grids.albedo->activeVoxelCount() == grids.density->activeVoxelCount());
+
+    const auto refused = [&](const std::string& args, const std::string& message) {
+        const fs::path o = scratch("refused.vdb");
+        fs::remove(o);
+        const test::RunResult r = runYarnvox(base + args + " -o " + o.string());
+        INFO(r.output);
+        CHECK(r.exitCode != 0);
+        CHECK(r.output.find(message) != std::string::npos);
+        CHECK(!fs::exists(o));
+    };
+    refused(grey.string() + " --albedo", "every pixel with fibre is grey");
+    refused("fibers --albedo", "--albedo");
+    refused(png.string() + " --albedo --backend gl", "the GL backend has no albedo yet");
+    refused(png.string() + " --albedo --method dense", "the dense method has no albedo");
+    refused(png.string() + " --albedo --reduce max", "--albedo needs --reduce mean");
+
+    // --albedo makes another run: --resume in its work dir without it is refused, with it accepted.
+    const fs::path work = scratch("cli-work");
+    fs::remove_all(work);
+    const std::string kept = base + png.string() + " --work-dir " + work.string() + " --keep-work-dir";
+    REQUIRE(runYarnvox(kept + " --albedo -o " + out.string()).exitCode == 0);
+    refused(png.string() + " --work-dir " + work.string() + " --resume", "belongs to a different run");
+    const test::RunResult resumed = runYarnvox(kept + " --albedo --resume -o " + out.string());
+    INFO(resumed.output);
+    CHECK(resumed.exitCode == 0);
+    CHECK(readFiberGrids(out.string()).albedo);
+    // merge writes it too: the work dir records that the run has albedo.
+    const fs::path merged = scratch("cli-merged.vdb");
+    fs::remove(merged);
+    REQUIRE(runYarnvox("merge " + work.string() + " -o " + merged.string()).exitCode == 0);
+    const FiberGrids mergedGrids = readFiberGrids(merged.string());
+    REQUIRE(mergedGrids.albedo);
+    CHECK(mergedGrids.albedo->activeVoxelCount() == grids.albedo->activeVoxelCount());
+    fs::remove_all(work);
+}
+
+TEST_CASE("Albedo: LOD levels keep the mass-weighted colour of the level below", "[albedo][lod]") {
+    const fs::path png = writeRgbaPng("lod.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
+    const StraightRun run = straightRun();
+    const BrickVolume volume = voxelizeCpu(run.plan, loadCrossSectionPng(png.string(), true), run.grid, VoxelizeSettings{});
+    const fs::path vdb = scratch("albedo-lod.vdb");
+    VdbWriteOptions options;
+    options.albedo = true;
+    options.lodLevels = 2;
+    writeVdb(vdb.string(), volume, VolumeMetadata{}, options);
+
+    openvdb::initialize();
+    openvdb::io::File file(vdb.string());
+    file.open();
+    const auto grid = [&](const std::string& name) {
+        REQUIRE(file.hasGrid(name));
+        return file.readGrid(name);
+    };
+    const auto density0 = openvdb::gridPtrCast<openvdb::FloatGrid>(grid("density"));
+    const auto albedo0 = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grid("albedo"));
+    const auto density1 = openvdb::gridPtrCast<openvdb::FloatGrid>(grid("density_lod1"));
+    const auto albedo1 = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grid("albedo_lod1"));
+    const auto albedo2 = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grid("albedo_lod2"));
+    file.close();
+    REQUIRE((density0 && albedo0 && density1 && albedo1 && albedo2));
+    CHECK(albedo1->activeVoxelCount() == density1->activeVoxelCount());
+    CHECK(albedo2->metaValue<int>("lod_level") == 2);
+
+    // Every level-1 voxel: sum over its 8 children of density * colour, over their density sum.
+    const auto d0 = density0->getConstAccessor();
+    const auto a0 = albedo0->getConstAccessor();
+    std::uint64_t checked = 0;
+    for (auto it = albedo1->cbeginValueOn(); it; ++it) {
+        const openvdb::Coord p = it.getCoord();
+        glm::dvec3 sum(0.0);
+        double mass = 0.0;
+        for (int c = 0; c < 8; ++c) {
+            const openvdb::Coord q(2 * p.x() + (c >> 2), 2 * p.y() + ((c >> 1) & 1), 2 * p.z() + (c & 1));
+            if (!d0.isValueOn(q)) continue;
+            const double d = d0.getValue(q);
+            const openvdb::Vec3s a = a0.getValue(q);
+            sum += d * glm::dvec3(a.x(), a.y(), a.z()), mass += d;
+        }
+        REQUIRE(mass > 0.0);
+        for (int c = 0; c < 3; ++c) REQUIRE((*it)[c] == Approx(sum[c] / mass).margin(1e-5));
+        ++checked;
+    }
+    CHECK(checked > 100);
+    // The whole volume's mass-weighted colour is the same at every level.
+    const auto meanColour = [](const openvdb::FloatGrid& d, const openvdb::Vec3SGrid& a) {
+        const auto da = d.getConstAccessor();
+        glm::dvec3 sum(0.0);
+        double mass = 0.0;
+        for (auto it = a.cbeginValueOn(); it; ++it) {
+            const double w = da.getValue(it.getCoord());
+            sum += w * glm::dvec3((*it).x(), (*it).y(), (*it).z()), mass += w;
+        }
+        return sum / mass;
+    };
+    const glm::dvec3 m0 = meanColour(*density0, *albedo0), m1 = meanColour(*density1, *albedo1);
+    for (int c = 0; c < 3; ++c) CHECK(m1[c] == Approx(m0[c]).epsilon(1e-4));
+}
