@@ -2,6 +2,7 @@
 // `density` grid (yarnvox's own or anyone's), read through OpenVDB.
 #pragma once
 
+#include "core/stage_seconds.h"
 #include "inspect/voxel_statistics.h"
 
 #include <glm/vec3.hpp>
@@ -30,10 +31,11 @@ struct VdbSummary {
     std::vector<GridSummary> grids;
     VoxelStatistics voxels; ///< density, with orientation where an `orientation` grid is there
     bool hasOrientation = false;
+    StageSeconds stageSeconds; ///< from yarnvox's "stage_seconds" metadata; empty where the file has none
 };
 
 /// Reads `path`; throws yv::Error naming it when it is not an OpenVDB file
-/// or has no float grid named `density`.
+/// or has no float grid named `density`, or its "stage_seconds" is malformed.
 VdbSummary inspectVdb(const std::string& path);
 
 } // namespace yv
