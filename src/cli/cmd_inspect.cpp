@@ -148,7 +148,7 @@ void reportVdb(const std::string& path, bool json) {
     if (s.voxels.activeVoxels)
         std::printf("%.3g bytes on disk per active voxel\n", double(s.fileBytes) / double(s.voxels.activeVoxels));
     printStatistics(s.voxels, h3, s.hasOrientation);
-    printStageSeconds(s.stageSeconds, "the file's metadata has no stage_seconds");
+    printStageSeconds(s.stageSeconds, kVdbStagesNotRecorded);
 }
 
 // ---- a work directory ---------------------------------------------------------

@@ -42,9 +42,7 @@ void addMergeCommand(CLI::App& app) {
         options.compression = parseVdbCompression(args->compression);
         options.precision = parseVdbPrecision(args->precision);
         options.lodLevels = args->lod; // checked against the store's grid by the writer, before any region is read
-        VolumeMetadata metadata = decodeMetadata(manifest.runMetadata);
-        metadata.stageSeconds = manifest.stageSeconds; // the run's, so `inspect` of the .vdb shows them
-        mergeStoreToVdb(args->workDir, args->output, metadata, options);
+        mergeStoreToVdb(args->workDir, args->output, decodeMetadata(manifest.runMetadata), options);
         if (!args->quiet)
             std::printf("merged %s -> %s in %.2f s\n", args->workDir.c_str(), args->output.c_str(),
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -1,5 +1,6 @@
 // How long a run spent in each of its stages, as recorded for later
-// inspection: in a work directory's manifest and in a .vdb's metadata.
+// inspection: in a work directory's manifest, and read from a .vdb's
+// "stage_seconds" metadata where a file has one.
 // Names without a dot are wall-clock stages one after another ("read",
 // "slices", "plan", "voxelize"); "voxelize.NAME" is a part of the voxelize
 // stage measured on its own threads, so parts may overlap each other.

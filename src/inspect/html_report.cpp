@@ -306,7 +306,7 @@ std::string vdbPage(const std::string& input, const HtmlReportOptions& o, const 
                                                    count(g.leaves) + " leaves" + (g.halfFloat ? ", stored as half" : ""));
     std::string page = "<h1>yarnvox inspect: " + escape(fs::path(input).filename().string()) + "</h1>\n";
     page += "<h2 id=\"summary\">Summary</h2>\n" + table(summary);
-    page += stageSection(s.stageSeconds, "the file's metadata has no stage_seconds");
+    page += stageSection(s.stageSeconds, kVdbStagesNotRecorded);
     page += "<h2 id=\"histogram\">Density</h2>\n" + histogramSvg(s.voxels) + table(statisticsRows(s.voxels, s.hasOrientation));
     page += "<h2 id=\"regions\">Regions</h2>\n<p>An OpenVDB file has no zoom regions (a work directory has): the "
             "renders below are of the whole volume.</p>\n";

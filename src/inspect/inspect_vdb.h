@@ -31,8 +31,13 @@ struct VdbSummary {
     std::vector<GridSummary> grids;
     VoxelStatistics voxels; ///< density, with orientation where an `orientation` grid is there
     bool hasOrientation = false;
-    StageSeconds stageSeconds; ///< from yarnvox's "stage_seconds" metadata; empty where the file has none
+    StageSeconds stageSeconds; ///< from a "stage_seconds" string metadata item (NAME=SECONDS words); empty where the file has none
 };
+
+/// Why a .vdb without "stage_seconds" metadata has no time per stage, as inspect says it.
+constexpr const char* kVdbStagesNotRecorded =
+    "the file has no stage_seconds metadata; yarnvox writes none, so that its .vdb files are the same bytes run "
+    "after run: see the work directory or the --stats file";
 
 /// Reads `path`; throws yv::Error naming it when it is not an OpenVDB file
 /// or has no float grid named `density`, or its "stage_seconds" is malformed.

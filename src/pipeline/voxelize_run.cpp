@@ -81,8 +81,8 @@ std::size_t writerQueueBytes() {
     return static_cast<std::size_t>(std::min<std::uint64_t>(physicalMemoryBytes() / 8, std::uint64_t(4) << 30));
 }
 
-/// Times the run's stages one after another; they go to --stats, the work
-/// dir's manifest and the .vdb's metadata.
+/// Times the run's stages one after another; they go to --stats and the work
+/// dir's manifest (not into the .vdb: its bytes are the same run after run).
 class StageTimer {
   public:
     double lap(const std::string& stage) {
@@ -278,7 +278,6 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         meta.backend = "gl-dense";
         report.activeVoxels = volume.activeVoxelCount();
         refuseEmpty(report.activeVoxels);
-        meta.stageSeconds = timer.laps();
         writeVdb(a.output, volume, meta, writeOptions);
         timer.lap("write");
         report.bricks = volume.bricks.size();
@@ -352,7 +351,6 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             report.tally = writerStats.tally;
             report.voxelizeSeconds = timer.lap("voxelize");
             refuseEmpty(report.activeVoxels);
-            meta.stageSeconds = timer.laps();
             assembler.write(meta);
             timer.lap("write");
         } else {
@@ -381,7 +379,6 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 report.bricks += r.brickCount;
             }
             refuseEmpty(report.activeVoxels);
-            meta.stageSeconds = timer.laps();
             mergeStoreToVdb(store, a.output, meta, writeOptions);
             timer.lap("merge");
             storeBytes = store.bytesOnDisk();

@@ -456,8 +456,6 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     fileMeta.insertMeta("overlap", openvdb::StringMetadata(metadata.overlap));
     fileMeta.insertMeta("slice_spacing", openvdb::DoubleMetadata(metadata.sliceSpacing));
     fileMeta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
-    if (!metadata.stageSeconds.empty())
-        fileMeta.insertMeta("stage_seconds", openvdb::StringMetadata(formatStageSeconds(metadata.stageSeconds)));
     if (m.levels.size() > 1) fileMeta.insertMeta("lod_levels", openvdb::Int32Metadata(int(m.levels.size()) - 1));
 
     // The layout: header, then per grid (level by level, density then

@@ -4,7 +4,6 @@
 #pragma once
 
 #include "core/bricks.h"
-#include "core/stage_seconds.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -26,7 +25,6 @@ struct VolumeMetadata {
     int supersample = 1;
     std::string overlap = "clamp"; ///< how interpenetrating yarns add up (mean reduction)
     double sliceSpacing = 0.0;     ///< largest distance between slices along a yarn, world units
-    StageSeconds stageSeconds;     ///< the run's stages up to the write, as file metadata "stage_seconds"
 };
 
 /// How each leaf's values are compressed (OpenVDB's options): only the
