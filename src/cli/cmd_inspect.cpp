@@ -5,6 +5,8 @@
 #include "core/stats.h"
 #include "core/text.h"
 #include "core/output_path.h"
+#include "core/stage_seconds.h"
+#include "inspect/html_report.h"
 #include "inspect/inspect_render.h"
 #include "inspect/inspect_store.h"
 #include "inspect/inspect_vdb.h"
@@ -79,6 +81,31 @@ void printStatistics(const VoxelStatistics& v, double voxelVolume, bool hasOrien
                 v.axisComponentSum.y / n, v.axisComponentSum.z / n);
 }
 
+/// Seconds per stage, or "recorded": false where the run did not record them.
+JsonObject stageSecondsJson(const StageSeconds& stages) {
+    JsonObject seconds;
+    for (const auto& [name, value] : stages) seconds.set(name, value);
+    return JsonObject()
+        .set("recorded", !stages.empty())
+        .set("seconds", seconds)
+        .set("total_seconds", wholeStageSum(stages));
+}
+
+void printStageSeconds(const StageSeconds& stages, const char* notRecordedWhy) {
+    if (stages.empty()) {
+        std::printf("time per stage: not recorded (%s)\n", notRecordedWhy);
+        return;
+    }
+    std::string whole, parts;
+    for (const auto& [name, value] : stages) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%s %.3f s", name.c_str(), value);
+        (isWholeStage(name) ? whole : parts) += std::string((isWholeStage(name) ? whole : parts).empty() ? "" : ", ") + text;
+    }
+    std::printf("time per stage: %s; %.3f s in all\n", whole.c_str(), wholeStageSum(stages));
+    if (!parts.empty()) std::printf("  parts of them, on their own threads (they may overlap): %s\n", parts.c_str());
+}
+
 // ---- a .vdb -----------------------------------------------------------------
 
 void reportVdb(const std::string& path, bool json) {
@@ -108,7 +135,8 @@ void reportVdb(const std::string& path, bool json) {
                                    .set("grids", grids)
                                    .set("bytes_per_active_voxel",
                                         s.voxels.activeVoxels ? double(s.fileBytes) / double(s.voxels.activeVoxels) : 0.0)
-                                   .set("voxels", statisticsJson(s.voxels, h3));
+                                   .set("voxels", statisticsJson(s.voxels, h3))
+                                   .set("stages", stageSecondsJson(s.stageSeconds));
         std::printf("%s\n", out.dump().c_str());
         return;
     }
@@ -124,6 +152,7 @@ void reportVdb(const std::string& path, bool json) {
     if (s.voxels.activeVoxels)
         std::printf("%.3g bytes on disk per active voxel\n", double(s.fileBytes) / double(s.voxels.activeVoxels));
     printStatistics(s.voxels, h3, s.hasOrientation);
+    printStageSeconds(s.stageSeconds, kVdbStagesNotRecorded);
 }
 
 // ---- a work directory ---------------------------------------------------------
@@ -197,6 +226,7 @@ void reportStore(const std::string& dir, bool json, bool verify, const std::stri
             .set("compression_ratio", ratio)
             .set("verified", s.verified)
             .set("bad_regions", s.badRegions)
+            .set("stages", stageSecondsJson(s.manifest.stageSeconds))
             .set("region_table", rows);
         if (verify) out.set("voxels", statisticsJson(s.voxels, h3));
         std::printf("%s\n", out.dump().c_str());
@@ -208,6 +238,9 @@ void reportStore(const std::string& dir, bool json, bool verify, const std::stri
                     s.regions.size(), s.manifest.completeRegions ? "run complete" : "run not finished",
                     static_cast<unsigned long long>(s.bricks), static_cast<unsigned long long>(s.activeVoxels),
                     bytesText(double(s.bytesOnDisk)).c_str(), bytesText(double(s.valueBytes)).c_str(), ratio);
+        printStageSeconds(s.manifest.stageSeconds, s.manifest.completeRegions
+                                                       ? "made by a yarnvox that did not record them"
+                                                       : "the run has not finished");
         std::printf("%12s  %-22s %-22s %10s %14s %12s %7s\n", "region", "min", "max", "bricks", "active voxels",
                     "on disk", "ratio");
         const std::size_t shown = limit ? std::min(limit, s.regions.size()) : s.regions.size();
@@ -520,6 +553,23 @@ void meshToFile(const std::string& input, const RenderArgs& a, bool json) {
                 level ? (", level " + std::to_string(level)).c_str() : "", mesh.vertices.size(), mesh.triangles.size());
 }
 
+/// --html: the report of a work directory or .vdb, written to `dir` whole.
+void writeReport(const std::string& input, const std::string& dir, std::size_t renders, const RenderArgs& a) {
+    if (!a.render.empty() || !a.output.empty()) throw Error("--html writes its own renders: leave out --render and -o");
+    HtmlReportOptions o;
+    o.regionRenders = renders;
+    o.view = parseView(a.view);
+    std::tie(o.width, o.height) = parseSize(a.size);
+    o.transferFunction = a.tf;
+    loadTransferFunction(o.transferFunction); // a bad --tf fails before any work
+    o.gpuBudgetBytes = parseBytes(a.budget, "--gpu-budget");
+    o.device = a.device;
+    const HtmlReportResult r = writeHtmlReport(input, dir, o);
+    std::printf("%s/index.html: report with %zu pictures", dir.c_str(), r.images);
+    if (r.regions) std::printf(", renders of %zu of %zu regions", r.renderedRegions, r.regions);
+    std::printf("\n");
+}
+
 } // namespace
 
 void addInspectCommand(CLI::App& app) {
@@ -530,6 +580,7 @@ void addInspectCommand(CLI::App& app) {
     };
     auto args = std::make_shared<Args>();
     auto render = std::make_shared<RenderArgs>();
+    auto html = std::make_shared<std::pair<std::string, std::size_t>>("", 8); // --html DIR, --html-renders N
     CLI::App* cmd = app.add_subcommand(
         "inspect", "Numbers about a voxelization: a work directory's regions, or a .vdb's grids and voxels");
     cmd->add_option("path", args->path, "A work directory (--work-dir, --keep-work-dir) or an OpenVDB file with a float 'density' grid (or, "
@@ -626,7 +677,19 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--device", render->device, "--render: EGL device index (-1: the first GPU, else llvmpipe)")
         ->capture_default_str();
-    cmd->callback([args, render] {
+    cmd->add_option("--html", html->first,
+                    "Write a report to this directory, for a browser without a server: summary, density histogram, "
+                    "time per stage, regions coloured by heat linked to their table rows, and renders (PNG files) of "
+                    "the whole volume and the hottest regions (--view, --size, --tf, --gpu-budget apply). The "
+                    "directory is replaced whole at the end; an existing one must be empty or an earlier report");
+    cmd->add_option("--html-renders", html->second, "--html: render this many regions, those with the most active voxels")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 10000));
+    cmd->callback([args, render, html] {
+        if (!html->first.empty()) {
+            writeReport(args->path, html->first, html->second, *render);
+            return;
+        }
         if (render->meshLevel >= 0 && render->mesh.empty()) throw Error("--mesh-level goes with --mesh");
         if (!render->mesh.empty()) meshToFile(args->path, *render, args->json && render->render.empty());
         if (!render->render.empty()) {

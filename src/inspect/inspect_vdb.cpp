@@ -49,6 +49,8 @@ VdbSummary inspectVdb(const std::string& path) {
     const openvdb::MetaMap::Ptr fileMeta = file.getMetadata(); // a copy: iterate one map
     for (auto it = fileMeta->beginMeta(); it != fileMeta->endMeta(); ++it)
         s.fileMetadata.emplace_back(it->first, it->second->str());
+    if (const auto stages = fileMeta->getMetadata<openvdb::StringMetadata>("stage_seconds"))
+        s.stageSeconds = parseStageSeconds(stages->value(), path + ": metadata stage_seconds");
 
     auto density = openvdb::gridPtrCast<openvdb::FloatGrid>(file.hasGrid("density") ? file.readGrid("density") : nullptr);
     if (!density) {

@@ -2,6 +2,7 @@
 // `density` grid (yarnvox's own or anyone's), read through OpenVDB.
 #pragma once
 
+#include "core/stage_seconds.h"
 #include "inspect/voxel_statistics.h"
 
 #include <glm/vec3.hpp>
@@ -30,10 +31,16 @@ struct VdbSummary {
     std::vector<GridSummary> grids;
     VoxelStatistics voxels; ///< density, with orientation where an `orientation` grid is there
     bool hasOrientation = false;
+    StageSeconds stageSeconds; ///< from a "stage_seconds" string metadata item (NAME=SECONDS words); empty where the file has none
 };
 
+/// Why a .vdb without "stage_seconds" metadata has no time per stage, as inspect says it.
+constexpr const char* kVdbStagesNotRecorded =
+    "the file has no stage_seconds metadata; yarnvox writes none, so that its .vdb files are the same bytes run "
+    "after run: see the work directory or the --stats file";
+
 /// Reads `path`; throws yv::Error naming it when it is not an OpenVDB file
-/// or has no float grid named `density`.
+/// or has no float grid named `density`, or its "stage_seconds" is malformed.
 VdbSummary inspectVdb(const std::string& path);
 
 } // namespace yv

@@ -154,18 +154,44 @@ std::size_t writerQueueBytes() {
     return static_cast<std::size_t>(std::min<std::uint64_t>(physicalMemoryBytes() / 8, std::uint64_t(4) << 30));
 }
 
+/// Times the run's stages one after another; they go to --stats and the work
+/// dir's manifest (not into the .vdb: its bytes are the same run after run).
 class StageTimer {
   public:
-    double lap() {
+    double lap(const std::string& stage) {
         const auto now = std::chrono::steady_clock::now();
         const double s = std::chrono::duration<double>(now - last_).count();
         last_ = now;
+        laps_.emplace_back(stage, s);
         return s;
+    }
+    const StageSeconds& laps() const { return laps_; }
+    JsonObject json() const {
+        JsonObject out;
+        for (const auto& [stage, seconds] : laps_) out.set(stage, seconds);
+        return out;
     }
 
   private:
     std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+    StageSeconds laps_;
 };
+
+/// The stages so far and the parts of the voxelize stage that the writer
+/// threads and the GL backend time, for the work dir's manifest.
+StageSeconds workDirStages(const StageTimer& timer, const RegionWriterStats& writer, const GlVoxelizeCounters* gl) {
+    StageSeconds out = timer.laps();
+    if (gl)
+        out.insert(out.end(), {{"voxelize.gpu_raster", gl->rasterSeconds},
+                               {"voxelize.gpu_bricks", gl->brickSeconds},
+                               {"voxelize.gpu_resolve", gl->resolveSeconds},
+                               {"voxelize.readback", gl->readbackSeconds}});
+    out.insert(out.end(), {{"voxelize.store_resolve", writer.resolveSeconds},
+                           {"voxelize.store_encode", writer.encodeSeconds},
+                           {"voxelize.store_write", writer.writeSeconds},
+                           {"voxelize.store_wait", writer.submitWaitSeconds}});
+    return out;
+}
 
 /// The backend "auto" stands for: the GL backend on a GPU (or for the dense
 /// method, which only it has); else the CPU reference, which on a machine
@@ -240,13 +266,12 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         if (!a.quiet && (!group || group->rank() == 0)) note(line);
     };
     StageTimer timer;
-    JsonObject stages;
     Garment garment = readBcc(a.input);
     // Real files repeat points and mislabel loops: tidied here, said once.
     const CurveCheckReport curveReport = checkCurves(garment, a.input);
     if (const std::string dropped = curveReport.droppedText(a.input); !dropped.empty()) tell(dropped);
     for (const std::string& w : curveReport.warnings) tell("warning: " + w);
-    stages.set("read", timer.lap());
+    timer.lap("read");
 
     CrossSection xs = makeCrossSection(a.crossSection, a.albedo);
     SliceOptions sliceOptions;
@@ -284,7 +309,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             throw Error(a.input + ": " + e.what());
         }
     }();
-    stages.set("slices", timer.lap());
+    timer.lap("slices");
     const VoxelGrid grid = makeGrid(plan, a.resolution, a.voxelSize);
     if (explicitSpacing && plan.maxSpacing > 1.05 * grid.voxelSize)
         tell("warning: " +
@@ -349,13 +374,12 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         gl.device = a.device;
         DenseVoxelizeCounters counters;
         const BrickVolume volume = voxelizeDense(plan, xs, grid, gl, &counters);
-        report.voxelizeSeconds = timer.lap();
-        stages.set("voxelize", report.voxelizeSeconds);
+        report.voxelizeSeconds = timer.lap("voxelize");
         meta.backend = "gl-dense";
         report.activeVoxels = volume.activeVoxelCount();
         refuseEmpty(report.activeVoxels);
         writeVdb(a.output, volume, meta, writeOptions);
-        stages.set("write", timer.lap());
+        timer.lap("write");
         report.bricks = volume.bricks.size();
         report.tally = volume.tally;
         backendStats.set("renderer", counters.renderer)
@@ -387,7 +411,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         const std::uint64_t budget = group ? group->broadcast(rasterizer.fragmentBudget()) : rasterizer.fragmentBudget();
         const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {budget, rasterizer.maxRegionSize(), a.supersample});
         backend.gl.plannedRegions = zoom.regions.size();
-        stages.set("plan", timer.lap());
+        timer.lap("plan");
         if (a.verbose)
             tell("plan: " + std::to_string(zoom.regions.size()) + " zoom regions, " + numberText(zoom.estimatedFragments) +
                  " fragments expected, budget " + std::to_string(rasterizer.fragmentBudget()) + " per pass");
@@ -429,11 +453,10 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                             a.output + " is untouched; a run with --work-dir DIR can be resumed)");
             writerStats = writer.stats();
             report.tally = writerStats.tally;
-            report.voxelizeSeconds = timer.lap();
-            stages.set("voxelize", report.voxelizeSeconds);
+            report.voxelizeSeconds = timer.lap("voxelize");
             refuseEmpty(report.activeVoxels);
             assembler.write(meta);
-            stages.set("write", timer.lap());
+            timer.lap("write");
         } else {
             // Rank 0 opens (or clears, or resumes) the work dir; the others join it after.
             std::optional<BrickStore> opened;
@@ -490,16 +513,15 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                             " regions, all of them kept in " + workDir + "; go on with: " + line +
                             (resuming ? "" : " --resume"));
             }
-            store.markComplete(zoom.regions.size());
-            report.voxelizeSeconds = timer.lap();
-            stages.set("voxelize", report.voxelizeSeconds);
+            report.voxelizeSeconds = timer.lap("voxelize");
+            store.markComplete(zoom.regions.size(), workDirStages(timer, writerStats, backend.isGl ? &backend.gl : nullptr));
             for (const RegionInfo& r : store.listRegions()) {
                 report.activeVoxels += r.activeVoxels;
                 report.bricks += r.brickCount;
             }
             refuseEmpty(report.activeVoxels);
             mergeStoreToVdb(store, a.output, meta, writeOptions);
-            stages.set("merge", timer.lap());
+            timer.lap("merge");
             storeBytes = store.bytesOnDisk();
             // Regions taken from a resumed run were not resolved here.
             report.tally = writerStats.tally;
@@ -589,7 +611,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                                 .set("encode_leaves", writeTimings.encodeSeconds)
                                 .set("topology", writeTimings.topologySeconds)
                                 .set("write", writeTimings.writeSeconds))
-        .set("seconds", stages)
+        .set("seconds", timer.json())
         .set("backend_stats", backendStats);
     if (!a.statsPath.empty()) writeTextFileAtomically(a.statsPath, report.stats.dump() + "\n");
     return report;

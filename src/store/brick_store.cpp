@@ -157,6 +157,7 @@ BrickStore::BrickStore(std::string dir, const StoreManifest& manifest, bool resu
     : dir_(std::move(dir)), manifest_(manifest) {
     checkGrid(manifest.grid, dir_);
     manifest_.completeRegions.reset();
+    manifest_.stageSeconds.clear();
     std::error_code ec;
     fs::create_directories(dir_, ec);
     if (ec) throw Error("cannot create work dir " + dir_ + ": " + ec.message());
@@ -174,6 +175,7 @@ BrickStore::BrickStore(std::string dir, const StoreManifest& manifest, bool resu
                 throw Error(dir_ + ": this work dir belongs to a different run (" + diff +
                             "): use a fresh --work-dir, or drop --resume to start over in it");
             manifest_.completeRegions = disk.completeRegions;
+            manifest_.stageSeconds = disk.stageSeconds;
             // The latest run describes the output: `yarnvox merge` uses its metadata.
             if (disk.runMetadata != manifest_.runMetadata) writeManifest(dir_, dirFd_, manifest_);
             removeTemporaries();
@@ -322,13 +324,14 @@ std::vector<VoxelBrick> BrickStore::readRegion(std::uint64_t id) const {
     return bricks;
 }
 
-void BrickStore::markComplete(std::uint64_t regionCount) {
+void BrickStore::markComplete(std::uint64_t regionCount, const StageSeconds& stages) {
     requireWritable("mark the run complete");
     const std::size_t onDisk = listDir(dir_).regions.size();
     if (onDisk != regionCount)
         throw Error(dir_ + ": cannot mark the run complete: " + std::to_string(onDisk) +
                     " region files on disk, the run has " + std::to_string(regionCount) + " regions");
     manifest_.completeRegions = regionCount;
+    manifest_.stageSeconds = stages;
     writeManifest(dir_, dirFd_, manifest_);
 }
 

@@ -74,7 +74,8 @@ class BrickStore {
     std::vector<VoxelBrick> readRegion(std::uint64_t id) const;
     /// Records in the manifest that the run wrote all `regionCount` regions;
     /// throws when the directory holds a different number of region files.
-    void markComplete(std::uint64_t regionCount);
+    /// `stages`: the seconds the run spent in each stage, kept beside it.
+    void markComplete(std::uint64_t regionCount, const StageSeconds& stages = {});
 
     /// Path of region `id`'s file.
     std::string regionPath(std::uint64_t id) const;

@@ -132,6 +132,13 @@ StoreManifest parseManifest(const std::string& path, const std::string& text) {
         m.runMetadata = p.blob(n, "run metadata");
     }
     if (p.nextIs("complete")) m.completeRegions = p.u64(p.line("complete", 1, "complete N")[0]);
+    while (m.completeRegions && p.nextIs("stage")) {
+        const auto w = p.line("stage", 2, "stage NAME SECONDS");
+        const double seconds = p.f64(w[1]);
+        if (!isStageName(w[0]) || seconds < 0.0)
+            p.fail("expected \"stage NAME SECONDS\" with a name of letters, digits, '_' and '.' and seconds not negative");
+        m.stageSeconds.emplace_back(w[0], seconds);
+    }
     if (!p.atEnd()) {
         p.rawLine("");
         p.fail("unexpected line after the last field");
@@ -165,6 +172,8 @@ std::string formatManifest(const StoreManifest& m) {
     if (!m.runMetadata.empty())
         s += "run_metadata " + std::to_string(m.runMetadata.size()) + "\n" + m.runMetadata + "\n";
     if (m.completeRegions) s += "complete " + std::to_string(*m.completeRegions) + "\n";
+    if (m.completeRegions)
+        for (const auto& [name, seconds] : m.stageSeconds) s += "stage " + name + " " + num(seconds) + "\n";
     return s;
 }
 

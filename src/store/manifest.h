@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/sampling.h"
+#include "core/stage_seconds.h"
 #include "plan/grid.h"
 
 #include <cstdint>
@@ -29,6 +30,9 @@ struct StoreManifest {
     /// Set by BrickStore::markComplete: the number of regions of the finished
     /// run. Empty while the run is unfinished; ignored when comparing runs.
     std::optional<std::uint64_t> completeRegions;
+    /// Set with completeRegions: the seconds the finishing run spent in each
+    /// stage (core/stage_seconds.h); empty in work dirs of older yarnvox versions.
+    StageSeconds stageSeconds;
 };
 
 /// The manifest as text (doubles with 17 digits, so they read back bit-exactly).
