@@ -29,9 +29,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "yv_albedo_test";
-    fs::create_directories(dir);
-    return dir / name;
+    return yv::test::processScratchDir("yv_albedo_test") / name;
 }
 
 /// A square RGBA PNG: texel (x, y) of the cross-section (y up) gets colour(x, y),

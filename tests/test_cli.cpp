@@ -1,5 +1,6 @@
 // The yarnvox binary end to end: exit codes, messages, files left behind.
 #include "run_cli.h"
+#include "test_helpers.h"
 
 #include <catch2/catch.hpp>
 
@@ -23,9 +24,7 @@ RunResult run_shell(const std::string& line) { return yv::test::runShell(line); 
 RunResult run(const std::string& args) { return yv::test::runYarnvox(args); }
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "yv_cli_test";
-    fs::create_directories(dir);
-    return dir / name;
+    return yv::test::processScratchDir("yv_cli_test") / name;
 }
 
 } // namespace

@@ -30,7 +30,7 @@ namespace {
 /// A scratch file; tests that count leftover temporaries give a folder of
 /// their own, since CTest runs tests in parallel.
 fs::path scratch(const std::string& name, const std::string& folder = "") {
-    const fs::path dir = fs::temp_directory_path() / "yv_export_test" / folder;
+    const fs::path dir = yv::test::processScratchDir("yv_export_test") / folder;
     fs::create_directories(dir);
     return dir / name;
 }

@@ -13,8 +13,12 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <map>
 #include <string>
 #include <unordered_map>
+
+#include <unistd.h>
 
 /// GL tests fail where no GL 4.5 context can be had: the README's test
 /// command expects one (Mesa's llvmpipe where there is no GPU). They are
@@ -30,6 +34,27 @@
     }
 
 namespace yv::test {
+
+/// A folder of this test process's own under the temporary directory, named
+/// `prefix` and the process id, removed when the process ends: CTest runs
+/// test cases as parallel processes, and other checkouts' test runs may share
+/// the machine, so a fixed name would let them overwrite each other's files.
+inline std::filesystem::path processScratchDir(const std::string& prefix) {
+    struct Owned {
+        std::filesystem::path path;
+        ~Owned() {
+            std::error_code ignored;
+            std::filesystem::remove_all(path, ignored);
+        }
+    };
+    static std::map<std::string, Owned> dirs;
+    Owned& dir = dirs[prefix];
+    if (dir.path.empty()) {
+        dir.path = std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()));
+        std::filesystem::create_directories(dir.path);
+    }
+    return dir.path;
+}
 
 /// A generated garment's slices at the default spacing for `resolution`, and its grid.
 struct GeneratedRun {

@@ -27,9 +27,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "yv_lod_test";
-    fs::create_directories(dir);
-    return dir / name;
+    return yv::test::processScratchDir("yv_lod_test") / name;
 }
 
 /// Bricks in clusters that straddle coarse-brick boundaries at every level

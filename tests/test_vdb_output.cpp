@@ -23,7 +23,7 @@ TEST_CASE("The .vdb reads back with the right grids, names, transform and values
     const BrickVolume volume = voxelizeCpu(plan, makeFiberCrossSection(), grid, VoxelizeSettings{});
     REQUIRE(volume.activeVoxelCount() > 0);
 
-    const std::string path = (std::filesystem::temp_directory_path() / "yv_test_output.vdb").string();
+    const std::string path = (yv::test::processScratchDir("yv_vdb_output_test") / "output.vdb").string();
     VolumeMetadata meta;
     meta.input = "straight";
     meta.backend = "cpu";
@@ -113,7 +113,7 @@ TEST_CASE("Every .vdb compression reads back through OpenVDB with the same value
     const BrickVolume volume = voxelizeCpu(plan, makeFiberCrossSection(), grid, VoxelizeSettings{});
     REQUIRE(volume.activeVoxelCount() > 100);
     openvdb::initialize();
-    const std::string path = (std::filesystem::temp_directory_path() / "yv_test_compression.vdb").string();
+    const std::string path = (yv::test::processScratchDir("yv_vdb_output_test") / "compression.vdb").string();
     openvdb::FloatGrid::Ptr reference;
     for (VdbCompression c : {VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::ActiveMask, VdbCompression::None}) {
         INFO(toString(c));

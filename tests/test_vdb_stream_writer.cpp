@@ -4,6 +4,7 @@
 #include "vdb/tree_order.h"
 #include "vdb/vdb_writer.h"
 #include "vdb_bytes.h"
+#include "test_helpers.h"
 
 #include <catch2/catch.hpp>
 #include <openvdb/openvdb.h>
@@ -19,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) { return fs::temp_directory_path() / ("yv_stream_" + name); }
+fs::path scratch(const std::string& name) { return yv::test::processScratchDir("yv_stream_test") / name; }
 
 /// Bricks that exercise the tree: several root children (past voxel 4096 on
 /// every axis), internal nodes with one and with many children, full leaves,
@@ -319,5 +320,5 @@ TEST_CASE("A brick given twice is refused and leaves no file", "[vdb][stream]") 
     }
     CHECK_FALSE(fs::exists(out));
     for (const auto& e : fs::directory_iterator(out.parent_path()))
-        CHECK(e.path().filename().string().rfind("yv_stream_twice.vdb.partial", 0) != 0);
+        CHECK(e.path().filename().string().rfind("twice.vdb.partial", 0) != 0);
 }
