@@ -24,7 +24,10 @@ ranks_list=${YV_RANKS:-1 2} repeat=${YV_REPEAT:-1}
 [ -f "$root/.mpi/env.sh" ] && . "$root/.mpi/env.sh"
 mpirun=${YV_MPIRUN:-mpirun}
 # Root in a container: see tests/test_mpi.cpp for why each option.
-mpirun_flags=(--allow-run-as-root --oversubscribe --mca btl self,vader
+# YV_BIND (default none): Open MPI binds each rank to one core when there are
+# two ranks or fewer, which leaves a rank's TBB threads (readback, region
+# files, the merge) one core between them.
+mpirun_flags=(--bind-to "${YV_BIND:-none}" --allow-run-as-root --oversubscribe --mca btl self,vader
               --mca btl_vader_single_copy_mechanism none --mca mpi_yield_when_idle 1)
 scratch=$(mktemp -d "${YV_SCRATCH:-${TMPDIR:-/tmp}}/yv-mpi-bench.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT

@@ -26,10 +26,11 @@ namespace {
 /// - btl self,vader and no single-copy (CMA) mechanism: in a container,
 ///   ptrace-based copies between processes are often not permitted, and there
 ///   is no network to look for;
-/// - mpi_yield_when_idle: ranks that wait give their core to those working.
+/// - mpi_yield_when_idle: ranks that wait give their core to those working;
+/// - --bind-to none: as a real run (README), each rank's threads on every core.
 std::string mpirun(int ranks) {
     REQUIRE(fs::exists(YV_MPIEXEC));
-    return std::string(YV_MPIEXEC) + " --allow-run-as-root --oversubscribe --mca btl self,vader"
+    return std::string(YV_MPIEXEC) + " --bind-to none --allow-run-as-root --oversubscribe --mca btl self,vader"
                                      " --mca btl_vader_single_copy_mechanism none --mca mpi_yield_when_idle 1 -np " +
            std::to_string(ranks) + " " + YV_BINARY_DIR + "/yarnvox ";
 }
