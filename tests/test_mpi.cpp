@@ -145,10 +145,27 @@ TEST_CASE("mpirun with several garments writes one .vdb per input and each is th
     const std::string opts = " --backend cpu --resolution 128 --fragment-budget 50000 --quiet";
     REQUIRE(runYarnvox("voxelize " + a.string() + " -o " + (dir / "alone-a.vdb").string() + opts).exitCode == 0);
     REQUIRE(runYarnvox("voxelize " + b.string() + " -o " + (dir / "alone-b.vdb").string() + opts).exitCode == 0);
-    const auto run = runShell(mpirun(2) + "voxelize " + a.string() + " " + b.string() + " -o " + (dir / "out").string() + opts);
-    INFO(run.output);
-    REQUIRE(run.exitCode == 0);
+    // Fewer garments than ranks: the ranks share each garment's regions.
+    const auto shared = runShell(mpirun(3) + "voxelize " + a.string() + " " + b.string() + " -o " + (dir / "out").string() + opts);
+    INFO(shared.output);
+    REQUIRE(shared.exitCode == 0);
     CHECK(sameVdb(dir / "alone-a.vdb", dir / "out" / "a.vdb"));
     CHECK(sameVdb(dir / "alone-b.vdb", dir / "out" / "b.vdb"));
+    // As many garments as ranks or more: whole garments, one rank each.
+    const fs::path c = dir / "c.bcc";
+    REQUIRE(runYarnvox("gen --pattern twill --crossings 16 -o " + c.string()).exitCode == 0);
+    REQUIRE(runYarnvox("voxelize " + c.string() + " -o " + (dir / "alone-c.vdb").string() + opts).exitCode == 0);
+    const std::string loud = " --backend cpu --resolution 128 --fragment-budget 50000";
+    const auto whole = runShell(mpirun(2) + "voxelize " + a.string() + " " + b.string() + " " + c.string() + " -o " +
+                                (dir / "whole").string() + loud);
+    INFO(whole.output);
+    REQUIRE(whole.exitCode == 0);
+    std::size_t wholeLines = 0;
+    for (std::size_t at = whole.output.find(", whole ("); at != std::string::npos; at = whole.output.find(", whole (", at + 1))
+        ++wholeLines;
+    CHECK(wholeLines == 3);
+    CHECK(sameVdb(dir / "alone-a.vdb", dir / "whole" / "a.vdb"));
+    CHECK(sameVdb(dir / "alone-b.vdb", dir / "whole" / "b.vdb"));
+    CHECK(sameVdb(dir / "alone-c.vdb", dir / "whole" / "c.vdb"));
     fs::remove_all(dir.parent_path());
 }

@@ -11,8 +11,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <numeric>
+#include <optional>
 
 namespace yv {
 namespace {
@@ -155,18 +159,45 @@ void addVoxelizeCommand(CLI::App& app) {
             const char* extension = f == OutputFormat::Vol ? ".vol" : f == OutputFormat::Nvdb ? ".nvdb" : ".vdb";
             jobs = planGarmentJobs(garments, a->output, extension, a->workDir, a->statsPath);
         }
-        for (const GarmentJob& job : jobs) {
-            if (cluster() && cluster()->size() > 1 && resolveOutputFormat(*format, job.output, true) != OutputFormat::Vdb)
-                throw Error("-o " + job.output + ": under mpirun the output is a .vdb; convert it afterwards with `yarnvox export`");
-            // Garments one after another; under mpirun all ranks share each one's regions.
+        Cluster* const group = cluster() && cluster()->size() > 1 ? cluster() : nullptr;
+        const auto voxelizeJob = [&](const GarmentJob& job, bool alone) {
             voxelizeInFormat(*format, job.output, job.input, a->quiet, [&](const std::string& vdbPath) {
                 VoxelizeRequest run = *a;
                 run.input = job.input;
                 run.output = vdbPath;
                 run.workDir = job.workDir;
                 run.statsPath = job.statsPath;
+                run.alone = alone;
                 voxelizeAndReport(run);
             });
+        };
+        if (group && jobs.size() >= std::size_t(group->size())) {
+            // At least as many garments as ranks: whole garments go to
+            // whichever rank asks next, largest file first, each voxelized by
+            // its rank alone (as one process would, so the same file).
+            std::vector<std::size_t> order(jobs.size());
+            std::iota(order.begin(), order.end(), std::size_t{0});
+            std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+                return std::filesystem::file_size(jobs[x].input) > std::filesystem::file_size(jobs[y].input);
+            });
+            group->beginHandout(jobs.size());
+            double done = 0.0;
+            while (const std::optional<std::uint64_t> item = group->claim()) {
+                const GarmentJob& job = jobs[order[*item]];
+                if (!a->quiet)
+                    std::printf("rank %d: %s, whole (%zu garments over %d ranks)\n", group->rank(), job.input.c_str(),
+                                jobs.size(), group->size());
+                voxelizeJob(job, true);
+                done += 1.0;
+            }
+            group->endHandout({done});
+            return;
+        }
+        for (const GarmentJob& job : jobs) {
+            if (group && resolveOutputFormat(*format, job.output, true) != OutputFormat::Vdb)
+                throw Error("-o " + job.output + ": under mpirun the output is a .vdb; convert it afterwards with `yarnvox export`");
+            // Fewer garments than ranks: one after another, all ranks sharing each one's regions.
+            voxelizeJob(job, false);
         }
     });
 }

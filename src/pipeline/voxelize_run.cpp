@@ -252,7 +252,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         throw Error("--stats " + args.statsPath + ": is the same file as -o: refusing to overwrite it");
     // Several processes under mpirun share the regions of one run; one (or
     // mpirun -np 1) runs as a plain process.
-    Cluster* const group = cluster() && cluster()->size() > 1 ? cluster() : nullptr;
+    Cluster* const group = !args.alone && cluster() && cluster()->size() > 1 ? cluster() : nullptr;
     if (group && args.method == "dense") throw Error("--method dense runs in one process, not under mpirun -np 2 or more");
     VoxelizeRequest a = args;
     a.backend = resolveBackend(args, note);
@@ -398,7 +398,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             GlVoxelizeSettings& gl = backend.glSettings;
             gl.base = settings;
             gl.device = a.device;
-            gl.spreadIndex = group ? group->localRank() : 0;
+            gl.spreadIndex = cluster() ? cluster()->localRank() : 0; // each rank its own GPU, alone or not
             gl.fragmentCapacity = a.fragmentCapacity;
             gl.verbose = a.verbose && !a.quiet;
             backend.rasterizer = std::make_unique<GlBackend>(plan, xs, grid, gl, backend.gl);

@@ -30,6 +30,9 @@ struct VoxelizeRequest {
     int lod = 0;                        ///< --lod: level-of-detail grids in the .vdb
     bool quiet = false, verbose = false, resume = false, keepWorkDir = false;
     bool albedo = false; ///< --albedo: the cross-section PNG's colour as an "albedo" grid
+    /// Under mpirun: this rank voxelizes the garment by itself, as one
+    /// process would (whole garments handed out to ranks), on its own GPU.
+    bool alone = false;
 };
 
 /// What a run did: for the summary line (the --stats file has all of it).
