@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "gpu/gl_program.h"
 #include "inspect/proxy_geometry.h"
+#include "inspect/render_target.h"
 
 #include <glm/common.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -58,36 +59,6 @@ struct RaycastRenderer::Impl {
 RaycastRenderer::RaycastRenderer(const BrickAtlas& atlas, RenderMode mode) : impl_(std::make_unique<Impl>(atlas, mode)) {}
 RaycastRenderer::~RaycastRenderer() = default;
 
-namespace {
-
-/// A framebuffer with the given colour attachments, deleted with it.
-struct Target {
-    GLuint fbo = 0;
-    std::vector<GLuint> textures;
-    Target(int w, int h, std::initializer_list<GLenum> formats) {
-        glCreateFramebuffers(1, &fbo);
-        GLenum attachment = GL_COLOR_ATTACHMENT0;
-        std::vector<GLenum> drawBuffers;
-        for (GLenum f : formats) {
-            GLuint t = 0;
-            glCreateTextures(GL_TEXTURE_2D, 1, &t);
-            glTextureStorage2D(t, 1, f, w, h);
-            glNamedFramebufferTexture(fbo, attachment, t, 0);
-            drawBuffers.push_back(attachment++);
-            textures.push_back(t);
-        }
-        glNamedFramebufferDrawBuffers(fbo, GLsizei(drawBuffers.size()), drawBuffers.data());
-        if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            throw Error("the render target is not complete (image size too large for the driver?)");
-    }
-    ~Target() {
-        glDeleteFramebuffers(1, &fbo);
-        glDeleteTextures(GLsizei(textures.size()), textures.data());
-    }
-};
-
-} // namespace
-
 RaycastResult RaycastRenderer::render(const Camera& camera, const RaycastSettings& s) {
     Impl& m = *impl_;
     const int w = camera.width, h = camera.height;
@@ -97,8 +68,8 @@ RaycastResult RaycastRenderer::render(const Camera& camera, const RaycastSetting
     const glm::vec2 viewport{float(w), float(h)};
     glTextureSubImage1D(m.tfTexture, 0, 0, 256, GL_RGBA, GL_FLOAT, s.transferFunction.data());
 
-    Target entry(w, h, {GL_RG32F});
-    Target out(w, h, {GL_RGBA8, GL_R32F});
+    RenderTarget entry(w, h, {GL_RG32F});
+    RenderTarget out(w, h, {GL_RGBA8, GL_R32F});
     glFinish();
     const auto start = std::chrono::steady_clock::now();
     glViewport(0, 0, w, h);

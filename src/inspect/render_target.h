@@ -1,4 +1,4 @@
-// Off-screen GL targets of inspect's slicing and splatting renders, and
+// Off-screen GL targets of inspect's renders (ray casting, slicing, splatting), and
 // reading one back as a picture (the context must be current).
 #pragma once
 
