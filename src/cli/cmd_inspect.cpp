@@ -144,7 +144,10 @@ void reportVdb(const std::string& path, bool json) {
                                .set("min", coordText(r.min))
                                .set("max", coordText(r.max))
                                .set("active_voxels", r.activeVoxels));
-        std::printf("%s\n", JsonObject(out).set("regions", std::uint64_t(s.regions.size())).set("region_table", rows).dump().c_str());
+        // The zoom regions the file records, as a work directory's table has them (boxes and heat).
+        JsonObject withRegions = out;
+        withRegions.set("regions", std::uint64_t(s.regions.size())).set("region_table", rows);
+        std::printf("%s\n", withRegions.dump().c_str());
         return;
     }
     std::printf("%s: OpenVDB file %s, %s, voxel size %.6g\n", s.path.c_str(), s.libraryVersion.c_str(),
@@ -641,7 +644,8 @@ void addInspectCommand(CLI::App& app) {
                     "regions (yarnvox voxelize and merge write them)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--regions", render->regions,
-                  "--render (not cut): draw the zoom-region boxes of the work directory or of the .vdb over the picture, coloured by "
+                  "--render (not cut): draw the zoom-region boxes of the work directory or of the .vdb over the "
+                  "picture, coloured by "
                   "heat (active voxels: blue, red, yellow; legend bar at the bottom left, scale printed)");
     cmd->add_option("--garment", render->garment,
                     "--render slices: the garment (.bcc) to draw, instead of the one the run recorded (needed for a "
