@@ -783,14 +783,17 @@ TEST_CASE("Merging a store writes the same .vdb as writeVdb of the same bricks",
     meta.resolution = 64;
 
     const std::string direct = scratch.sub("direct.vdb"), merged = scratch.sub("merged.vdb");
-    writeVdb(direct, volume, meta);
+    VolumeMetadata withRegions = meta; // the merge records the store's regions: writeVdb is given them
     {
         BrickStore store(dir, m, false);
         writeSplit(store, volume, splitX);
         CHECK_THAT(errorOf([&] { mergeStoreToVdb(store, merged, meta); }), Catch::Contains("has not finished"));
         store.markComplete(2);
         mergeStoreToVdb(store, merged, meta);
+        withRegions.regions = recordedRegions(store.listRegions());
     }
+    REQUIRE(withRegions.regions.size() == 2);
+    writeVdb(direct, volume, withRegions);
     CHECK_FALSE(fs::exists(merged + ".partial"));
 
     const VdbGrids a = readVdb(direct), b = readVdb(merged);

@@ -160,23 +160,46 @@ TEST_CASE("inspect --html of a work dir loads in Chromium with every image and l
     CHECK(broken.problems.find("link target does not load: renders/volume-mip.png") != std::string::npos);
 }
 
-TEST_CASE("inspect --html of a .vdb says it has no regions and shows the whole volume", "[inspect][html]") {
+TEST_CASE("inspect --html of a .vdb maps the regions it records, and one that records none says so", "[inspect][html]") {
     YV_REQUIRE_GL();
     Scratch scratch;
     voxelizeSmallGarment(scratch.path);
+    const std::size_t regions = filesIn(scratch.path / "work") - 1; // less the manifest
+    REQUIRE(regions > 2);
     const fs::path report = scratch.path / "vdb-report";
     const yv::test::RunResult r = yv::test::runYarnvox("inspect " + (scratch.path / "knit.vdb").string() + " --html " +
-                                                       report.string() + " --size 160x120");
+                                                       report.string() + " --html-renders 2 --size 160x120");
     INFO(r.output);
     REQUIRE(r.exitCode == 0);
+    CHECK(r.output.find("renders of 2 of " + std::to_string(regions) + " regions") != std::string::npos);
     const std::string page = readText(report / "index.html");
-    CHECK(page.find("has no zoom regions") != std::string::npos);
+    CHECK(page.find("the 2 hottest of " + std::to_string(regions) + " regions") != std::string::npos);
     CHECK(page.find("Not recorded (the file has no stage_seconds metadata") != std::string::npos);
-    CHECK(filesIn(report / "renders") == 3);
+    for (std::size_t id = 0; id < regions; ++id)
+        CHECK(page.find("<tr id=\"region-" + std::to_string(id) + "\">") != std::string::npos);
+    CHECK(filesIn(report / "renders") == 3 + 2);
     const ProbeResult p = probeReport(report, scratch.path);
     INFO(p.output);
     CHECK(p.problems == "[]");
-    CHECK(p.images == 3);
+    CHECK(p.images == 3 + 2);
+    CHECK(p.links >= int(regions) + 5);
+
+    // Without the record (the dense method writes none): the whole volume only, and the page says why.
+    const fs::path dense = scratch.path / "dense.vdb", plain = scratch.path / "plain-report";
+    const yv::test::RunResult d = yv::test::runYarnvox("voxelize " + (scratch.path / "knit.bcc").string() + " -o " +
+                                                       dense.string() + " --method dense --resolution 48 --quiet");
+    INFO(d.output);
+    REQUIRE(d.exitCode == 0);
+    const yv::test::RunResult q = yv::test::runYarnvox("inspect " + dense.string() + " --html " + plain.string() +
+                                                       " --size 160x120");
+    INFO(q.output);
+    REQUIRE(q.exitCode == 0);
+    CHECK(readText(plain / "index.html").find("The file has no zoom regions") != std::string::npos);
+    CHECK(filesIn(plain / "renders") == 3);
+    const ProbeResult pp = probeReport(plain, scratch.path);
+    INFO(pp.output);
+    CHECK(pp.problems == "[]");
+    CHECK(pp.images == 3);
 }
 
 TEST_CASE("inspect --html leaves no report behind when it fails and never replaces a foreign directory", "[inspect][html]") {

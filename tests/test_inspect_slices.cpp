@@ -286,7 +286,7 @@ TEST_CASE("inspect slices: the command line finds the run's garment from a work 
     // The garment moved: one line naming the way out; --garment gives it back.
     const std::string moved = (dir / "moved.bcc").string();
     fs::rename(bcc, moved);
-    for (const std::string& args : {vdb + " --render slices", vdb + " --render mip --regions", work + " --render cut --cut z:3 --regions",
+    for (const std::string& args : {vdb + " --render slices", work + " --render cut --cut z:3 --regions",
                                     work + " --render mip --garment " + moved}) {
         const auto bad = test::runYarnvox("inspect " + args + " -o " + png);
         INFO(args << ": " << bad.output);

@@ -137,7 +137,17 @@ void reportVdb(const std::string& path, bool json) {
                                         s.voxels.activeVoxels ? double(s.fileBytes) / double(s.voxels.activeVoxels) : 0.0)
                                    .set("voxels", statisticsJson(s.voxels, h3))
                                    .set("stages", stageSecondsJson(s.stageSeconds));
-        std::printf("%s\n", out.dump().c_str());
+        std::vector<JsonObject> rows;
+        for (const RecordedRegion& r : s.regions)
+            rows.push_back(JsonObject()
+                               .set("id", r.id)
+                               .set("min", coordText(r.min))
+                               .set("max", coordText(r.max))
+                               .set("active_voxels", r.activeVoxels));
+        // The zoom regions the file records, as a work directory's table has them (boxes and heat).
+        JsonObject withRegions = out;
+        withRegions.set("regions", std::uint64_t(s.regions.size())).set("region_table", rows);
+        std::printf("%s\n", withRegions.dump().c_str());
         return;
     }
     std::printf("%s: OpenVDB file %s, %s, voxel size %.6g\n", s.path.c_str(), s.libraryVersion.c_str(),
@@ -153,6 +163,14 @@ void reportVdb(const std::string& path, bool json) {
         std::printf("%.3g bytes on disk per active voxel\n", double(s.fileBytes) / double(s.voxels.activeVoxels));
     printStatistics(s.voxels, h3, s.hasOrientation);
     printStageSeconds(s.stageSeconds, kVdbStagesNotRecorded);
+    if (s.regions.empty()) {
+        std::printf("zoom regions: none recorded\n");
+        return;
+    }
+    std::uint64_t hottest = 0;
+    for (const RecordedRegion& r : s.regions) hottest = std::max(hottest, r.activeVoxels);
+    std::printf("zoom regions: %zu recorded (--region ID, --regions; --json lists them), the hottest with %llu active voxels\n",
+                s.regions.size(), static_cast<unsigned long long>(hottest));
 }
 
 // ---- a work directory ---------------------------------------------------------
@@ -317,11 +335,17 @@ struct RenderArgs {
     double yarnRadius = 0.0;
 };
 
-/// The zoom regions' boxes, hot by their active voxels (the store keeps no fragment counts).
+/// The zoom regions' boxes, hot by their active voxels (neither the store
+/// nor the .vdb keeps fragment counts), from a work directory or from what a
+/// .vdb records.
 std::vector<RegionHeat> regionHeat(const std::string& input) {
-    if (!std::filesystem::is_directory(input))
-        throw Error(input + ": a .vdb has no zoom regions (--regions needs the run's work directory)");
     std::vector<RegionHeat> out;
+    if (!std::filesystem::is_directory(input)) {
+        for (const RecordedRegion& r : readVdbRegions(input))
+            out.push_back(RegionHeat{r.id, VoxelBox{r.min, r.max}, double(r.activeVoxels)});
+        if (out.empty()) throw Error(vdbHasNoRegions(input));
+        return out;
+    }
     for (const RegionRow& r : inspectStore(input, false).regions)
         out.push_back(RegionHeat{r.info.id, VoxelBox{r.info.min, r.info.max}, double(r.info.activeVoxels)});
     return out;
@@ -616,10 +640,12 @@ void addInspectCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--size", render->size, "--render: picture size WIDTHxHEIGHT")->capture_default_str();
     cmd->add_option("--region", render->region,
-                    "--render: frame and draw only this zoom region of a work directory")
+                    "--render: frame and draw only this zoom region of a work directory or of a .vdb that records its "
+                    "regions (yarnvox voxelize and merge write them)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--regions", render->regions,
-                  "--render (not cut): draw the work directory's zoom-region boxes over the picture, coloured by "
+                  "--render (not cut): draw the zoom-region boxes of the work directory or of the .vdb over the "
+                  "picture, coloured by "
                   "heat (active voxels: blue, red, yellow; legend bar at the bottom left, scale printed)");
     cmd->add_option("--garment", render->garment,
                     "--render slices: the garment (.bcc) to draw, instead of the one the run recorded (needed for a "

@@ -9,6 +9,7 @@
 #include "inspect/inspect_vdb.h"
 #include "inspect/png_image.h"
 
+#include <glm/common.hpp>
 #include <unistd.h>
 
 #include <algorithm>
@@ -208,6 +209,55 @@ std::string regionMap(const std::vector<RegionRow>& regions, glm::ivec3 dims, st
     return s + "</div>\n";
 }
 
+/// Ray casts of the hottest regions (most active voxels), --html-renders of them.
+struct RegionRenders {
+    std::uint64_t hottest = 0;       ///< the most active voxels of a sound region
+    std::size_t withVoxels = 0;      ///< sound regions with active voxels
+    std::map<std::uint64_t, std::string> files; ///< by region id
+};
+
+RegionRenders renderHottestRegions(Renderer& renderer, const std::vector<RegionRow>& regions) {
+    std::vector<const RegionRow*> byHeat;
+    for (const RegionRow& r : regions)
+        if (r.problem.empty() && r.info.activeVoxels > 0) byHeat.push_back(&r);
+    std::stable_sort(byHeat.begin(), byHeat.end(),
+                     [](const RegionRow* a, const RegionRow* b) { return a->info.activeVoxels > b->info.activeVoxels; });
+    RegionRenders out;
+    out.hottest = byHeat.empty() ? 0 : byHeat.front()->info.activeVoxels;
+    out.withVoxels = byHeat.size();
+    const HtmlReportOptions& o = renderer.options;
+    for (std::size_t i = 0; i < std::min(o.regionRenders, byHeat.size()); ++i) {
+        const std::uint64_t id = byHeat[i]->info.id;
+        out.files[id] = renderer.render("region-" + count(id), RenderKind::Raycast, id, o.regionWidth, o.regionHeight);
+    }
+    return out;
+}
+
+/// The heading, the words and the map of the regions by heat.
+std::string regionHeatSection(const RegionRenders& renders, const std::vector<RegionRow>& regions, glm::ivec3 dims,
+                              std::size_t asked) {
+    return "<h2 id=\"regions\">Regions by heat</h2>\n<p>Each zoom region seen from above (+y up), one panel per z range; "
+           "colour: its active voxels against the hottest region's " + count(renders.hottest) +
+           " (dark blue few, yellow most; grey: damaged). A region links to its row in the table below. " +
+           (renders.withVoxels > renders.files.size()
+                ? "Renders: the " + count(renders.files.size()) + " hottest of " + count(regions.size()) +
+                      " regions (--html-renders " + count(asked) + ")."
+                : std::string("Every region with active voxels has a render.")) +
+           "</p>\n" + regionMap(regions, dims, renders.hottest);
+}
+
+/// A region's heat and render cells.
+std::string heatAndRenderCells(const RegionRenders& renders, const RegionRow& r) {
+    const double heat = renders.hottest ? double(r.info.activeVoxels) / double(renders.hottest) : 0.0;
+    std::string s = "<td style=\"background:" + heatColour(heat) + ";color:" + (heat > 0.6 ? "#000" : "#fff") + "\">" +
+                    format("%.2f", heat) + "</td><td>";
+    if (const auto it = renders.files.find(r.info.id); it != renders.files.end())
+        s += imageLink(it->second, "ray cast of region " + count(r.info.id), 160);
+    else
+        s += r.info.activeVoxels ? "not rendered (not among the hottest)" : "empty";
+    return s + "</td>";
+}
+
 std::string workDirPage(const std::string& input, const HtmlReportOptions& o, const fs::path& dir, HtmlReportResult& result) {
     const StoreSummary s = inspectStore(input, true);
     const VoxelGrid& grid = s.manifest.grid;
@@ -234,19 +284,8 @@ std::string workDirPage(const std::string& input, const HtmlReportOptions& o, co
                                    {"bytes on disk", bytes(double(s.bytesOnDisk))},
                                    {"compression ratio", format("%.2f", ratio) + " (values " + bytes(double(s.valueBytes)) + ")"}});
 
-    // The hottest regions (most active voxels) get renders, a bounded number of them.
-    std::vector<const RegionRow*> byHeat;
-    for (const RegionRow& r : s.regions)
-        if (r.problem.empty() && r.info.activeVoxels > 0) byHeat.push_back(&r);
-    std::stable_sort(byHeat.begin(), byHeat.end(),
-                     [](const RegionRow* a, const RegionRow* b) { return a->info.activeVoxels > b->info.activeVoxels; });
-    const std::uint64_t hottest = byHeat.empty() ? 0 : byHeat.front()->info.activeVoxels;
-    std::map<std::uint64_t, std::string> renders;
-    for (std::size_t i = 0; i < std::min(o.regionRenders, byHeat.size()); ++i) {
-        const std::uint64_t id = byHeat[i]->info.id;
-        renders[id] = renderer.render("region-" + count(id), RenderKind::Raycast, id, o.regionWidth, o.regionHeight);
-    }
-    result.renderedRegions = renders.size();
+    const RegionRenders renders = renderHottestRegions(renderer, s.regions);
+    result.renderedRegions = renders.files.size();
 
     std::string page = "<h1>yarnvox inspect: " + escape(fs::path(input).filename().string()) + "</h1>\n";
     page += "<h2 id=\"summary\">Summary</h2>\n" + table(summary);
@@ -256,15 +295,7 @@ std::string workDirPage(const std::string& input, const HtmlReportOptions& o, co
     if (source->occupiedBricks().empty()) page += "<p>The volume has no active voxels: nothing to render.</p>\n";
     else page += wholeVolumeRenders(renderer, source->hasOrientation());
 
-    page += "<h2 id=\"regions\">Regions by heat</h2>\n<p>Each zoom region seen from above (+y up), one panel per z range; "
-            "colour: its active voxels against the hottest region's " + count(hottest) +
-            " (dark blue few, yellow most; grey: damaged). A region links to its row in the table below. " +
-            (byHeat.size() > renders.size()
-                 ? "Renders: the " + count(renders.size()) + " hottest of " + count(s.regions.size()) +
-                       " regions (--html-renders " + count(o.regionRenders) + ")."
-                 : std::string("Every region with active voxels has a render.")) +
-            "</p>\n";
-    page += regionMap(s.regions, grid.dims, hottest);
+    page += regionHeatSection(renders, s.regions, grid.dims, o.regionRenders);
 
     page += "<table class=\"regions\">\n<tr><th>region</th><th>min</th><th>max</th><th>bricks</th><th>active voxels</th>"
             "<th>on disk</th><th>ratio</th><th>heat</th><th>render</th></tr>\n";
@@ -276,22 +307,15 @@ std::string workDirPage(const std::string& input, const HtmlReportOptions& o, co
             page += "<td colspan=\"6\" class=\"problem\">" + escape(r.problem) + "</td></tr>\n";
             continue;
         }
-        const double heat = hottest ? double(r.info.activeVoxels) / double(hottest) : 0.0;
         page += "<td>" + count(r.info.brickCount) + "</td><td>" + count(r.info.activeVoxels) + "</td><td>" +
                 bytes(double(r.info.bytesOnDisk)) + "</td><td>" +
                 format("%.2f", r.info.bytesOnDisk ? double(r.valueBytes) / double(r.info.bytesOnDisk) : 0.0) +
-                "</td><td style=\"background:" + heatColour(heat) + ";color:" + (heat > 0.6 ? "#000" : "#fff") + "\">" +
-                format("%.2f", heat) + "</td><td>";
-        if (const auto it = renders.find(r.info.id); it != renders.end())
-            page += imageLink(it->second, "ray cast of region " + id, 160);
-        else
-            page += r.info.activeVoxels ? "not rendered (not among the hottest)" : "empty";
-        page += "</td></tr>\n";
+                "</td>" + heatAndRenderCells(renders, r) + "</tr>\n";
     }
     return page + "</table>\n";
 }
 
-std::string vdbPage(const std::string& input, const HtmlReportOptions& o, const fs::path& dir) {
+std::string vdbPage(const std::string& input, const HtmlReportOptions& o, const fs::path& dir, HtmlReportResult& result) {
     const VdbSummary s = inspectVdb(input);
     const std::unique_ptr<VolumeSource> source = openVolumeSource(input);
     Renderer renderer{*source, o, dir};
@@ -308,11 +332,38 @@ std::string vdbPage(const std::string& input, const HtmlReportOptions& o, const 
     page += "<h2 id=\"summary\">Summary</h2>\n" + table(summary);
     page += stageSection(s.stageSeconds, kVdbStagesNotRecorded);
     page += "<h2 id=\"histogram\">Density</h2>\n" + histogramSvg(s.voxels) + table(statisticsRows(s.voxels, s.hasOrientation));
-    page += "<h2 id=\"regions\">Regions</h2>\n<p>An OpenVDB file has no zoom regions (a work directory has): the "
-            "renders below are of the whole volume.</p>\n";
+    if (s.regions.empty())
+        page += "<h2 id=\"regions\">Regions</h2>\n<p>The file has no zoom regions (yarnvox voxelize and merge record "
+                "them; a work directory has them): the renders below are of the whole volume.</p>\n";
     if (source->occupiedBricks().empty()) page += "<p>The volume has no active voxels: nothing to render.</p>\n";
     else page += wholeVolumeRenders(renderer, source->hasOrientation());
-    return page;
+    if (s.regions.empty()) return page;
+
+    // The regions the file records: their boxes and active voxels, no bytes (the store's alone).
+    std::vector<RegionRow> regions;
+    glm::ivec3 dims(1);
+    for (const RecordedRegion& r : s.regions) {
+        RegionRow row;
+        row.info.id = r.id;
+        row.info.min = r.min;
+        row.info.max = r.max;
+        row.info.activeVoxels = r.activeVoxels;
+        regions.push_back(row);
+        dims = glm::max(dims, r.max);
+    }
+    const RegionRenders renders = renderHottestRegions(renderer, regions);
+    result.regions = regions.size();
+    result.renderedRegions = renders.files.size();
+    page += regionHeatSection(renders, regions, dims, o.regionRenders);
+    page += "<table class=\"regions\">\n<tr><th>region</th><th>min</th><th>max</th><th>active voxels</th><th>heat</th>"
+            "<th>render</th></tr>\n";
+    for (const RegionRow& r : regions) {
+        const std::string id = count(r.info.id);
+        page += "<tr id=\"region-" + id + "\"><td>" + id + "</td><td>" + escape(coordText(r.info.min)) + "</td><td>" +
+                escape(coordText(r.info.max)) + "</td><td>" + count(r.info.activeVoxels) + "</td>" +
+                heatAndRenderCells(renders, r) + "</tr>\n";
+    }
+    return page + "</table>\n";
 }
 
 constexpr const char* kStyle =
@@ -359,7 +410,7 @@ HtmlReportResult writeHtmlReport(const std::string& input, const std::string& di
     try {
         fs::create_directories(building / "renders");
         const std::string body = fs::is_directory(input) ? workDirPage(input, options, building, result)
-                                                          : vdbPage(input, options, building);
+                                                          : vdbPage(input, options, building, result);
         const std::string page = std::string(kReportMarker) + "\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>yarnvox inspect: " +
                                  escape(fs::path(input).filename().string()) + "</title><style>" + kStyle +
                                  "</style></head><body>\n" + body + "</body></html>\n";

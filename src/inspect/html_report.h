@@ -26,7 +26,7 @@ struct HtmlReportOptions {
 };
 
 struct HtmlReportResult {
-    std::size_t regions = 0;         ///< in the work directory (0 for a .vdb)
+    std::size_t regions = 0;         ///< in the work directory, or recorded in the .vdb (0 where none)
     std::size_t renderedRegions = 0; ///< of them, with renders on the page
     std::size_t images = 0;          ///< PNG files written
 };

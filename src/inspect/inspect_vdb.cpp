@@ -32,6 +32,32 @@ std::string compressionOf(const openvdb::GridBase& grid) {
 
 } // namespace
 
+std::string vdbHasNoRegions(const std::string& path) {
+    return path + ": the .vdb records no zoom regions (yarnvox voxelize and merge record them in the density grid's "
+                  "yarnvox_regions metadata; otherwise give the run's work directory)";
+}
+
+std::vector<RecordedRegion> recordedRegionsOf(const openvdb::GridBase& density, const std::string& path) {
+    const auto text = density.getMetadata<openvdb::StringMetadata>(kRegionsMetadataName);
+    if (!text) return {};
+    return decodeRegions(text->value(), path + ": density grid metadata " + kRegionsMetadataName);
+}
+
+std::vector<RecordedRegion> readVdbRegions(const std::string& path) {
+    openvdb::initialize();
+    openvdb::io::File file(path);
+    openvdb::GridBase::Ptr density;
+    try {
+        file.open(/*delayLoad=*/true);
+        if (file.hasGrid("density")) density = file.readGridMetadata("density");
+    } catch (const openvdb::Exception& e) {
+        throw Error(path + ": not an OpenVDB file OpenVDB can read (" + e.what() + ")");
+    }
+    file.close();
+    if (!density) throw Error(path + ": has no float grid named 'density'");
+    return recordedRegionsOf(*density, path);
+}
+
 VdbSummary inspectVdb(const std::string& path) {
     openvdb::initialize();
     VdbSummary s;
@@ -60,6 +86,7 @@ VdbSummary inspectVdb(const std::string& path) {
     openvdb::Vec3SGrid::Ptr orientation;
     if (file.hasGrid("orientation")) orientation = openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid("orientation"));
     file.close();
+    s.regions = recordedRegionsOf(*density, path);
     s.voxelSize = density->voxelSize()[0];
     s.grids.push_back(summarize(*density, compressionOf(*density)));
     if (orientation) s.grids.push_back(summarize(*orientation, compressionOf(*orientation)));

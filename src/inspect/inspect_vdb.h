@@ -4,8 +4,10 @@
 
 #include "core/stage_seconds.h"
 #include "inspect/voxel_statistics.h"
+#include "vdb/region_metadata.h"
 
 #include <glm/vec3.hpp>
+#include <openvdb/Grid.h>
 
 #include <cstdint>
 #include <string>
@@ -32,12 +34,24 @@ struct VdbSummary {
     VoxelStatistics voxels; ///< density, with orientation where an `orientation` grid is there
     bool hasOrientation = false;
     StageSeconds stageSeconds; ///< from a "stage_seconds" string metadata item (NAME=SECONDS words); empty where the file has none
+    std::vector<RecordedRegion> regions; ///< the density grid's "yarnvox_regions"; empty where it has none
 };
 
 /// Why a .vdb without "stage_seconds" metadata has no time per stage, as inspect says it.
 constexpr const char* kVdbStagesNotRecorded =
     "the file has no stage_seconds metadata; yarnvox writes none, so that its .vdb files are the same bytes run "
     "after run: see the work directory or the --stats file";
+
+/// Why a .vdb without recorded regions cannot frame or outline them, as inspect says it.
+std::string vdbHasNoRegions(const std::string& path);
+
+/// The zoom regions recorded in the density grid's metadata of `path` (read
+/// from the grid's header only), empty when it records none; throws
+/// yv::Error naming `path` when it is not an OpenVDB file with a density grid
+/// or the record is malformed.
+std::vector<RecordedRegion> readVdbRegions(const std::string& path);
+/// The same from a density grid already read.
+std::vector<RecordedRegion> recordedRegionsOf(const openvdb::GridBase& density, const std::string& path);
 
 /// Reads `path`; throws yv::Error naming it when it is not an OpenVDB file
 /// or has no float grid named `density`, or its "stage_seconds" is malformed.

@@ -4,6 +4,7 @@
 #include "inspect/volume_source.h"
 
 #include "core/error.h"
+#include "inspect/inspect_vdb.h"
 
 #include <openvdb/openvdb.h>
 
@@ -31,14 +32,19 @@ class VdbSource final : public VolumeSource {
         file.close();
         if (!density_) throw Error(path + ": has no float grid named 'density'");
         hasOrientation_ = orientation_ != nullptr;
+        regions_ = recordedRegionsOf(*density_, path);
         for (auto leaf = density_->tree().cbeginLeaf(); leaf; ++leaf)
             if (!leaf->isEmpty()) occupied_.push_back(brickOf(leaf->origin()));
         std::sort(occupied_.begin(), occupied_.end(), [](glm::ivec3 a, glm::ivec3 b) {
             return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
         });
     }
-    VoxelBox regionBounds(std::uint64_t) const override {
-        throw Error(path_ + ": a .vdb has no zoom regions (--region needs the run's work directory)");
+    VoxelBox regionBounds(std::uint64_t id) const override {
+        if (regions_.empty()) throw Error(vdbHasNoRegions(path_));
+        for (const RecordedRegion& r : regions_)
+            if (r.id == id) return VoxelBox{r.min, r.max};
+        throw Error(path_ + ": has no region " + std::to_string(id) + " (it records " + std::to_string(regions_.size()) +
+                    " zoom regions)");
     }
     void forEachBrick(glm::ivec3 lo, glm::ivec3 hi, const std::function<void(const SourceBrick&)>& visit) const override {
         std::array<float, kBrickVoxels> density;
@@ -62,6 +68,7 @@ class VdbSource final : public VolumeSource {
     std::string path_;
     openvdb::FloatGrid::Ptr density_;
     openvdb::Vec3SGrid::Ptr orientation_;
+    std::vector<RecordedRegion> regions_; ///< as the density grid's metadata records them
 };
 
 } // namespace

@@ -42,7 +42,7 @@ class VolumeSource {
     /// The voxel box of the occupied bricks (brick-aligned).
     VoxelBox bounds() const;
     /// Voxel bounds of zoom region `id`; throws yv::Error when the source has
-    /// no such region (a .vdb has no regions).
+    /// no such region (a .vdb records regions only when yarnvox wrote it).
     virtual VoxelBox regionBounds(std::uint64_t id) const = 0;
     /// Calls `visit` once for every occupied brick whose coordinate lies in
     /// [brickMin, brickMax), in any order. Reads only what those bricks need.

@@ -443,10 +443,12 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 const InterruptScope interruptible;
                 rasterizer.run(zoom.regions, sink);
             }
-            for (const RegionInfo& r : writer.finish()) {
+            const std::vector<RegionInfo> regions = writer.finish();
+            for (const RegionInfo& r : regions) {
                 report.activeVoxels += r.activeVoxels;
                 report.bricks += r.brickCount;
             }
+            meta.regions = recordedRegions(regions); // as a merge of the same regions records them
             if (interruptSignal())
                 throw Error("interrupted by " + interruptSignalName() + " after " + std::to_string(sink.consumed) +
                             " of " + std::to_string(zoom.regions.size()) + " regions: nothing was written (" +

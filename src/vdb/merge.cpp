@@ -58,7 +58,16 @@ void mergeStoreToVdb(const BrickStore& store, const std::string& outPath, const 
     });
     if (options.timings)
         options.timings->readSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    assembler.write(metadata);
+    VolumeMetadata withRegions = metadata;
+    withRegions.regions = recordedRegions(regions);
+    assembler.write(withRegions);
+}
+
+std::vector<RecordedRegion> recordedRegions(const std::vector<RegionInfo>& regions) {
+    std::vector<RecordedRegion> out;
+    out.reserve(regions.size());
+    for (const RegionInfo& r : regions) out.push_back(RecordedRegion{r.id, r.min, r.max, r.activeVoxels});
+    return out;
 }
 
 void mergeStoreToVdb(const std::string& dir, const std::string& outPath, const VolumeMetadata& metadata,

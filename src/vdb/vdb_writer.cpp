@@ -467,6 +467,11 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     if (m.levels.size() > 1) fileMeta.insertMeta("lod_levels", openvdb::Int32Metadata(int(m.levels.size()) - 1));
     if (m.levels[0].gridCount > 2) fileMeta.insertMeta("albedo", openvdb::StringMetadata("linear RGB, density-weighted mean"));
 
+    // Zoom regions on the density grid, not the file: a summary lists the
+    // file's items, and a large run has thousands of regions.
+    if (!metadata.regions.empty())
+        m.levels[0].skeleton[0]->insertMeta(kRegionsMetadataName, openvdb::StringMetadata(encodeRegions(metadata.regions)));
+
     // The layout: header, then per grid (level by level, density, orientation
     // and albedo) its prefix, topology and leaf records.
     std::vector<std::pair<std::size_t, int>> gridOf; // (level, grid) of each grid in the file

@@ -5,12 +5,14 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "vdb/region_metadata.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace yv {
 
@@ -29,6 +31,10 @@ struct VolumeMetadata {
     int slicesPerSegment = 0;      ///< --slices-per-segment as asked (0: not asked)
     double sliceSpacingOption = 0.0; ///< --slice-spacing as asked (0: one slice per supersampled voxel)
     bool albedo = false;           ///< --albedo: the bricks carry the fibres' colour (an "albedo" grid)
+    /// The run's zoom regions, sorted by id, written as the density grid's
+    /// "yarnvox_regions" metadata (none: no item). Not part of the work
+    /// directory's run description: the writer of the .vdb fills it in.
+    std::vector<RecordedRegion> regions;
 };
 
 /// How each leaf's values are compressed (OpenVDB's options): only the
