@@ -2,8 +2,8 @@
 # What --albedo costs, and that runs without it cost what they did before it
 # existed: a generated knit voxelized by a yarnvox from before albedo and by
 # this one (no --albedo), on each backend, alternating, best of REPEATS wall
-# seconds of the voxelize stage (from --stats); then this one with --albedo on
-# the CPU backend (the backend that carries it). Prints JSON lines; the first
+# seconds of the voxelize stage (from --stats); then this one with a colour
+# PNG, without and with --albedo, on each backend. Prints JSON lines; the first
 # says where and when it ran (YV_COMMIT names the commit where the working
 # tree's git history is not the one built).
 #
@@ -60,7 +60,9 @@ for backend in $backends; do
         run after "$after" "$backend"
     done
 done
-for ((i = 0; i < repeats; ++i)); do
-    run after-plain-png "$after" cpu --cross-section "$scratch/tinted.png"
-    run after-albedo "$after" cpu --cross-section "$scratch/tinted.png" --albedo
+for backend in $backends; do
+    for ((i = 0; i < repeats; ++i)); do
+        run after-plain-png "$after" "$backend" --cross-section "$scratch/tinted.png"
+        run after-albedo "$after" "$backend" --cross-section "$scratch/tinted.png" --albedo
+    done
 done

@@ -10,6 +10,14 @@ layout(std430, binding = 2) writeonly buffer Fragments { Fragment fragments[]; }
 // The counter's own word, then a flag set once a slot reaches 2^31: the list
 // never holds that many, and a count that wrapped past 2^32 would look small.
 layout(std430, binding = 3) buffer CounterState { uint counterWord; uint counterWrapped; };
+#ifdef ALBEDO
+// --albedo (a program of its own, so the default one stays as it is): the
+// fibres' linear colour times their density (CrossSection::albedo, RGB32F),
+// and per fragment its fixed-point volume fraction times the sample's colour
+// (R, G, B, 0), at the fragment's own slot of a second list.
+layout(binding = 1) uniform sampler2D uAlbedo;
+layout(std430, binding = 4) writeonly buffer AlbedoFragments { uvec4 albedoFragments[]; };
+#endif
 
 uniform uint uCapacity;       // fragments the list holds; the counter goes on past it
 uniform float uRadius;        // yarn radius, voxel units
@@ -31,6 +39,36 @@ flat in vec3 vCurvature;
 flat in float vThickness;
 flat in float vTwistStep;
 flat in float vDepthScale;
+
+#ifdef ALBEDO
+// Density times colour, bilinear at slice-local c (units of the radius), 0
+// outside the slice square (CrossSection::bilinearAlbedo).
+vec3 bilinearAlbedo(vec2 c) {
+    if (!(c.x >= -1.0 && c.x < 1.0 && c.y >= -1.0 && c.y < 1.0)) return vec3(0.0);
+    int size = textureSize(uAlbedo, 0).x;
+    vec2 f = (c + 1.0) * 0.5 * float(size) - 0.5;
+    vec2 f0 = floor(f), t = f - f0;
+    ivec2 i0 = clamp(ivec2(f0), ivec2(0), ivec2(size - 1)), i1 = clamp(ivec2(f0) + 1, ivec2(0), ivec2(size - 1));
+    vec3 top = texelFetch(uAlbedo, ivec2(i0.x, i0.y), 0).rgb * (1.0 - t.x) + texelFetch(uAlbedo, ivec2(i1.x, i0.y), 0).rgb * t.x;
+    vec3 bottom = texelFetch(uAlbedo, ivec2(i0.x, i1.y), 0).rgb * (1.0 - t.x) + texelFetch(uAlbedo, ivec2(i1.x, i1.y), 0).rgb * t.x;
+    return top * (1.0 - t.y) + bottom * t.y;
+}
+
+// The sample's colour: the density-weighted mean over its footprint cells
+// with fibre, at the cell centres footprintCells uses (src/cpu/slice_sampler.h).
+vec3 sampleAlbedo(int a, int b, int c, float S, float x, float y, float cellDensity[kCells], float cellSum) {
+    float det = vTangent[a], m = float(kFootprintCells);
+    vec3 sum = vec3(0.0);
+    for (int q = 0; q < kFootprintCells; ++q)
+        for (int p = 0; p < kFootprintCells; ++p) {
+            if (!(cellDensity[q * kFootprintCells + p] > 0.0)) continue;
+            float ob = ((float(p) + 0.5) / m - 0.5) / S, oc = ((float(q) + 0.5) / m - 0.5) / S;
+            float cx = x + (ob * vUp[c] - oc * vUp[b]) / det, cy = y + (vRight[b] * oc - vRight[c] * ob) / det;
+            sum += bilinearAlbedo(vec2(cx, cy) / uRadius);
+        }
+    return min(sum / cellSum, vec3(1.0));
+}
+#endif
 
 void main() {
     int a = vAxis, b = (a + 1) % 3, c = (a + 2) % 3;
@@ -63,6 +101,9 @@ void main() {
     float cs = cos(vTwistStep), sn = sin(vTwistStep);
     uint axis = encodeAxis(normalize((x * cs - y * sn - x) * vRight + (x * sn + y * cs - y) * vUp + vThickness * vTangent));
     float weight = 1.0 / (S * S * float(kCells));
+#ifdef ALBEDO
+    vec3 colour = sampleAlbedo(a, b, c, S, x, y, cellDensity, cellSum);
+#endif
 
     // One fragment per voxel the cells' columns cross (a box filter in depth).
     ivec3 voxel;
@@ -79,7 +120,11 @@ void main() {
         uint key = (brickIndex << 9) | uint((local.x << 6) | (local.y << 3) | local.z);
         uint slot = atomicCounterIncrement(uFragmentCount);
         if (slot >= 0x80000000u) counterWrapped = 1u;
-        if (slot < uCapacity)
+        if (slot < uCapacity) {
             fragments[slot] = Fragment(key, uint(round(weight * share * kFixedScale)), axis, floatBitsToUint(density));
+#ifdef ALBEDO
+            albedoFragments[slot] = uvec4(uvec3(round(weight * share * colour * kFixedScale)), 0u);
+#endif
+        }
     }
 }

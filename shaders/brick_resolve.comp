@@ -7,12 +7,16 @@
 //     voxel write nothing: they are dropped here, not on the host.
 // REDUCE_MAX: max words (density bits, axis code); else mean words (fixed-point
 // fraction, structure tensor). OVERLAP_SUM: mean densities are not clamped.
+// ALBEDO (mean only): three more words per voxel, and each active voxel's
+// colour (R G B floats) written from uAlbedoBase, in the voxels' order.
 layout(local_size_x = 128) in;
 
 const uint kGroup = 128u;
 const uint kPerThread = 4u; // voxel lid + k * kGroup, k < kPerThread
 #ifdef REDUCE_MAX
 const uint kWords = 2u;
+#elif defined(ALBEDO)
+const uint kWords = 10u;
 #else
 const uint kWords = 7u;
 #endif
@@ -42,6 +46,10 @@ uniform bool uKeysFromRegion;
 uniform ivec3 uBrickMin;      // the region's first brick
 uniform ivec3 uRegionBricks;  // bricks along each axis of the region
 uniform uint uVoxelBase;      // in vec4s
+#ifdef ALBEDO
+layout(std430, binding = 5) writeonly buffer Albedo { float albedo[]; };
+uniform uint uAlbedoBase;     // in floats
+#endif
 #endif
 uniform uint uBrickCount;
 
@@ -223,7 +231,15 @@ void main() {
                 if (!(density[k] > 0.0)) continue;
                 uint voxel = lid + k * kGroup;
                 vec3 axis = voxelAxis(base, voxel, words[base + voxel]);
-                voxels[uVoxelBase + place.y + activeRank(voxel)] = vec4(density[k], axis);
+                uint index = place.y + activeRank(voxel);
+                voxels[uVoxelBase + index] = vec4(density[k], axis);
+#ifdef ALBEDO
+                // resolveBrick's colour: summed weighted colour over summed volume fraction.
+                double weight = double(words[base + voxel]);
+                for (uint i = 0u; i < 3u; ++i)
+                    albedo[uAlbedoBase + 3u * index + i] =
+                        float(min(1.0LF, double(words[base + (7u + i) * uint(kBrickVoxels) + voxel]) / weight));
+#endif
             }
             if (lid < 16u) headers[place.x].activeMask[lid] = sMask[lid];
             if (lid == 0u) {

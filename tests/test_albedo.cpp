@@ -7,6 +7,7 @@
 #include "export/mitsuba_vol.h"
 #include "export/nanovdb_output.h"
 #include "garment/cross_section.h"
+#include "gpu/gl_voxelizer.h"
 #include "run_cli.h"
 #include "store/brick_store.h"
 #include "test_helpers.h"
@@ -311,7 +312,6 @@ TEST_CASE("Albedo: voxelize --albedo writes the grid and refuses what cannot car
     };
     refused(grey.string() + " --albedo", "every pixel with fibre is grey");
     refused("fibers --albedo", "--albedo");
-    refused(png.string() + " --albedo --backend gl", "the GL backend has no albedo yet");
     refused(png.string() + " --albedo --method dense", "the dense method has no albedo");
     refused(png.string() + " --albedo --reduce max", "--albedo needs --reduce mean");
 
@@ -395,4 +395,207 @@ TEST_CASE("Albedo: LOD levels keep the mass-weighted colour of the level below",
     };
     const glm::dvec3 m0 = meanColour(*density0, *albedo0), m1 = meanColour(*density1, *albedo1);
     for (int c = 0; c < 3; ++c) CHECK(m1[c] == Approx(m0[c]).epsilon(1e-4));
+}
+
+// ------------------------------------------------------------------ the GL backend
+
+namespace {
+
+/// Per voxel, GL against the CPU reference: the active voxels of each, and
+/// the largest density and colour differences where both are active.
+struct AlbedoAgreement {
+    std::uint64_t both = 0, onlyCpu = 0, onlyGl = 0;
+    double maxDensityDiff = 0.0, maxAlbedoDiff = 0.0;
+    double densityAtMaxAlbedoDiff = 0.0; ///< the CPU's density where the colours differ most
+    std::uint64_t albedoAbove1e3 = 0;    ///< voxels whose colours differ by more than 1e-3
+    std::uint64_t albedoAbove1e4 = 0;    ///< voxels whose colours differ by more than 1e-4
+};
+
+AlbedoAgreement agreeWithAlbedo(const BrickVolume& cpu, const BrickVolume& gl) {
+    AlbedoAgreement a;
+    const test::VolumeIndex glIndex(gl), cpuIndex(cpu);
+    for (const VoxelBrick& b : cpu.bricks) {
+        REQUIRE(b.albedo.size() == std::size_t(kBrickVoxels));
+        const glm::ivec3 origin = brickCoord(b.key) * 8;
+        for (int i = 0; i < kBrickVoxels; ++i) {
+            if (!b.isActive(i)) continue;
+            const glm::ivec3 v = origin + glm::ivec3(i >> 6, (i >> 3) & 7, i & 7);
+            const VoxelBrick* g = glIndex.brick(v);
+            if (!g || !g->isActive(i)) {
+                ++a.onlyCpu;
+                continue;
+            }
+            REQUIRE(g->albedo.size() == std::size_t(kBrickVoxels));
+            ++a.both;
+            a.maxDensityDiff = std::max(a.maxDensityDiff, std::abs(double(g->density[i]) - double(b.density[i])));
+            double diff = 0.0;
+            for (int c = 0; c < 3; ++c) diff = std::max(diff, std::abs(double(g->albedo[i][c]) - double(b.albedo[i][c])));
+            a.albedoAbove1e3 += diff > 1e-3;
+            a.albedoAbove1e4 += diff > 1e-4;
+            if (diff > a.maxAlbedoDiff) a.maxAlbedoDiff = diff, a.densityAtMaxAlbedoDiff = b.density[i];
+        }
+    }
+    for (const VoxelBrick& g : gl.bricks) {
+        const glm::ivec3 origin = brickCoord(g.key) * 8;
+        for (int i = 0; i < kBrickVoxels; ++i) {
+            if (!g.isActive(i)) {
+                // Voxels with no fibre carry no colour, as on the CPU.
+                if (!g.albedo.empty()) REQUIRE(g.albedo[i] == glm::vec3(0.0f));
+                continue;
+            }
+            const VoxelBrick* b = cpuIndex.brick(origin + glm::ivec3(i >> 6, (i >> 3) & 7, i & 7));
+            if (!b || !b->isActive(i)) ++a.onlyGl;
+        }
+    }
+    return a;
+}
+
+GlVoxelizeSettings glAlbedoSettings(std::uint64_t capacity = 0) {
+    GlVoxelizeSettings s;
+    s.fragmentCapacity = capacity;
+    return s;
+}
+
+} // namespace
+
+TEST_CASE("Albedo (GL): a two-colour cross-section on a generated garment agrees with the CPU voxel by voxel", "[albedo][gl]") {
+    YV_REQUIRE_GL();
+    const int size = 32;
+    const fs::path png = writeRgbaPng("gl-halves.png", size, [](int x, int) { return x < size / 2 ? kRed : kBlue; });
+    const CrossSection xs = loadCrossSectionPng(png.string(), true);
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Knit, GarmentShape::Flat, 16, 1.0, 48);
+    const BrickVolume cpu = voxelizeCpu(run.plan, xs, run.grid, VoxelizeSettings{});
+    const BrickVolume gl = voxelizeGl(run.plan, xs, run.grid, glAlbedoSettings());
+    const AlbedoAgreement a = agreeWithAlbedo(cpu, gl);
+    INFO("active in both " << a.both << ", only CPU " << a.onlyCpu << ", only GL " << a.onlyGl << "; max |GL - CPU| density "
+                           << a.maxDensityDiff << ", albedo " << a.maxAlbedoDiff << " (at density "
+                           << a.densityAtMaxAlbedoDiff << "), " << a.albedoAbove1e3 << " voxels' colours differ by over 1e-3, "
+                           << a.albedoAbove1e4 << " by over 1e-4");
+    CHECK(a.both > 2000);
+    // The density tests' tolerance (test_fidelity.cpp: checkAgreement): IoU of the active sets at least 0.9999.
+    CHECK(double(a.onlyCpu + a.onlyGl) <= 1e-4 * double(a.both + a.onlyCpu + a.onlyGl));
+    // Float samples against double ones, then the same fixed point: a colour
+    // moves by rounding only. Each backend rounds each sample's colour and
+    // volume fraction by half a unit of at least 256 (kMinVoxelShare), so a
+    // sliver voxel of one sample may differ by up to 2 / 512; nearly all
+    // voxels hold far more and agree within 1e-3.
+    CHECK(a.maxAlbedoDiff <= 2.0 / 512.0);
+    CHECK(double(a.albedoAbove1e3) <= 1e-3 * double(a.both));
+    // The density's rule is 99.99 % within 1e-4; a colour is a ratio of two
+    // such sums, so thin voxels magnify the rounding: 99.5 % within 1e-4.
+    CHECK(double(a.albedoAbove1e4) <= 5e-3 * double(a.both));
+    // And so does the garment's mean colour.
+    CHECK(glm::length(massWeightedAlbedo(gl) - massWeightedAlbedo(cpu)) <= 1e-4);
+
+}
+
+TEST_CASE("Albedo (GL): bricks drawn in several passes add their colour on the host to the same bits", "[albedo][gl][overflow]") {
+    YV_REQUIRE_GL();
+    // Yarns through one point (test_gl_voxelizer.cpp's overflow garment): with
+    // the smallest list, the bricks at the crossing are drawn with their
+    // segments split, and their accumulators, colour words too, add up on the host.
+    Garment garment;
+    for (int i = 0; i < 10; ++i) {
+        const double a = 0.45 * i, b = 0.9 * i;
+        const glm::dvec3 dir(std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b));
+        garment.yarns.push_back(test::straightYarn(-2.0 * dir, dir, 4).yarns[0]);
+    }
+    SliceOptions opt;
+    opt.radius = 0.6;
+    opt.slicesPerSegment = 8;
+    const SlicePlan plan = planSlices(garment, opt);
+    const VoxelGrid grid = makeGrid(plan, 0, 0.125);
+    const fs::path png = writeRgbaPng("gl-split.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
+    const CrossSection xs = loadCrossSectionPng(png.string(), true);
+    std::uint32_t maxSlices = 0;
+    for (const SegmentRecord& seg : plan.segments) maxSlices = std::max(maxSlices, seg.sliceCount);
+    GlVoxelizeCounters ample, tiny;
+    const BrickVolume whole = voxelizeGl(plan, xs, grid, glAlbedoSettings(), &ample);
+    const BrickVolume split = voxelizeGl(plan, xs, grid, glAlbedoSettings(std::uint64_t(maxSlices) * 64 * 8), &tiny);
+    INFO(tiny.hostSummedBricks << " bricks summed on the host, " << tiny.overflows << " overflows");
+    CHECK(ample.hostSummedBricks == 0);
+    CHECK(tiny.hostSummedBricks > 0);
+    CHECK(tiny.fragments == ample.fragments);
+    REQUIRE(split.bricks.size() == whole.bricks.size());
+    for (std::size_t i = 0; i < whole.bricks.size(); ++i) {
+        REQUIRE(split.bricks[i].key == whole.bricks[i].key);
+        REQUIRE(split.bricks[i].density == whole.bricks[i].density);
+        REQUIRE(split.bricks[i].albedo == whole.bricks[i].albedo);
+    }
+    const AlbedoAgreement a = agreeWithAlbedo(voxelizeCpu(plan, xs, grid, VoxelizeSettings{}), split);
+    INFO("active in both " << a.both << ", only CPU " << a.onlyCpu << ", only GL " << a.onlyGl << "; max |GL - CPU| albedo "
+                           << a.maxAlbedoDiff);
+    CHECK(a.both > 1000);
+    CHECK(double(a.onlyCpu + a.onlyGl) <= 1e-4 * double(a.both + a.onlyCpu + a.onlyGl));
+    CHECK(a.maxAlbedoDiff <= 2.0 / 512.0);
+}
+
+TEST_CASE("Albedo (GL): a uniformly coloured straight yarn gives that colour in every voxel with fibre", "[albedo][gl]") {
+    YV_REQUIRE_GL();
+    const fs::path png = writeRgbaPng("gl-uniform.png", 32, [](int, int) { return kRust; });
+    const CrossSection xs = loadCrossSectionPng(png.string(), true);
+    const StraightRun run = straightRun();
+    const BrickVolume volume = voxelizeGl(run.plan, xs, run.grid, glAlbedoSettings());
+    const glm::vec3 expected = linearColour(kRust);
+    std::uint64_t active = 0;
+    for (const VoxelBrick& b : volume.bricks) {
+        REQUIRE(b.albedo.size() == std::size_t(kBrickVoxels));
+        for (int i = 0; i < kBrickVoxels; ++i) {
+            if (!b.isActive(i)) {
+                REQUIRE(b.albedo[i] == glm::vec3(0.0f));
+                continue;
+            }
+            ++active;
+            for (int c = 0; c < 3; ++c) REQUIRE(b.albedo[i][c] == Approx(expected[c]).margin(4e-3));
+        }
+    }
+    CHECK(active > 1000);
+}
+
+TEST_CASE("Albedo (GL): without it the run is what the default program makes, bit for bit", "[albedo][gl]") {
+    YV_REQUIRE_GL();
+    const fs::path png = writeRgbaPng("gl-plain.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Flat, 16, 2.0, 40);
+    GlVoxelizeCounters plainCounters, albedoCounters;
+    const BrickVolume plain = voxelizeGl(run.plan, loadCrossSectionPng(png.string()), run.grid, glAlbedoSettings(), &plainCounters);
+    const BrickVolume coloured =
+        voxelizeGl(run.plan, loadCrossSectionPng(png.string(), true), run.grid, glAlbedoSettings(), &albedoCounters);
+    // The colour rides along: the same fragments, and the same density and
+    // axis bits in every brick; only the albedo run has colour.
+    CHECK(plainCounters.fragments > 0);
+    CHECK(plainCounters.fragments == albedoCounters.fragments);
+    REQUIRE(plain.bricks.size() == coloured.bricks.size());
+    for (std::size_t i = 0; i < plain.bricks.size(); ++i) {
+        const VoxelBrick &p = plain.bricks[i], &c = coloured.bricks[i];
+        REQUIRE(p.key == c.key);
+        REQUIRE(p.activeMask == c.activeMask);
+        REQUIRE(std::memcmp(p.density.data(), c.density.data(), sizeof(p.density)) == 0);
+        REQUIRE(std::memcmp(p.orientation.data(), c.orientation.data(), sizeof(p.orientation)) == 0);
+        REQUIRE(p.albedo.empty());
+        REQUIRE(c.albedo.size() == std::size_t(kBrickVoxels));
+    }
+    // And the default run is still the CPU's, voxel by voxel (the existing rule).
+    const BrickVolume cpu = voxelizeCpu(run.plan, loadCrossSectionPng(png.string()), run.grid, VoxelizeSettings{});
+    CHECK(plain.activeVoxelCount() == cpu.activeVoxelCount());
+}
+
+TEST_CASE("Albedo (GL): voxelize --albedo --backend gl writes the albedo grid", "[albedo][gl][cli]") {
+    YV_REQUIRE_GL();
+    using test::runYarnvox;
+    const fs::path bcc = scratch("gl-cli.bcc");
+    REQUIRE(runYarnvox("gen --pattern knit --crossings 4 -o " + bcc.string()).exitCode == 0);
+    const fs::path png = writeRgbaPng("gl-cli.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
+    const std::string base = "voxelize " + bcc.string() + " --resolution 32 --quiet --albedo --cross-section " + png.string();
+    const fs::path gl = scratch("gl-cli-gl.vdb"), cpu = scratch("gl-cli-cpu.vdb");
+    fs::remove(gl);
+    fs::remove(cpu);
+    const test::RunResult r = runYarnvox(base + " --backend gl -o " + gl.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    REQUIRE(runYarnvox(base + " --backend cpu -o " + cpu.string()).exitCode == 0);
+    const FiberGrids glGrids = readFiberGrids(gl.string()), cpuGrids = readFiberGrids(cpu.string());
+    REQUIRE(glGrids.albedo);
+    REQUIRE(cpuGrids.albedo);
+    CHECK(glGrids.albedo->activeVoxelCount() == glGrids.density->activeVoxelCount());
+    CHECK(glGrids.albedo->activeVoxelCount() == cpuGrids.albedo->activeVoxelCount());
 }

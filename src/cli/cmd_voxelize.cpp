@@ -96,8 +96,8 @@ void addVoxelizeCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--albedo", a->albedo,
                   "Also write the fibres' colour: an 'albedo' grid (linear RGB) from the RGB of the --cross-section PNG "
-                  "(read as sRGB), the density-weighted mean of each voxel's samples. Needs a colour PNG, the mean "
-                  "reduction and the CPU backend (auto picks it); not with --method dense. With --lod, albedo_lod1..N too "
+                  "(read as sRGB), the density-weighted mean of each voxel's samples. Needs a colour PNG and the mean "
+                  "reduction (either backend); not with --method dense. With --lod, albedo_lod1..N too "
                   "(mass-weighted)");
     cmd->add_option("--reduce", a->reduce, "mean: fibre volume fraction and mean axis; max: the paper's max density")
         ->capture_default_str()

@@ -32,15 +32,21 @@ void copyInParallel(void* to, const void* from, std::size_t bytes) {
 } // namespace
 
 void PackedBricks::append(const PackedBrickHeader* h, std::size_t brickCount, const PackedVoxel* v,
-                          std::size_t voxelCount) {
+                          std::size_t voxelCount, const PackedAlbedo* a) {
     // firstVoxel is 32 bits: a region (at most 1024^3 voxels) always fits.
     YV_CHECK(voxels.size() + voxelCount <= std::numeric_limits<std::uint32_t>::max());
+    // Colour for every voxel or for none: a mix would pair voxels with others' colours.
+    YV_CHECK(a ? albedo.size() == voxels.size() : albedo.empty());
     const auto shift = static_cast<std::uint32_t>(voxels.size());
     const std::size_t firstBrick = headers.size(), firstVoxel = voxels.size();
     headers.resize(firstBrick + brickCount, boost::container::default_init);
     voxels.resize(firstVoxel + voxelCount, boost::container::default_init);
     copyInParallel(headers.data() + firstBrick, h, brickCount * sizeof(PackedBrickHeader));
     copyInParallel(voxels.data() + firstVoxel, v, voxelCount * sizeof(PackedVoxel));
+    if (a) {
+        albedo.resize(firstVoxel + voxelCount, boost::container::default_init);
+        copyInParallel(albedo.data() + firstVoxel, a, voxelCount * sizeof(PackedAlbedo));
+    }
     for (std::size_t i = firstBrick; i < headers.size(); ++i) headers[i].firstVoxel += shift;
 }
 
@@ -68,12 +74,25 @@ void unpackBrick(const PackedBricks& packed, std::size_t i, VoxelBrick& out) {
                     ", " + std::to_string(packed.voxels.size()) + " voxels held");
     out.density.fill(0.0f);
     out.orientation.fill(glm::vec3(0.0f));
+    const bool withAlbedo = !packed.albedo.empty();
+    if (withAlbedo && packed.albedo.size() != packed.voxels.size())
+        throw Error("packed bricks: " + std::to_string(packed.albedo.size()) + " colours for " +
+                    std::to_string(packed.voxels.size()) + " voxels");
+    if (withAlbedo)
+        out.albedo.assign(kBrickVoxels, glm::vec3(0.0f));
+    else
+        out.albedo.clear();
     const PackedVoxel* v = packed.voxels.data() + h.firstVoxel;
+    const PackedAlbedo* a = withAlbedo ? packed.albedo.data() + h.firstVoxel : nullptr;
     for (int w = 0; w < kBrickVoxels / 64; ++w)
         for (std::uint64_t bits = out.activeMask[w]; bits; bits &= bits - 1, ++v) {
             const int offset = w * 64 + std::countr_zero(bits);
             out.density[offset] = v->density;
             out.orientation[offset] = glm::vec3(v->axis[0], v->axis[1], v->axis[2]);
+            if (a) {
+                out.albedo[offset] = glm::vec3(a->rgb[0], a->rgb[1], a->rgb[2]);
+                ++a;
+            }
         }
 }
 

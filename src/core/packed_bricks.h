@@ -41,27 +41,43 @@ struct PackedVoxel {
 };
 static_assert(sizeof(PackedVoxel) == 16, "PackedVoxel must match shaders/brick_resolve.comp");
 
+/// One active voxel's linear colour (--albedo), as VoxelBrick::albedo holds it.
+struct PackedAlbedo {
+    float rgb[3];
+};
+static_assert(sizeof(PackedAlbedo) == 12, "PackedAlbedo must match shaders/brick_resolve.comp");
+
 /// A region's resolved bricks, packed. Boost's vector grows without zeroing
 /// what append() then overwrites: a region's readback is gigabytes, and
 /// zeroing it first on one thread touched every page twice.
 struct PackedBricks {
     boost::container::vector<PackedBrickHeader> headers; ///< bricks with an active voxel, in the order they were resolved
     boost::container::vector<PackedVoxel> voxels;        ///< each brick's active voxels, bricks one after another
+    boost::container::vector<PackedAlbedo> albedo;       ///< with --albedo, one per voxel of `voxels`; else empty
 
     /// Appends bricks whose firstVoxel counts from `voxels` (as one GPU pass
-    /// wrote them), shifting them past the voxels already held. Large
-    /// appends are copied on several threads (the pages they land in too).
-    void append(const PackedBrickHeader* h, std::size_t brickCount, const PackedVoxel* v, std::size_t voxelCount);
+    /// wrote them), shifting them past the voxels already held, and, when
+    /// given, the voxels' colours (`a`, voxelCount of them). Large appends are
+    /// copied on several threads (the pages they land in too).
+    void append(const PackedBrickHeader* h, std::size_t brickCount, const PackedVoxel* v, std::size_t voxelCount,
+                const PackedAlbedo* a = nullptr);
     std::size_t bytes() const {
-        return headers.capacity() * sizeof(PackedBrickHeader) + voxels.capacity() * sizeof(PackedVoxel);
+        return headers.capacity() * sizeof(PackedBrickHeader) + voxels.capacity() * sizeof(PackedVoxel) +
+               albedo.capacity() * sizeof(PackedAlbedo);
+    }
+    void clear() {
+        headers.clear();
+        voxels.clear();
+        albedo.clear();
     }
 };
 
 /// What resolving brick `h` found.
 ResolveTally tallyOf(const PackedBrickHeader& h);
 
-/// Unpacks brick `i`: the mask, and density and axis of its active voxels
-/// (zero elsewhere, as resolveBrick leaves voxels with no density). Throws
+/// Unpacks brick `i`: the mask, and density and axis (and colour, where the
+/// bricks carry it) of its active voxels (zero elsewhere, as resolveBrick
+/// leaves voxels with no density). Throws
 /// yv::Error when the header contradicts itself or the voxels.
 void unpackBrick(const PackedBricks& packed, std::size_t i, VoxelBrick& out);
 

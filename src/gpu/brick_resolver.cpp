@@ -15,9 +15,10 @@ double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(
 
 constexpr std::uint64_t kScanBlock = 1024; // slots one scan work group covers (brick_resolve_scan.comp)
 
-std::vector<std::string> variant(Reduce reduce, Overlap overlap, bool countOnly) {
+std::vector<std::string> variant(Reduce reduce, Overlap overlap, bool albedo, bool countOnly) {
     std::vector<std::string> defines;
     if (reduce == Reduce::Max) defines.push_back("REDUCE_MAX 1");
+    if (albedo) defines.push_back("ALBEDO 1");
     if (overlap == Overlap::Sum) defines.push_back("OVERLAP_SUM 1");
     if (countOnly) defines.push_back("COUNT_ONLY 1");
     return defines;
@@ -25,11 +26,13 @@ std::vector<std::string> variant(Reduce reduce, Overlap overlap, bool countOnly)
 
 } // namespace
 
-GlBrickResolver::GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes)
-    : reduce_(reduce), gpuBytes_(gpuBytes),
-      count_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, true))),
+GlBrickResolver::GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes, bool albedo)
+    : reduce_(reduce), albedo_(albedo), gpuBytes_(gpuBytes),
+      count_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, albedo, true))),
       scan_(GlProgram::compute("brick_resolve_scan.comp")),
-      resolve_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, false))) {
+      resolve_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, albedo, false))) {
+    if (albedo && reduce != Reduce::Mean)
+        throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
     totals_.reserve(8, gpuBytes_);
     GLint maxGroups = 0;
     glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &maxGroups);
@@ -48,7 +51,9 @@ void GlBrickResolver::resolve(GLuint words, std::uint32_t count, const BrickKeys
     // one wait covers all three passes.
     const std::uint64_t headerBytes = std::uint64_t(count) * sizeof(PackedBrickHeader);
     const std::uint64_t voxelCapacity = std::min<std::uint64_t>(std::uint64_t(count) * kBrickVoxels, maxActiveVoxels);
-    output_.reserve(headerBytes + voxelCapacity * sizeof(PackedVoxel), gpuBytes_);
+    // With albedo the colours follow the voxels, one PackedAlbedo per voxel.
+    const std::uint64_t albedoOffset = headerBytes + voxelCapacity * sizeof(PackedVoxel);
+    output_.reserve(albedoOffset + (albedo_ ? voxelCapacity * sizeof(PackedAlbedo) : 0), gpuBytes_);
     const GLuint groups = std::min<GLuint>(count, maxGroups_); // one work group a slot, looping past the limit
 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, words);
@@ -78,6 +83,10 @@ void GlBrickResolver::resolve(GLuint words, std::uint32_t count, const BrickKeys
     glUniform3i(resolve_.uniform("uBrickMin"), keys.brickMin.x, keys.brickMin.y, keys.brickMin.z);
     glUniform3i(resolve_.uniform("uRegionBricks"), keys.regionBricks.x, keys.regionBricks.y, keys.regionBricks.z);
     glUniform1ui(resolve_.uniform("uVoxelBase"), static_cast<GLuint>(headerBytes / sizeof(PackedVoxel)));
+    if (albedo_) {
+        output_.bindStorage(5);
+        glUniform1ui(resolve_.uniform("uAlbedoBase"), static_cast<GLuint>(albedoOffset / sizeof(float)));
+    }
     glDispatchCompute(groups, 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     checkGlError("brick resolve passes");
@@ -90,17 +99,20 @@ void GlBrickResolver::resolve(GLuint words, std::uint32_t count, const BrickKeys
     const auto readStart = Clock::now();
     const std::uint64_t keptBytes = std::uint64_t(totals[0]) * sizeof(PackedBrickHeader);
     const std::uint64_t voxelBytes = std::uint64_t(totals[1]) * sizeof(PackedVoxel);
-    const auto* bytes = static_cast<const unsigned char*>(
-        readback_.read({{output_.id(), 0, keptBytes}, {output_.id(), headerBytes, voxelBytes}}, gpuBytes_));
+    const std::uint64_t albedoBytes = albedo_ ? std::uint64_t(totals[1]) * sizeof(PackedAlbedo) : 0;
+    const auto* bytes = static_cast<const unsigned char*>(readback_.read(
+        {{output_.id(), 0, keptBytes}, {output_.id(), headerBytes, voxelBytes}, {output_.id(), albedoOffset, albedoBytes}},
+        gpuBytes_));
     if (totals[0] > 0)
         out.append(reinterpret_cast<const PackedBrickHeader*>(bytes), totals[0],
-                   reinterpret_cast<const PackedVoxel*>(bytes + keptBytes), totals[1]);
+                   reinterpret_cast<const PackedVoxel*>(bytes + keptBytes), totals[1],
+                   albedo_ ? reinterpret_cast<const PackedAlbedo*>(bytes + keptBytes + voxelBytes) : nullptr);
     readbackSeconds_ += secondsSince(readStart);
 }
 
 void GlBrickResolver::resolve(const std::vector<BrickAccumulator>& accumulators, PackedBricks& out) {
     if (accumulators.empty()) return;
-    const std::size_t perBrick = std::size_t(wordsPerVoxel(reduce_)) * kBrickVoxels;
+    const std::size_t perBrick = std::size_t(wordsPerVoxel(reduce_, albedo_)) * kBrickVoxels;
     std::vector<std::uint32_t> words(accumulators.size() * perBrick), keyWords(accumulators.size() * 2);
     for (std::size_t i = 0; i < accumulators.size(); ++i) {
         const BrickAccumulator& a = accumulators[i];

@@ -15,8 +15,10 @@
 
 namespace yv {
 
-/// GPU bytes the resolve's output needs per brick slot, at most.
-constexpr std::uint64_t kResolveBytesPerBrick = sizeof(PackedBrickHeader) + kBrickVoxels * sizeof(PackedVoxel);
+/// GPU bytes the resolve's output needs per brick slot, at most (`albedo`: with each voxel's colour).
+constexpr std::uint64_t resolveBytesPerBrick(bool albedo) {
+    return sizeof(PackedBrickHeader) + kBrickVoxels * (sizeof(PackedVoxel) + (albedo ? sizeof(PackedAlbedo) : 0));
+}
 
 /// Where the key of each brick slot comes from.
 struct BrickKeys {
@@ -31,9 +33,11 @@ struct BrickKeys {
 class GlBrickResolver {
   public:
     /// `gpuBytes`, where given, tracks the sum of yarnvox's GPU buffers.
-    GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes = nullptr);
+    /// `albedo` (mean only): the slots carry the albedo words, and the packed
+    /// bricks get each active voxel's colour.
+    GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes = nullptr, bool albedo = false);
 
-    /// Resolves `count` slots of `words` (wordsPerVoxel(reduce) channels of
+    /// Resolves `count` slots of `words` (wordsPerVoxel(reduce, albedo) channels of
     /// 512 words per slot, channel-major, as BrickAccumulator) and appends the
     /// bricks with an active voxel to `out`, in slot order. Waits twice for
     /// the GPU: for the totals (a few bytes), then for the packed bricks.
@@ -52,6 +56,7 @@ class GlBrickResolver {
 
   private:
     Reduce reduce_;
+    bool albedo_;
     std::uint64_t* gpuBytes_;
     GlProgram count_, scan_, resolve_;
     GlBuffer places_, blockSums_, totals_, output_, uploadWords_, uploadKeys_;

@@ -1,5 +1,6 @@
 #include "gpu/cross_section_texture.h"
 
+#include "core/error.h"
 #include "gpu/gl_program.h"
 
 namespace yv {
@@ -15,6 +16,21 @@ GLuint uploadCrossSectionTexture(const CrossSection& xs) {
     glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     checkGlError("uploading the cross-section");
+    return texture;
+}
+
+GLuint uploadAlbedoTexture(const CrossSection& xs) {
+    YV_CHECK(xs.albedo.size() == std::size_t(xs.size) * xs.size);
+    GLuint texture = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+    glTextureStorage2D(texture, 1, GL_RGB32F, xs.size, xs.size);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(texture, 0, 0, 0, xs.size, xs.size, GL_RGB, GL_FLOAT, xs.albedo.data());
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    checkGlError("uploading the cross-section's colour");
     return texture;
 }
 

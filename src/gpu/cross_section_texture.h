@@ -16,6 +16,10 @@ namespace yv {
 /// clamps at the border as CrossSection::bilinear does). The caller deletes it.
 GLuint uploadCrossSectionTexture(const CrossSection& xs);
 
+/// An RGB32F texture of the fibres' colour times density (CrossSection::albedo,
+/// for --albedo), read as the density texture is. The caller deletes it.
+GLuint uploadAlbedoTexture(const CrossSection& xs);
+
 /// How the sampling shader reads a bilinear lookup's four texels: one
 /// textureGather, or four texelFetch (the same texels; common.glsl says which
 /// is faster where). Auto: the gather on EGL's surfaceless platform (where

@@ -66,30 +66,35 @@ class GlBackend::Impl {
                 const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters)
         : plan_(plan), grid_(grid), settings_(settings), counters_(counters),
           context_(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr, settings.spreadIndex}), reduce_(settings.base.reduce),
-          words_(wordsPerVoxel(reduce_)) {
-        // Refused before any GL work: this backend's fragments carry no colour.
-        if (xs.hasAlbedo()) throw Error("--albedo: the GL backend has no albedo yet; use --backend cpu");
+          albedo_(xs.hasAlbedo()), words_(wordsPerVoxel(reduce_, albedo_)) {
+        if (albedo_ && reduce_ != Reduce::Mean)
+            throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
         const GlInfo& info = context_.info();
         counters_.renderer = info.renderer;
         counters_.platform = info.platform;
         chooseBudgets(info);
         uploadSegments();
         uploadCrossSection(xs);
-        raster_ = GlProgram::graphics("slice.vert", "append.frag", crossSectionDefines(xs, settings.texelReads, info.platform));
+        // --albedo compiles variants of their own (ALBEDO), so runs without it
+        // keep the programs, fragments and brick words they always had.
+        std::vector<std::string> rasterDefines = crossSectionDefines(xs, settings.texelReads, info.platform);
+        if (albedo_) rasterDefines.push_back("ALBEDO 1");
+        raster_ = GlProgram::graphics("slice.vert", "append.frag", rasterDefines);
         flag_ = GlProgram::compute("brick_flag.comp");
         clear_ = GlProgram::compute("buffer_clear.comp");
         scan_ = GlProgram::compute("brick_scan.comp");
-        const std::vector<std::string> defines =
-            reduce_ == Reduce::Max ? std::vector<std::string>{"REDUCE_MAX 1"} : std::vector<std::string>{};
+        std::vector<std::string> defines;
+        if (reduce_ == Reduce::Max) defines.push_back("REDUCE_MAX 1");
+        if (albedo_) defines.push_back("ALBEDO 1");
         scatter_ = GlProgram::compute("brick_scatter.comp", defines);
         if (reduce_ == Reduce::Max) maxOrient_ = GlProgram::compute("brick_max_orient.comp");
-        resolver_ = std::make_unique<GlBrickResolver>(reduce_, settings.base.overlap, &gpuBytes_);
+        resolver_ = std::make_unique<GlBrickResolver>(reduce_, settings.base.overlap, &gpuBytes_, albedo_);
         glCreateVertexArrays(1, &vao_);
         glCreateFramebuffers(1, &fbo_);
         // The list starts small and grows to what passes need, up to the budget,
         // so a small garment does not hold the whole budget on the GPU.
         fragmentSlots_ = std::min<std::uint64_t>(capacity_, kInitialFragmentSlots);
-        fragments_.reserve(fragmentSlots_ * sizeof(GpuFragment), &gpuBytes_);
+        reserveFragments();
         counter_.reserve(8, &gpuBytes_); // the append counter, then the flag of a counter that wrapped
         counts_.reserve(16, &gpuBytes_);
         notePeak();
@@ -97,6 +102,7 @@ class GlBackend::Impl {
 
     ~Impl() {
         glDeleteTextures(1, &texture_);
+        if (albedoTexture_) glDeleteTextures(1, &albedoTexture_);
         glDeleteVertexArrays(1, &vao_);
         glDeleteFramebuffers(1, &fbo_);
     }
@@ -140,15 +146,16 @@ class GlBackend::Impl {
         const std::uint64_t block = static_cast<std::uint64_t>(std::max<long long>(info.maxSsboBlockSize, 1 << 20));
         const long long freeBytes = context_.queryFreeMemoryBytes();
         const std::uint64_t memory = freeBytes > 0 ? static_cast<std::uint64_t>(freeBytes) / 2 : (std::uint64_t(1) << 30);
-        const std::uint64_t fragmentBytes = std::min(block, memory / 2);
+        // With albedo every fragment has a second record as large (GpuAlbedoFragment).
+        const std::uint64_t fragmentBytes = std::min(block, memory / 2) / (albedo_ ? 2 : 1);
         capacity_ = settings_.fragmentCapacity ? settings_.fragmentCapacity : fragmentBytes / sizeof(GpuFragment);
         capacity_ = std::min<std::uint64_t>(capacity_, block / sizeof(GpuFragment));
         // Slots at 2^31 and beyond flag the pass as overflowed (append.frag).
         capacity_ = std::min<std::uint64_t>(capacity_, 0x7fffffffu);
         // A brick slot holds its words, and the resolve's output for it in the worst case.
         const std::uint64_t wordBytes = std::uint64_t(words_) * kBrickVoxels * 4;
-        brickBudget_ = std::min(block / std::max(wordBytes, kResolveBytesPerBrick),
-                                memory / 3 / (wordBytes + kResolveBytesPerBrick));
+        const std::uint64_t resolveBytes = resolveBytesPerBrick(albedo_);
+        brickBudget_ = std::min(block / std::max(wordBytes, resolveBytes), memory / 3 / (wordBytes + resolveBytes));
         if (settings_.fragmentCapacity) brickBudget_ = std::min<std::uint64_t>(brickBudget_, std::max<std::uint64_t>(capacity_ / 8, 1));
 
         GLint fbMax[2] = {0, 0}, viewportMax[2] = {0, 0};
@@ -193,6 +200,10 @@ class GlBackend::Impl {
         support_ = textureSupport(xs);
         texture_ = uploadCrossSectionTexture(xs);
         gpuBytes_ += std::uint64_t(xs.size) * xs.size;
+        if (albedo_) {
+            albedoTexture_ = uploadAlbedoTexture(xs);
+            gpuBytes_ += std::uint64_t(xs.size) * xs.size * 12;
+        }
         checkGlError("uploading the cross-section");
     }
 
@@ -266,6 +277,10 @@ class GlBackend::Impl {
         glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
         counter_.bindStorage(3); // the wrap flag (the brick passes bind their own buffer there later)
         glBindTextureUnit(0, texture_);
+        if (albedo_) {
+            albedoFragments_.bindStorage(4);
+            glBindTextureUnit(1, albedoTexture_);
+        }
         glBindVertexArray(vao_);
 
         GpuTimer timer;
@@ -286,7 +301,7 @@ class GlBackend::Impl {
             // Within the budget but beyond the list as allocated: grow it and
             // redo the same pass (the counter told us exactly how much is needed).
             fragmentSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(fragmentCount) + fragmentCount / 4);
-            fragments_.reserve(fragmentSlots_ * sizeof(GpuFragment), &gpuBytes_);
+            reserveFragments();
             ++counters_.listGrowths;
             return process(item);
         }
@@ -328,6 +343,7 @@ class GlBackend::Impl {
         brickWords_.reserve(brickWords * 4, &gpuBytes_);
         zero(brickWords_, brickWords * 4);
         brickWords_.bindStorage(7);
+        if (albedo_) albedoFragments_.bindStorage(4); // the scan's block sums were bound there
         scatter_.use();
         glUniform1ui(scatter_.uniform("uCount"), fragmentCount);
         glDispatchCompute(groupsFor(fragmentCount, maxGroups_), 1, 1);
@@ -354,6 +370,12 @@ class GlBackend::Impl {
         counters_.fragments += fragmentCount;
         ++counters_.passes;
         return true;
+    }
+
+    /// Sizes the fragment list (and with albedo its colour list) for fragmentSlots_.
+    void reserveFragments() {
+        fragments_.reserve(fragmentSlots_ * sizeof(GpuFragment), &gpuBytes_);
+        if (albedo_) albedoFragments_.reserve(fragmentSlots_ * sizeof(GpuAlbedoFragment), &gpuBytes_);
     }
 
     /// Zeroes the first `bytes` (a multiple of 4) of `buffer` with a dispatch
@@ -385,7 +407,7 @@ class GlBackend::Impl {
             if (inserted)
                 partials_.push_back({key, std::vector<std::uint32_t>(src, src + perBrick)});
             else
-                combineAccumulators(reduce_, partials_[it->second].words.data(), src);
+                combineAccumulators(reduce_, partials_[it->second].words.data(), src, albedo_);
         }
         partialReadSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - readStart).count();
     }
@@ -405,6 +427,7 @@ class GlBackend::Impl {
     GlVoxelizeCounters& counters_;
     GlContext context_;
     Reduce reduce_;
+    bool albedo_; ///< --albedo: the ALBEDO program variants, a colour list and three more words a voxel
     int words_;
     std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
     std::uint32_t counterStart_ = settings_.firstCounterStart;
@@ -413,8 +436,8 @@ class GlBackend::Impl {
     std::uint32_t uniformSlices_ = 0; ///< slices per segment when all segments agree, else 0
     GLuint maxGroups_ = 65535;
     ReadbackBuffer small_, readback_;
-    GlBuffer segments_, drawList_, fragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
-    GLuint texture_ = 0, vao_ = 0, fbo_ = 0;
+    GlBuffer segments_, drawList_, fragments_, albedoFragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
+    GLuint texture_ = 0, albedoTexture_ = 0, vao_ = 0, fbo_ = 0;
     double support_ = 0.0; ///< textureSupport() of the cross-section
     GlProgram raster_, clear_, flag_, scan_, scatter_, maxOrient_;
     std::unique_ptr<GlBrickResolver> resolver_;

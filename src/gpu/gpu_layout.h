@@ -29,6 +29,14 @@ struct GpuFragment {
 };
 static_assert(sizeof(GpuFragment) == 16, "GpuFragment must match shaders/common.glsl");
 
+/// shaders/append.frag and brick_scatter.comp: AlbedoFragments (--albedo
+/// only), at the same slot as its fragment.
+struct GpuAlbedoFragment {
+    std::uint32_t weighted[3]; ///< fixed-point volume fraction times linear R, G, B
+    std::uint32_t unused;
+};
+static_assert(sizeof(GpuAlbedoFragment) == 16, "GpuAlbedoFragment must match shaders/append.frag");
+
 /// The plan's segments as the vertex shader reads them: control points and
 /// lengths in voxel units from the grid origin, so floats keep their precision.
 std::vector<GpuSegment> packSegments(const SlicePlan& plan, const VoxelGrid& grid);

@@ -199,7 +199,6 @@ StageSeconds workDirStages(const StageTimer& timer, const RegionWriterStats& wri
 std::string resolveBackend(const VoxelizeRequest& a, const std::function<void(const std::string&)>& note) {
     if (a.backend != "auto") return a.backend;
     if (a.method == "dense") return "gl";
-    if (a.albedo) return "cpu"; // the only backend with albedo so far
     try {
         const GlContext probe(GlContextOptions{a.device, false});
         if (probe.info().platform == "device") return "gl";
@@ -209,12 +208,11 @@ std::string resolveBackend(const VoxelizeRequest& a, const std::function<void(co
     return "cpu";
 }
 
-/// --albedo's limits, said before any work: the CPU backend's sparse method
-/// with the mean reduction carries the colour.
+/// --albedo's limits, said before any work: the sparse method with the mean
+/// reduction carries the colour (on either backend).
 void checkAlbedoRequest(const VoxelizeRequest& a) {
     if (!a.albedo) return;
     if (a.method == "dense") throw Error("--albedo: the dense method has no albedo; use --method sparse");
-    if (a.backend == "gl") throw Error("--albedo: the GL backend has no albedo yet; use --backend cpu (auto picks it)");
     if (a.reduce != "mean") throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
 }
 

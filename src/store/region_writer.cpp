@@ -148,8 +148,7 @@ void RegionWriter::recycle(PackedBricks&& bricks) {
     // is kept only within its share of that bound (of 64 MiB at least), so
     // all of them together hold at most as much again.
     if (bricks.bytes() > std::max(maxQueuedBytes_, std::size_t(64) << 20) / kSpareStorage) return;
-    bricks.headers.clear();
-    bricks.voxels.clear();
+    bricks.clear();
     std::lock_guard lock(mutex_);
     if (spareStorage_.size() < kSpareStorage) spareStorage_.push_back(std::move(bricks));
 }
