@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <string>
 #include <unordered_map>
 
@@ -39,6 +40,23 @@ namespace yv::test {
 /// `prefix` and the process id, removed when the process ends: CTest runs
 /// test cases as parallel processes, and other checkouts' test runs may share
 /// the machine, so a fixed name would let them overwrite each other's files.
+/// A fresh folder under the temporary directory, unique to this object
+/// (prefix, process id, a random number), removed with it.
+struct ScratchDir {
+    std::filesystem::path path;
+    explicit ScratchDir(const std::string& prefix)
+        : path(std::filesystem::temp_directory_path() /
+               (prefix + "_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()))) {
+        std::filesystem::create_directories(path);
+    }
+    ~ScratchDir() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+};
+
 inline std::filesystem::path processScratchDir(const std::string& prefix) {
     struct Owned {
         std::filesystem::path path;

@@ -16,14 +16,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Scratch {
-    fs::path path;
-    Scratch() {
-        path = fs::temp_directory_path() /
-               ("yv_test_html_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()));
-        fs::create_directories(path);
-    }
-    ~Scratch() { fs::remove_all(path); }
+struct Scratch : yv::test::ScratchDir {
+    Scratch() : yv::test::ScratchDir("yv_test_html") {}
 };
 
 std::string readText(const fs::path& p) {

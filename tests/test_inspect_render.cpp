@@ -14,6 +14,7 @@
 #include "inspect/transfer_function.h"
 #include "run_cli.h"
 #include "store/brick_store.h"
+#include "inspect_test_volumes.h"
 #include "test_helpers.h"
 #include "vdb/vdb_writer.h"
 
@@ -33,51 +34,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Scratch {
-    fs::path path;
-    Scratch() {
-        path = fs::temp_directory_path() /
-               ("yv_test_render_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()));
-        fs::create_directories(path);
-    }
-    ~Scratch() { fs::remove_all(path); }
+struct Scratch : test::ScratchDir {
+    Scratch() : test::ScratchDir("yv_test_render") {}
 };
 
-/// A disk yarn of radius 0.3 along x, 8 voxels per radius.
-struct StraightYarn {
-    BrickVolume volume;
-    glm::dvec3 start{0.0}, end{0.0}; ///< the axis's ends, in voxel coordinates
-    double radiusVoxels = 0.0;
-};
+using StraightYarn = test::StraightYarnVolume;
 
-StraightYarn straightYarnVolume() {
-    const double radius = 0.3, h = radius / 8.0;
-    const glm::dvec3 start(0.1, 0.2, 0.3);
-    const int length = 5;
-    SliceOptions opt;
-    opt.radius = radius;
-    const SlicePlan plan = planSlices(test::straightYarn(start, {1, 0, 0}, length), opt);
-    StraightYarn y;
-    const VoxelGrid grid = makeGrid(plan, 0, h);
-    y.volume = voxelizeCpu(plan, makeDiskCrossSection(), grid, VoxelizeSettings{});
-    y.start = (start - grid.origin) / h;
-    y.end = (start + glm::dvec3(length, 0, 0) - grid.origin) / h;
-    y.radiusVoxels = radius / h;
-    return y;
-}
+StraightYarn straightYarnVolume() { return test::straightYarnVolume(5); }
 
-/// A generated garment (a knit cylinder: shells of yarn around empty space).
-BrickVolume garmentVolume(int resolution) {
-    GenerateOptions gen;
-    gen.crossings = 300;
-    gen.shape = GarmentShape::Cylinder;
-    gen.pattern = WeavePattern::Knit;
-    const Garment garment = generateGarment(gen);
-    SliceOptions opt;
-    opt.radius = garment.yarnRadius;
-    const SlicePlan plan = planSlices(garment, opt);
-    return voxelizeCpu(plan, makeFiberCrossSection(), makeGrid(plan, resolution, 0.0), VoxelizeSettings{});
-}
+BrickVolume garmentVolume(int resolution) { return test::knitCylinderVolume(resolution); }
 
 /// The ray through pixel (x, y) (row 0 at the top), as the shaders build it.
 void pixelRay(const Camera& c, int x, int y, glm::dvec3& origin, glm::dvec3& dir) {

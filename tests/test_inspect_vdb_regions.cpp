@@ -25,14 +25,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Scratch {
-    fs::path path;
-    Scratch() {
-        path = fs::temp_directory_path() /
-               ("yv_test_vdb_regions_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()));
-        fs::create_directories(path);
-    }
-    ~Scratch() { fs::remove_all(path); }
+struct Scratch : test::ScratchDir {
+    Scratch() : test::ScratchDir("yv_test_vdb_regions") {}
 };
 
 /// A generated knit voxelized on the CPU into a few dozen small zoom regions,

@@ -6,6 +6,7 @@
 #include "inspect/inspect_vdb.h"
 #include "run_cli.h"
 #include "store/brick_store.h"
+#include "test_helpers.h"
 
 #include <catch2/catch.hpp>
 #include <openvdb/openvdb.h>
@@ -22,14 +23,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Scratch {
-    fs::path path;
-    Scratch() {
-        path = fs::temp_directory_path() /
-               ("yv_test_stages_" + std::to_string(::getpid()) + "_" + std::to_string(std::random_device{}()));
-        fs::create_directories(path);
-    }
-    ~Scratch() { fs::remove_all(path); }
+struct Scratch : test::ScratchDir {
+    Scratch() : test::ScratchDir("yv_test_stages") {}
 };
 
 /// `text` without blanks, so JSON is matched whatever its layout.

@@ -1,0 +1,53 @@
+// Volumes the inspect tests draw: a straight disk yarn whose silhouette is
+// known, and a generated knit cylinder (shells of yarn around empty space).
+#pragma once
+
+#include "core/bricks.h"
+#include "cpu/cpu_voxelizer.h"
+#include "garment/cross_section.h"
+#include "garment/generate.h"
+#include "garment/slices.h"
+#include "plan/grid.h"
+#include "test_helpers.h"
+
+namespace yv::test {
+
+/// A disk yarn of radius 0.3 along x, 8 voxels per radius.
+struct StraightYarnVolume {
+    SlicePlan plan;
+    VoxelGrid grid;
+    BrickVolume volume;
+    glm::dvec3 start{0.0}, end{0.0}; ///< the axis's ends, in voxel coordinates
+    double radiusVoxels = 0.0;
+};
+
+/// That yarn, `length` world units long, voxelized by the CPU reference.
+inline StraightYarnVolume straightYarnVolume(int length) {
+    const double radius = 0.3, h = radius / 8.0;
+    const glm::dvec3 start(0.1, 0.2, 0.3);
+    SliceOptions opt;
+    opt.radius = radius;
+    StraightYarnVolume y;
+    y.plan = planSlices(straightYarn(start, {1, 0, 0}, length), opt);
+    y.grid = makeGrid(y.plan, 0, h);
+    y.volume = voxelizeCpu(y.plan, makeDiskCrossSection(), y.grid, VoxelizeSettings{});
+    y.start = (start - y.grid.origin) / h;
+    y.end = (start + glm::dvec3(length, 0, 0) - y.grid.origin) / h;
+    y.radiusVoxels = radius / h;
+    return y;
+}
+
+/// A generated knit cylinder of 300 crossings at `resolution`.
+inline BrickVolume knitCylinderVolume(int resolution) {
+    GenerateOptions gen;
+    gen.crossings = 300;
+    gen.shape = GarmentShape::Cylinder;
+    gen.pattern = WeavePattern::Knit;
+    const Garment garment = generateGarment(gen);
+    SliceOptions opt;
+    opt.radius = garment.yarnRadius;
+    const SlicePlan plan = planSlices(garment, opt);
+    return voxelizeCpu(plan, makeFiberCrossSection(), makeGrid(plan, resolution, 0.0), VoxelizeSettings{});
+}
+
+} // namespace yv::test
