@@ -17,7 +17,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <random>
-#include <regex>
 #include <tuple>
 
 using namespace yv;
@@ -46,10 +45,23 @@ using Row = std::tuple<std::uint64_t, std::string, std::string, std::uint64_t>;
 std::vector<Row> regionTable(const std::string& json) {
     const std::size_t table = json.find("\"region_table\": [");
     REQUIRE(table != std::string::npos);
+    // Each row is one flat object: its fields are looked up between its braces
+    // (string scanning: GCC 12 warns inside <regex> under the sanitizer build).
+    const auto field = [&](std::size_t from, std::size_t to, const std::string& key) -> std::string {
+        const std::string quoted = "\"" + key + "\": ";
+        std::size_t at = json.find(quoted, from);
+        REQUIRE(at < to);
+        at += quoted.size();
+        if (json[at] == '"') return json.substr(at + 1, json.find('"', at + 1) - at - 1);
+        return json.substr(at, json.find_first_not_of("0123456789", at) - at);
+    };
     std::vector<Row> rows;
-    const std::regex row(R"re(\{\s*"id": (\d+),\s*"min": "([^"]*)",\s*"max": "([^"]*)",[^}]*?"active_voxels": (\d+))re");
-    for (std::sregex_iterator it(json.begin() + std::ptrdiff_t(table), json.end(), row), end; it != end; ++it)
-        rows.emplace_back(std::stoull((*it)[1]), (*it)[2], (*it)[3], std::stoull((*it)[4]));
+    for (std::size_t id = json.find("\"id\": ", table); id != std::string::npos; id = json.find("\"id\": ", id + 1)) {
+        if (json[json.find_last_not_of(" \n\t", id - 1)] != '{') continue; // a row starts with its id
+        const std::size_t close = json.find('}', id);
+        rows.emplace_back(std::stoull(field(id, close, "id")), field(id, close, "min"), field(id, close, "max"),
+                          std::stoull(field(id, close, "active_voxels")));
+    }
     return rows;
 }
 
