@@ -5,33 +5,35 @@
 
 namespace yv {
 
-GLuint uploadCrossSectionTexture(const CrossSection& xs) {
+namespace {
+
+/// A square texture of `size` texels read exactly (nearest, clamped to the
+/// edge, as the CPU reads the cross-section).
+GLuint uploadExactTexture(int size, GLenum storage, GLenum format, GLenum type, const void* texels, const char* what) {
     GLuint texture = 0;
     glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-    glTextureStorage2D(texture, 1, GL_R8UI, xs.size, xs.size);
+    glTextureStorage2D(texture, 1, storage, size, size);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(texture, 0, 0, 0, xs.size, xs.size, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data());
+    glTextureSubImage2D(texture, 0, 0, 0, size, size, format, type, texels);
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    checkGlError("uploading the cross-section");
+    checkGlError(what);
     return texture;
+}
+
+} // namespace
+
+GLuint uploadCrossSectionTexture(const CrossSection& xs) {
+    return uploadExactTexture(xs.size, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data(),
+                              "uploading the cross-section");
 }
 
 GLuint uploadAlbedoTexture(const CrossSection& xs) {
     YV_CHECK(xs.albedo.size() == std::size_t(xs.size) * xs.size);
-    GLuint texture = 0;
-    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-    glTextureStorage2D(texture, 1, GL_RGB32F, xs.size, xs.size);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(texture, 0, 0, 0, xs.size, xs.size, GL_RGB, GL_FLOAT, xs.albedo.data());
-    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    checkGlError("uploading the cross-section's colour");
-    return texture;
+    return uploadExactTexture(xs.size, GL_RGB32F, GL_RGB, GL_FLOAT, xs.albedo.data(),
+                              "uploading the cross-section's colour");
 }
 
 std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads, const std::string& platform) {
