@@ -56,14 +56,15 @@ vec3 bilinearAlbedo(vec2 c) {
 
 // The sample's colour: the density-weighted mean over its footprint cells
 // with fibre, at the cell centres footprintCells uses (src/cpu/slice_sampler.h).
-vec3 sampleAlbedo(int a, int b, int c, float S, float x, float y, float cellDensity[kCells], float cellSum) {
-    float det = vTangent[a], m = float(kFootprintCells);
+// `right` and `up` come axis first (axisFirst).
+vec3 sampleAlbedo(vec3 right, vec3 up, float det, float S, float x, float y, float cellDensity[kCells], float cellSum) {
+    float m = float(kFootprintCells);
     vec3 sum = vec3(0.0);
     for (int q = 0; q < kFootprintCells; ++q)
         for (int p = 0; p < kFootprintCells; ++p) {
             if (!(cellDensity[q * kFootprintCells + p] > 0.0)) continue;
             float ob = ((float(p) + 0.5) / m - 0.5) / S, oc = ((float(q) + 0.5) / m - 0.5) / S;
-            float cx = x + (ob * vUp[c] - oc * vUp[b]) / det, cy = y + (vRight[b] * oc - vRight[c] * ob) / det;
+            float cx = x + (ob * up.z - oc * up.y) / det, cy = y + (right.y * oc - right.z * ob) / det;
             sum += bilinearAlbedo(vec2(cx, cy) / uRadius);
         }
     return min(sum / cellSum, vec3(1.0));
@@ -71,29 +72,34 @@ vec3 sampleAlbedo(int a, int b, int c, float S, float x, float y, float cellDens
 #endif
 
 void main() {
-    int a = vAxis, b = (a + 1) % 3, c = (a + 2) % 3;
+    int a = vAxis;
     float S = float(uSupersample);
+    // The slice and the region with the projection axis first (axisFirst):
+    // x is the depth axis a, y and z are the face's axes b and c.
+    vec3 center = axisFirst(vCenter, a), right = axisFirst(vRight, a), up = axisFirst(vUp, a);
+    vec3 tangent = axisFirst(vTangent, a), curvature = axisFirst(vCurvature, a);
+    ivec3 anchor = axisFirst(vAnchor, a), regionMin = axisFirst(uRegionMin, a);
+    ivec3 regionSize = axisFirst(uRegionBricks * 8, a);
     // Global pixel of this fragment on the (b, c) face, and its centre
     // relative to the slice centre (integers first: exact, then small floats).
-    ivec2 pixel = ivec2(gl_FragCoord.xy) + ivec2(uRegionMin[b], uRegionMin[c]) * uSupersample;
-    ivec2 fromAnchor = pixel - ivec2(vAnchor[b], vAnchor[c]) * uSupersample;
-    float db = (float(fromAnchor.x) + 0.5) / S - vCenter[b];
-    float dc = (float(fromAnchor.y) + 0.5) / S - vCenter[c];
+    ivec2 pixel = ivec2(gl_FragCoord.xy) + regionMin.yz * uSupersample;
+    ivec2 fromAnchor = pixel - anchor.yz * uSupersample;
+    float db = (float(fromAnchor.x) + 0.5) / S - center.y;
+    float dc = (float(fromAnchor.y) + 0.5) / S - center.z;
     // Where the column through the pixel centre meets the slice: right x up =
     // tangent, so the 2x2 system has determinant tangent[a].
-    float det = vTangent[a];
-    float x = (db * vUp[c] - dc * vUp[b]) / det;
-    float y = (vRight[b] * dc - vRight[c] * db) / det;
+    float det = tangent.x;
+    float x = (db * up.z - dc * up.y) / det;
+    float y = (right.y * dc - right.z * db) / det;
 
-    ivec2 face = ivec2(pixel.x / uSupersample, pixel.y / uSupersample) - ivec2(uRegionMin[b], uRegionMin[c]);
-    ivec3 regionSize = uRegionBricks * 8;
-    if (face.x < 0 || face.y < 0 || face.x >= regionSize[b] || face.y >= regionSize[c]) return;
+    ivec2 face = ivec2(pixel.x / uSupersample, pixel.y / uSupersample) - regionMin.yz;
+    if (face.x < 0 || face.y < 0 || face.x >= regionSize.y || face.y >= regionSize.z) return;
 
     // The pixel's prism through the slab, in cells with their own coverage
     // and depth (the CPU reference's rule).
     float cellDensity[kCells], cellZ0[kCells], cellZ1[kCells], zMin, zMax;
-    float cellSum = footprintCells(uCrossSection, kDisk, uSupport, a, b, c, S, uRadius, vCenter, vRight, vUp, vTangent,
-                                   vCurvature, vDepthScale, x, y, cellDensity, cellZ0, cellZ1, zMin, zMax);
+    float cellSum = footprintCells(uCrossSection, kDisk, uSupport, S, uRadius, center, right, up, tangent, curvature,
+                                   vDepthScale, x, y, cellDensity, cellZ0, cellZ1, zMin, zMax);
     if (!(cellSum > 0.0)) return;
     float density = cellSum / float(kCells);
 
@@ -102,18 +108,16 @@ void main() {
     uint axis = encodeAxis(normalize((x * cs - y * sn - x) * vRight + (x * sn + y * cs - y) * vUp + vThickness * vTangent));
     float weight = 1.0 / (S * S * float(kCells));
 #ifdef ALBEDO
-    vec3 colour = sampleAlbedo(a, b, c, S, x, y, cellDensity, cellSum);
+    vec3 colour = sampleAlbedo(right, up, det, S, x, y, cellDensity, cellSum);
 #endif
 
     // One fragment per voxel the cells' columns cross (a box filter in depth).
-    ivec3 voxel;
-    voxel[b] = face.x;
-    voxel[c] = face.y;
     for (float v = floor(zMin); v < zMax; v += 1.0) {
         float share = layerShare(v, cellDensity, cellZ0, cellZ1);
         if (!(weight * share >= kMinVoxelShare)) continue;
-        voxel[a] = int(v) + vAnchor[a] - uRegionMin[a];
-        if (voxel[a] < 0 || voxel[a] >= regionSize[a]) continue;
+        int depth = int(v) + anchor.x - regionMin.x;
+        if (depth < 0 || depth >= regionSize.x) continue;
+        ivec3 voxel = axisBack(ivec3(depth, face), a);
         ivec3 brick = voxel >> 3;
         uint brickIndex = uint(brick.x + uRegionBricks.x * (brick.y + uRegionBricks.y * brick.z));
         ivec3 local = voxel & 7;

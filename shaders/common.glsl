@@ -180,20 +180,31 @@ float footprintDensity(usampler2D crossSection, bool disk, vec2 c, vec2 e0, vec2
 const int kFootprintCells = 4;
 const int kCells = kFootprintCells * kFootprintCells;
 
+// A vector's components with the projection axis a first, then b = a + 1,
+// then c = a + 2 (mod 3). The sampling code below takes its vectors this way
+// and indexes them with constants: a component index known only at run time
+// made NVIDIA's compiler keep the vectors in memory instead of registers, a
+// sixth of the raster's time.
+vec3 axisFirst(vec3 v, int a) { return a == 0 ? v : (a == 1 ? v.yzx : v.zxy); }
+ivec3 axisFirst(ivec3 v, int a) { return a == 0 ? v : (a == 1 ? v.yzx : v.zxy); }
+// The inverse: (a, b, c) components back to (x, y, z).
+ivec3 axisBack(ivec3 v, int a) { return a == 0 ? v : (a == 1 ? v.zxy : v.yzx); }
+
 // A sample's footprint on the slice in kFootprintCells^2 cells, each with
 // its fibre density and its column's depth interval [z0, z1) through the
-// slab, in voxels along axis a (src/cpu/slice_sampler.h: sampleSlice).
+// slab, in voxels along the projection axis (src/cpu/slice_sampler.h:
+// sampleSlice). The slice's vectors come axis first (axisFirst).
 // `support`: slice-local distance, units of the radius, beyond which the
 // texture reads 0 (src/garment/cross_section.h: textureSupport); a footprint
 // wholly beyond it is skipped, as on the CPU. Returns the sum of the cells'
 // densities (0: no fibre).
-float footprintCells(usampler2D crossSection, bool disk, float support, int a, int b, int c, float S, float radius,
+float footprintCells(usampler2D crossSection, bool disk, float support, float S, float radius,
                      vec3 center, vec3 right, vec3 up, vec3 tangent, vec3 curvature, float depthScale, float x, float y,
                      out float cellDensity[kCells], out float cellZ0[kCells], out float cellZ1[kCells],
                      out float zMin, out float zMax) {
-    float det = tangent[a];
-    vec2 edgeB = vec2(up[c], -right[c]) / (det * S * radius);
-    vec2 edgeC = vec2(-up[b], right[b]) / (det * S * radius);
+    float det = tangent.x;
+    vec2 edgeB = vec2(up.z, -right.z) / (det * S * radius);
+    vec2 edgeC = vec2(-up.y, right.y) / (det * S * radius);
     zMin = 1e30;
     zMax = -1e30;
     float coverage = 0.0;
@@ -208,11 +219,11 @@ float footprintCells(usampler2D crossSection, bool disk, float support, int a, i
         for (int p = 0; p < kFootprintCells; ++p) {
             int k = q * kFootprintCells + p;
             float ob = ((float(p) + 0.5) / m - 0.5) / S, oc = ((float(q) + 0.5) / m - 0.5) / S;
-            float cx = x + (ob * up[c] - oc * up[b]) / det, cy = y + (right[b] * oc - right[c] * ob) / det;
+            float cx = x + (ob * up.z - oc * up.y) / det, cy = y + (right.y * oc - right.z * ob) / det;
             float d = disk && coverage >= 1.0 ? 1.0
                                               : footprintDensity(crossSection, disk, vec2(cx, cy) / radius, edgeB / m, edgeC / m);
             float depth = max(0.0, 1.0 - dot(curvature, cx * right + cy * up)) * depthScale;
-            cellZ0[k] = center[a] + cx * right[a] + cy * up[a] - 0.5 * depth;
+            cellZ0[k] = center.x + cx * right.x + cy * up.x - 0.5 * depth;
             cellZ1[k] = cellZ0[k] + depth;
             cellDensity[k] = d > 0.0 && depth > 0.0 ? d : 0.0;
             if (cellDensity[k] > 0.0) {

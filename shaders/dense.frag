@@ -38,23 +38,27 @@ flat in float vDepthScale;
 const float kPi = 3.14159265358979323846;
 
 void main() {
-    int a = vAxis, b = (a + 1) % 3, c = (a + 2) % 3;
+    int a = vAxis;
     float S = float(uSupersample);
+    // Axis first (axisFirst): x is the depth axis a, y and z the face's.
+    vec3 center = axisFirst(vCenter, a), right = axisFirst(vRight, a), up = axisFirst(vUp, a);
+    vec3 tangent = axisFirst(vTangent, a), curvature = axisFirst(vCurvature, a);
+    ivec3 anchor = axisFirst(vAnchor, a), dims = axisFirst(uDims, a);
     // The viewport covers the whole grid from its origin: the pixel is global.
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    ivec2 fromAnchor = pixel - ivec2(vAnchor[b], vAnchor[c]) * uSupersample;
-    float db = (float(fromAnchor.x) + 0.5) / S - vCenter[b];
-    float dc = (float(fromAnchor.y) + 0.5) / S - vCenter[c];
-    float det = vTangent[a];
-    float x = (db * vUp[c] - dc * vUp[b]) / det;
-    float y = (vRight[b] * dc - vRight[c] * db) / det;
+    ivec2 fromAnchor = pixel - anchor.yz * uSupersample;
+    float db = (float(fromAnchor.x) + 0.5) / S - center.y;
+    float dc = (float(fromAnchor.y) + 0.5) / S - center.z;
+    float det = tangent.x;
+    float x = (db * up.z - dc * up.y) / det;
+    float y = (right.y * dc - right.z * db) / det;
 
     ivec2 face = ivec2(pixel.x / uSupersample, pixel.y / uSupersample);
-    if (face.x >= uDims[b] || face.y >= uDims[c]) return;
+    if (face.x >= dims.y || face.y >= dims.z) return;
 
     float cellDensity[kCells], cellZ0[kCells], cellZ1[kCells], zMin, zMax;
-    float cellSum = footprintCells(uCrossSection, kDisk, uSupport, a, b, c, S, uRadius, vCenter, vRight, vUp, vTangent,
-                                   vCurvature, vDepthScale, x, y, cellDensity, cellZ0, cellZ1, zMin, zMax);
+    float cellSum = footprintCells(uCrossSection, kDisk, uSupport, S, uRadius, center, right, up, tangent, curvature,
+                                   vDepthScale, x, y, cellDensity, cellZ0, cellZ1, zMin, zMax);
     if (!(cellSum > 0.0)) return;
     float density = cellSum / float(kCells);
 
@@ -69,13 +73,11 @@ void main() {
     // angles are written only by a sample that is not below the stored
     // density, so where no race hits, orientation follows the densest sample
     // as the max reduction of the other backends does.
-    ivec3 voxel;
-    voxel[b] = face.x;
-    voxel[c] = face.y;
     for (float v = floor(zMin); v < zMax; v += 1.0) {
         if (!(layerShare(v, cellDensity, cellZ0, cellZ1) / (S * S * float(kCells)) >= kMinVoxelShare)) continue;
-        voxel[a] = int(v) + vAnchor[a];
-        if (voxel[a] < 0 || voxel[a] >= uDims[a]) continue;
+        int depth = int(v) + anchor.x;
+        if (depth < 0 || depth >= dims.x) continue;
+        ivec3 voxel = axisBack(ivec3(depth, face), a);
         float stored = imageLoad(uDensity, voxel).x;
         if (density < stored) continue;
         imageStore(uDensity, voxel, vec4(density));

@@ -200,7 +200,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     for (GLuint i = 0; i < 3; ++i) glBindImageTexture(i, gl.textures[i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_R8);
     glBindVertexArray(gl.vao);
     if (instances > 0)
-        c.rasterSeconds = timedGpu([&] { glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances)); });
+        c.rasterSeconds = timedGpu([&] { glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances)); });
     checkGlError("dense raster pass");
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
 

@@ -9,6 +9,10 @@
 
 namespace yv {
 
+/// Vertices of one slice's triangle strip (shaders/slice.vert): a square, or
+/// one triangle and a repeated corner.
+constexpr int kSliceVertices = 4;
+
 /// shaders/common.glsl: GpuSegment.
 struct GpuSegment {
     /// Control points, voxel units from the segment's anchor (an integer voxel
