@@ -154,11 +154,12 @@ float diskCoverage(vec2 c, vec2 u, vec2 v, float r) {
 // with CROSS_SECTION_GATHER, from one textureGather at the corner they share
 // (the texture clamps to its edge, as the CPU clamps): the same texels, and
 // on llvmpipe a third faster, but on NVIDIA's driver 1.7 times slower.
-float footprintDensity(usampler2D crossSection, bool disk, vec2 c, vec2 e0, vec2 e1) {
+// `size`: the texture's width, asked once a sample (textureSize in the cell
+// loop was a tenth of the raster's time on NVIDIA's driver).
+float footprintDensity(usampler2D crossSection, int size, bool disk, vec2 c, vec2 e0, vec2 e1) {
     if (disk) return diskCoverage(c, e0, e1, 1.0);
     if (!(c.x >= -1.0 && c.x < 1.0 && c.y >= -1.0 && c.y < 1.0)) return 0.0;
     // Bilinear between texel centres (CrossSection::bilinear).
-    int size = textureSize(crossSection, 0).x;
     vec2 f = (c + 1.0) * 0.5 * float(size) - 0.5;
     vec2 f0 = floor(f), t = f - f0;
 #if CROSS_SECTION_GATHER
@@ -209,11 +210,12 @@ float footprintCells(usampler2D crossSection, bool disk, float support, float S,
     zMax = -1e30;
     float coverage = 0.0;
     if (disk) {
-        coverage = footprintDensity(crossSection, true, vec2(x, y) / radius, edgeB, edgeC);
+        coverage = footprintDensity(crossSection, 0, true, vec2(x, y) / radius, edgeB, edgeC);
         if (!(coverage > 0.0)) return 0.0;
     } else if (length(vec2(x, y) / radius) - 0.5 * (length(edgeB) + length(edgeC)) > support) {
         return 0.0;
     }
+    int size = disk ? 0 : textureSize(crossSection, 0).x;
     float m = float(kFootprintCells), density = 0.0;
     for (int q = 0; q < kFootprintCells; ++q)
         for (int p = 0; p < kFootprintCells; ++p) {
@@ -221,7 +223,7 @@ float footprintCells(usampler2D crossSection, bool disk, float support, float S,
             float ob = ((float(p) + 0.5) / m - 0.5) / S, oc = ((float(q) + 0.5) / m - 0.5) / S;
             float cx = x + (ob * up.z - oc * up.y) / det, cy = y + (right.y * oc - right.z * ob) / det;
             float d = disk && coverage >= 1.0 ? 1.0
-                                              : footprintDensity(crossSection, disk, vec2(cx, cy) / radius, edgeB / m, edgeC / m);
+                                              : footprintDensity(crossSection, size, disk, vec2(cx, cy) / radius, edgeB / m, edgeC / m);
             float depth = max(0.0, 1.0 - dot(curvature, cx * right + cy * up)) * depthScale;
             cellZ0[k] = center.x + cx * right.x + cy * up.x - 0.5 * depth;
             cellZ1[k] = cellZ0[k] + depth;
