@@ -3,11 +3,14 @@
 #include "core/error.h"
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace yv {
 namespace {
@@ -173,17 +176,27 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
 }
 
 void curveBounds(const Garment& garment, glm::dvec3& lo, glm::dvec3& hi) {
-    lo = glm::dvec3(HUGE_VAL);
-    hi = glm::dvec3(-HUGE_VAL);
-    for (const Yarn& yarn : garment.yarns) {
-        const std::size_t segCount = yarnSegmentCount(yarn, garment.curveType);
-        for (std::size_t s = 0; s < segCount; ++s) {
-            glm::dvec3 a, b;
-            catmullRomBounds(segmentPoints(yarn, s, garment.curveType), a, b);
-            lo = glm::min(lo, a);
-            hi = glm::max(hi, b);
-        }
-    }
+    // Yarns on every core (min and max are exact, so any split gives the same box).
+    using Box = std::pair<glm::dvec3, glm::dvec3>;
+    const Box empty{glm::dvec3(HUGE_VAL), glm::dvec3(-HUGE_VAL)};
+    const Box box = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, garment.yarns.size()), empty,
+        [&](const tbb::blocked_range<std::size_t>& range, Box acc) {
+            for (std::size_t y = range.begin(); y != range.end(); ++y) {
+                const Yarn& yarn = garment.yarns[y];
+                const std::size_t segCount = yarnSegmentCount(yarn, garment.curveType);
+                for (std::size_t s = 0; s < segCount; ++s) {
+                    glm::dvec3 a, b;
+                    catmullRomBounds(segmentPoints(yarn, s, garment.curveType), a, b);
+                    acc.first = glm::min(acc.first, a);
+                    acc.second = glm::max(acc.second, b);
+                }
+            }
+            return acc;
+        },
+        [](const Box& a, const Box& b) { return Box{glm::min(a.first, b.first), glm::max(a.second, b.second)}; });
+    lo = box.first;
+    hi = box.second;
 }
 
 Slice placeSlice(const SegmentRecord& segment, std::uint32_t k) {

@@ -53,6 +53,14 @@ struct WorkItem {
     bool partial = false;
 };
 
+/// A context, and the seconds it took to create (into `seconds`).
+std::unique_ptr<GlContext> timedContext(const GlContextOptions& options, double& seconds) {
+    const auto start = std::chrono::steady_clock::now();
+    auto context = std::make_unique<GlContext>(options);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return context;
+}
+
 GLuint groupsFor(std::uint64_t items, GLuint maxGroups) {
     const std::uint64_t groups = (items + kWorkGroup - 1) / kWorkGroup;
     return static_cast<GLuint>(std::clamp<std::uint64_t>(groups, 1, maxGroups));
@@ -65,11 +73,12 @@ class GlBackend::Impl {
     Impl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                 const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters)
         : plan_(plan), grid_(grid), settings_(settings), counters_(counters),
-          context_(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr, settings.spreadIndex}), reduce_(settings.base.reduce),
-          albedo_(xs.hasAlbedo()), words_(wordsPerVoxel(reduce_, albedo_)) {
+          context_(timedContext(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr, settings.spreadIndex},
+                                counters.contextSeconds)),
+          reduce_(settings.base.reduce), albedo_(xs.hasAlbedo()), words_(wordsPerVoxel(reduce_, albedo_)) {
         if (albedo_ && reduce_ != Reduce::Mean)
             throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
-        const GlInfo& info = context_.info();
+        const GlInfo& info = context_->info();
         counters_.renderer = info.renderer;
         counters_.platform = info.platform;
         chooseBudgets(info);
@@ -77,6 +86,7 @@ class GlBackend::Impl {
         uploadCrossSection(xs);
         // --albedo compiles variants of their own (ALBEDO), so runs without it
         // keep the programs, fragments and brick words they always had.
+        const auto compileStart = std::chrono::steady_clock::now();
         std::vector<std::string> rasterDefines = crossSectionDefines(xs, settings.texelReads, info.platform);
         if (albedo_) rasterDefines.push_back("ALBEDO 1");
         raster_ = GlProgram::graphics("slice.vert", "append.frag", rasterDefines);
@@ -89,6 +99,7 @@ class GlBackend::Impl {
         scatter_ = GlProgram::compute("brick_scatter.comp", defines);
         if (reduce_ == Reduce::Max) maxOrient_ = GlProgram::compute("brick_max_orient.comp");
         resolver_ = std::make_unique<GlBrickResolver>(reduce_, settings.base.overlap, &gpuBytes_, albedo_);
+        counters_.programSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - compileStart).count();
         glCreateVertexArrays(1, &vao_);
         glCreateFramebuffers(1, &fbo_);
         // The list starts small and grows to what passes need, up to the budget,
@@ -144,7 +155,7 @@ class GlBackend::Impl {
         // exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE; together they stay within
         // half of the free GPU memory where the driver reports it.
         const std::uint64_t block = static_cast<std::uint64_t>(std::max<long long>(info.maxSsboBlockSize, 1 << 20));
-        const long long freeBytes = context_.queryFreeMemoryBytes();
+        const long long freeBytes = context_->queryFreeMemoryBytes();
         const std::uint64_t memory = freeBytes > 0 ? static_cast<std::uint64_t>(freeBytes) / 2 : (std::uint64_t(1) << 30);
         // With albedo every fragment has a second record as large (GpuAlbedoFragment).
         const std::uint64_t fragmentBytes = std::min(block, memory / 2) / (albedo_ ? 2 : 1);
@@ -425,7 +436,7 @@ class GlBackend::Impl {
     const VoxelGrid& grid_;
     const GlVoxelizeSettings& settings_;
     GlVoxelizeCounters& counters_;
-    GlContext context_;
+    std::unique_ptr<GlContext> context_;
     Reduce reduce_;
     bool albedo_; ///< --albedo: the ALBEDO program variants, a colour list and three more words a voxel
     int words_;

@@ -49,6 +49,8 @@ struct GlVoxelizeCounters {
     std::uint64_t fragmentCapacity = 0; ///< capacity used
     std::uint64_t sliceDataBytes = 0;   ///< GPU bytes of curve/segment data for the slices
     std::uint64_t peakGpuBytes = 0;     ///< largest sum of yarnvox's GPU buffers
+    double contextSeconds = 0.0;        ///< creating the GL context (EGL display, device, context)
+    double programSeconds = 0.0;        ///< compiling and linking the backend's shader programs
     double rasterSeconds = 0.0;         ///< time of raster + append passes (GPU drained at both ends)
     double brickSeconds = 0.0;          ///< time of the brick passes (likewise)
     double resolveSeconds = 0.0;        ///< time of the resolve passes, until their totals are on the host

@@ -407,7 +407,9 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         // The ranks' budgets differ (each sees what the others left free):
         // all plan with rank 0's, so they plan the same regions.
         const std::uint64_t budget = group ? group->broadcast(rasterizer.fragmentBudget()) : rasterizer.fragmentBudget();
+        const auto zoomStart = std::chrono::steady_clock::now();
         const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {budget, rasterizer.maxRegionSize(), a.supersample});
+        const double zoomPlanSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - zoomStart).count();
         backend.gl.plannedRegions = zoom.regions.size();
         timer.lap("plan");
         if (a.verbose)
@@ -550,6 +552,8 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 .set("fragment_budget", counters.fragmentCapacity)
                 .set("gpu_slice_data_bytes", counters.sliceDataBytes)
                 .set("gpu_peak_bytes", counters.peakGpuBytes)
+                .set("gl_context_seconds", counters.contextSeconds)
+                .set("gl_program_seconds", counters.programSeconds)
                 .set("gpu_raster_seconds", counters.rasterSeconds)
                 .set("gpu_brick_seconds", counters.brickSeconds)
                 .set("gpu_resolve_seconds", counters.resolveSeconds)
@@ -568,7 +572,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 .set("regions_resumed", counters.resumedRegions)
                 .set("fragment_budget", rasterizer.fragmentBudget());
         }
-        backendStats.set("regions_damaged_recomputed", recomputed)
+        backendStats.set("zoom_plan_seconds", zoomPlanSeconds).set("regions_damaged_recomputed", recomputed)
             .set("store_bytes_on_disk", storeBytes)
             .set("store_resolve_seconds", writerStats.resolveSeconds)
             .set("store_encode_seconds", writerStats.encodeSeconds)

@@ -7,9 +7,13 @@
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
+#include <iterator>
 #include <memory>
+#include <utility>
 
 namespace yv {
 
@@ -24,13 +28,30 @@ void segmentVoxelBounds(const SlicePlan& plan, const VoxelGrid& grid, std::uint3
 
 std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGrid& grid,
                                             const std::vector<std::uint32_t>& from, glm::ivec3 min, glm::ivec3 max) {
-    std::vector<std::uint32_t> out;
-    for (std::uint32_t s : from) {
+    const auto reaches = [&](std::uint32_t s) {
         glm::dvec3 lo, hi;
         segmentVoxelBounds(plan, grid, s, lo, hi);
-        if (glm::all(glm::lessThan(lo, glm::dvec3(max))) && glm::all(glm::greaterThan(hi, glm::dvec3(min))))
-            out.push_back(s);
+        return glm::all(glm::lessThan(lo, glm::dvec3(max))) && glm::all(glm::greaterThan(hi, glm::dvec3(min)));
+    };
+    // Long lists (the whole garment, near the top of the split) are tested in
+    // blocks on every core, and the blocks joined in order: the same list.
+    constexpr std::size_t kBlock = 1 << 14;
+    std::vector<std::uint32_t> out;
+    if (from.size() <= kBlock) {
+        for (std::uint32_t s : from)
+            if (reaches(s)) out.push_back(s);
+        return out;
     }
+    std::vector<std::vector<std::uint32_t>> blocks((from.size() + kBlock - 1) / kBlock);
+    tbb::parallel_for(std::size_t(0), blocks.size(), [&](std::size_t b) {
+        const std::size_t end = std::min(from.size(), (b + 1) * kBlock);
+        for (std::size_t i = b * kBlock; i < end; ++i)
+            if (reaches(from[i])) blocks[b].push_back(from[i]);
+    });
+    std::size_t total = 0;
+    for (const auto& block : blocks) total += block.size();
+    out.reserve(total);
+    for (const auto& block : blocks) out.insert(out.end(), block.begin(), block.end());
     return out;
 }
 
@@ -117,57 +138,60 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     zp.heatCellsTouched = heat.touched();
     zp.estimatedFragments = heat.sum(glm::ivec3(0), grid.dims);
 
-    std::vector<std::uint32_t> all(plan.segments.size());
-    for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-
-    // Depth-first octree split; children in z, y, x order so ids follow space.
+    // Octree split; children in z, y, x order, and regions listed depth
+    // first, so ids follow space. Children are split on every core, each
+    // into its own list, and the lists are joined in child order: the same
+    // plan whatever the scheduling.
     const double target = 0.5 * double(options.fragmentBudget);
-    struct Box {
-        glm::ivec3 min, max;
-        std::vector<std::uint32_t> segments;
-    };
-    std::vector<Box> stack;
-    stack.push_back({glm::ivec3(0), grid.dims, segmentsReaching(plan, grid, all, glm::ivec3(0), grid.dims)});
-    while (!stack.empty()) {
-        Box box = std::move(stack.back());
-        stack.pop_back();
-        if (box.segments.empty()) continue;
-        const glm::ivec3 size = box.max - box.min;
-        const double estimate = heat.sum(box.min, box.max);
+    const std::function<std::vector<ZoomRegion>(glm::ivec3, glm::ivec3, std::vector<std::uint32_t>&&)> split =
+        [&](glm::ivec3 min, glm::ivec3 max, std::vector<std::uint32_t>&& segments) -> std::vector<ZoomRegion> {
+        if (segments.empty()) return {};
+        const glm::ivec3 size = max - min;
+        const double estimate = heat.sum(min, max);
         const bool tooBig = glm::any(glm::greaterThan(size, glm::ivec3(options.maxRegionSize)));
         const bool tooHot = estimate > target && glm::any(glm::greaterThan(size, glm::ivec3(8)));
         if (!tooBig && !tooHot) {
             ZoomRegion r;
-            r.id = zp.regions.size();
-            r.min = box.min;
-            r.max = box.max;
-            r.segments = std::move(box.segments);
+            r.min = min;
+            r.max = max;
+            r.segments = std::move(segments);
             r.estimatedFragments = estimate;
-            zp.regions.push_back(std::move(r));
-            continue;
+            std::vector<ZoomRegion> one;
+            one.push_back(std::move(r));
+            return one;
         }
         // Halve every axis that is more than one brick long (or too long).
-        glm::ivec3 mid = box.max;
+        glm::ivec3 mid = max;
         for (int a = 0; a < 3; ++a)
-            if (size[a] > 8) mid[a] = splitPoint(box.min[a], box.max[a]);
-        std::vector<Box> children;
+            if (size[a] > 8) mid[a] = splitPoint(min[a], max[a]);
+        std::vector<std::pair<glm::ivec3, glm::ivec3>> children;
         for (int z = 0; z < 2; ++z)
             for (int y = 0; y < 2; ++y)
                 for (int x = 0; x < 2; ++x) {
                     const glm::ivec3 pick(x, y, z);
-                    Box child;
+                    glm::ivec3 childMin, childMax;
                     bool exists = true;
                     for (int a = 0; a < 3; ++a) {
-                        exists = exists && !(mid[a] == box.max[a] && pick[a] == 1); // axis not split
-                        child.min[a] = pick[a] ? mid[a] : box.min[a];
-                        child.max[a] = pick[a] ? box.max[a] : mid[a];
+                        exists = exists && !(mid[a] == max[a] && pick[a] == 1); // axis not split
+                        childMin[a] = pick[a] ? mid[a] : min[a];
+                        childMax[a] = pick[a] ? max[a] : mid[a];
                     }
-                    if (!exists) continue;
-                    child.segments = segmentsReaching(plan, grid, box.segments, child.min, child.max);
-                    children.push_back(std::move(child));
+                    if (exists) children.emplace_back(childMin, childMax);
                 }
-        for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back(std::move(*it));
-    }
+        std::vector<std::vector<ZoomRegion>> parts(children.size());
+        tbb::parallel_for(std::size_t(0), children.size(), [&](std::size_t i) {
+            const auto& [childMin, childMax] = children[i];
+            parts[i] = split(childMin, childMax, segmentsReaching(plan, grid, segments, childMin, childMax));
+        });
+        std::vector<ZoomRegion> out;
+        for (auto& part : parts) std::move(part.begin(), part.end(), std::back_inserter(out));
+        return out;
+    };
+    std::vector<std::uint32_t> all(plan.segments.size());
+    for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    std::vector<std::uint32_t> reaching = segmentsReaching(plan, grid, all, glm::ivec3(0), grid.dims);
+    zp.regions = split(glm::ivec3(0), grid.dims, std::move(reaching));
+    for (std::size_t i = 0; i < zp.regions.size(); ++i) zp.regions[i].id = i;
     return zp;
 }
 
