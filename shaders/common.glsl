@@ -150,19 +150,28 @@ float diskCoverage(vec2 c, vec2 u, vec2 v, float r) {
 // Mean density over a footprint cell, slice-local units of the radius
 // (src/garment/cross_section.h: CrossSection::footprintDensity): exact
 // coverage for the disk, else the texture, bilinear, at the cell's centre (0
-// outside the slice square). The four texels come from four texelFetch, or,
-// with CROSS_SECTION_GATHER, from one textureGather at the corner they share
-// (the texture clamps to its edge, as the CPU clamps): the same texels, and
-// on llvmpipe a third faster, but on NVIDIA's driver 1.7 times slower.
-// `size`: the texture's width, asked once a sample (textureSize in the cell
-// loop was a tenth of the raster's time on NVIDIA's driver).
+// outside the slice square). The four texels come from four texelFetch;
+// with CROSS_SECTION_GATHER from one textureGather at the corner they share
+// (the texture clamps to its edge, as the CPU clamps); with
+// CROSS_SECTION_QUAD (the default) from one texelFetch of a texture that
+// holds each lookup's four. The same texels; the quad is the fastest on
+// NVIDIA's driver and on llvmpipe (cross_section_texture.h: TexelReads).
+// `size`: the cross-section's width in texels, asked once a sample
+// (textureSize in the cell loop was a tenth of the raster's time on NVIDIA's
+// driver).
 float footprintDensity(usampler2D crossSection, int size, bool disk, vec2 c, vec2 e0, vec2 e1) {
     if (disk) return diskCoverage(c, e0, e1, 1.0);
     if (!(c.x >= -1.0 && c.x < 1.0 && c.y >= -1.0 && c.y < 1.0)) return 0.0;
     // Bilinear between texel centres (CrossSection::bilinear).
     vec2 f = (c + 1.0) * 0.5 * float(size) - 0.5;
     vec2 f0 = floor(f), t = f - f0;
-#if CROSS_SECTION_GATHER
+#if CROSS_SECTION_QUAD
+    // One texel holds the four (uploadCrossSectionTexture): the one at
+    // floor(f) + 1, which the lookup's range keeps within [0, size].
+    uvec4 texel = texelFetch(crossSection, clamp(ivec2(f0) + 1, ivec2(0), ivec2(size)), 0);
+    float top = float(texel.x) * (1.0 - t.x) + float(texel.y) * t.x;
+    float bottom = float(texel.z) * (1.0 - t.x) + float(texel.w) * t.x;
+#elif CROSS_SECTION_GATHER
     // x: (i0, j1), y: (i1, j1), z: (i1, j0), w: (i0, j0).
     vec4 texel = vec4(textureGather(crossSection, (f0 + 1.0) / float(size)));
     float top = texel.w * (1.0 - t.x) + texel.z * t.x;
@@ -215,7 +224,11 @@ float footprintCells(usampler2D crossSection, bool disk, float support, float S,
     } else if (length(vec2(x, y) / radius) - 0.5 * (length(edgeB) + length(edgeC)) > support) {
         return 0.0;
     }
+#if CROSS_SECTION_QUAD
+    int size = disk ? 0 : textureSize(crossSection, 0).x - 1; // the quad texture has a texel more a side
+#else
     int size = disk ? 0 : textureSize(crossSection, 0).x;
+#endif
     float m = float(kFootprintCells), density = 0.0;
     for (int q = 0; q < kFootprintCells; ++q)
         for (int p = 0; p < kFootprintCells; ++p) {

@@ -132,7 +132,8 @@ TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreem
     }
 }
 
-TEST_CASE("GL: texels read by one gather or by four fetches give the same voxels bit for bit", "[gl][agreement]") {
+TEST_CASE("GL: texels read by one gather, by four fetches or from the quad texture give the same voxels bit for bit",
+          "[gl][agreement]") {
     YV_REQUIRE_GL();
     const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 64, 1.0, 96);
     const SlicePlan& plan = run.plan;
@@ -143,12 +144,14 @@ TEST_CASE("GL: texels read by one gather or by four fetches give the same voxels
     std::uint32_t state = 12345;
     for (std::uint8_t& t : xs.density) t = std::uint8_t((state = state * 1664525u + 1013904223u) >> 24);
     REQUIRE(xs.density.front() != xs.density.back());
-    GlVoxelizeSettings fetch = glSettings(), gather = glSettings();
+    GlVoxelizeSettings fetch = glSettings(), gather = glSettings(), quad = glSettings();
     fetch.texelReads = TexelReads::Fetch;
     gather.texelReads = TexelReads::Gather;
+    quad.texelReads = TexelReads::Quad;
     const BrickVolume a = voxelizeGl(plan, xs, grid, fetch), b = voxelizeGl(plan, xs, grid, gather);
     REQUIRE(a.activeVoxelCount() > 1000);
     CHECK(identical(a, b));
+    CHECK(identical(a, voxelizeGl(plan, xs, grid, quad)));
     // And both agree with the CPU reference.
     const test::VolumeComparison cmp = test::compareVolumes(voxelizeCpu(plan, xs, grid, VoxelizeSettings{}), a);
     CHECK(cmp.iou >= 0.9999);

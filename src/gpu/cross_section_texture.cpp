@@ -3,6 +3,9 @@
 #include "core/error.h"
 #include "gpu/gl_program.h"
 
+#include <algorithm>
+#include <cstdint>
+
 namespace yv {
 
 namespace {
@@ -25,8 +28,27 @@ GLuint uploadExactTexture(int size, GLenum storage, GLenum format, GLenum type, 
 
 } // namespace
 
-GLuint uploadCrossSectionTexture(const CrossSection& xs) {
-    return uploadExactTexture(xs.size, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data(),
+TexelReads texelReadsFor(TexelReads reads) { return reads == TexelReads::Auto ? TexelReads::Quad : reads; }
+
+GLuint uploadCrossSectionTexture(const CrossSection& xs, TexelReads reads) {
+    YV_CHECK(reads != TexelReads::Auto && xs.density.size() == std::size_t(xs.size) * xs.size);
+    if (reads != TexelReads::Quad)
+        return uploadExactTexture(xs.size, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data(),
+                                  "uploading the cross-section");
+    // One texel per lookup corner floor(f) + 1 in [0, size] (common.glsl:
+    // footprintDensity), holding what four clamped fetches would read.
+    const int n = xs.size, side = n + 1;
+    const auto at = [&](int x, int y) { return xs.density[std::size_t(std::clamp(y, 0, n - 1)) * n + std::clamp(x, 0, n - 1)]; };
+    std::vector<std::uint8_t> quads(std::size_t(side) * side * 4);
+    for (int v = 0; v < side; ++v)
+        for (int u = 0; u < side; ++u) {
+            std::uint8_t* q = &quads[(std::size_t(v) * side + u) * 4];
+            q[0] = at(u - 1, v - 1);
+            q[1] = at(u, v - 1);
+            q[2] = at(u - 1, v);
+            q[3] = at(u, v);
+        }
+    return uploadExactTexture(side, GL_RGBA8UI, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, quads.data(),
                               "uploading the cross-section");
 }
 
@@ -36,10 +58,11 @@ GLuint uploadAlbedoTexture(const CrossSection& xs) {
                               "uploading the cross-section's colour");
 }
 
-std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads, const std::string& platform) {
-    const bool gather = reads == TexelReads::Gather || (reads == TexelReads::Auto && platform == "surfaceless");
+std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads) {
+    YV_CHECK(reads != TexelReads::Auto);
     return {std::string("CROSS_SECTION_DISK ") + (xs.analyticDisk ? "1" : "0"),
-            std::string("CROSS_SECTION_GATHER ") + (gather ? "1" : "0")};
+            std::string("CROSS_SECTION_GATHER ") + (reads == TexelReads::Gather ? "1" : "0"),
+            std::string("CROSS_SECTION_QUAD ") + (reads == TexelReads::Quad ? "1" : "0")};
 }
 
 } // namespace yv

@@ -11,24 +11,33 @@
 
 namespace yv {
 
-/// An R8UI texture of the cross-section's density, read with texelFetch and
-/// textureGather: nearest filtering, clamped to the edge (the gather then
-/// clamps at the border as CrossSection::bilinear does). The caller deletes it.
-GLuint uploadCrossSectionTexture(const CrossSection& xs);
+/// How the sampling shader reads a bilinear lookup's four texels (all give
+/// the same texels, clamped at the border as CrossSection::bilinear clamps):
+/// Quad: one texelFetch of an RGBA8UI texture whose texel holds the four;
+/// Gather: one textureGather of the R8UI density texture; Fetch: four
+/// texelFetch of it. Auto is Quad, the fastest on both drivers measured: on
+/// NVIDIA's the four fetches took a quarter of the raster's time and a gather
+/// 1.7 times as long as they did; on llvmpipe the quad takes a quarter off
+/// the gather's raster time, and the gather a third off the fetches'.
+enum class TexelReads { Auto, Fetch, Gather, Quad };
+
+/// `reads` with Auto resolved.
+TexelReads texelReadsFor(TexelReads reads);
+
+/// The cross-section's density as the texel reads `reads` (not Auto) expect:
+/// R8UI for Fetch and Gather; for Quad, (size + 1)^2 RGBA8UI texels, texel
+/// (u, v) holding the density at (u - 1, v - 1), (u, v - 1), (u - 1, v) and
+/// (u, v), each coordinate clamped to [0, size - 1]. Nearest filtering,
+/// clamped to the edge. The caller deletes it.
+GLuint uploadCrossSectionTexture(const CrossSection& xs, TexelReads reads);
 
 /// An RGB32F texture of the fibres' colour times density (CrossSection::albedo,
-/// for --albedo), read as the density texture is. The caller deletes it.
+/// for --albedo), read with four texelFetch. The caller deletes it.
 GLuint uploadAlbedoTexture(const CrossSection& xs);
-
-/// How the sampling shader reads a bilinear lookup's four texels: one
-/// textureGather, or four texelFetch (the same texels; common.glsl says which
-/// is faster where). Auto: the gather on EGL's surfaceless platform (where
-/// yarnvox gets Mesa's llvmpipe), fetches on an EGL device (a GPU).
-enum class TexelReads { Auto, Fetch, Gather };
 
 /// The #defines that pick the sampling shader's variant: the analytic disk's
 /// exact coverage or the texture (each variant compiles only the code it
-/// runs), and the texel reads, Auto resolved for `platform` (GlInfo::platform).
-std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads, const std::string& platform);
+/// runs), and the texel reads `reads` (not Auto).
+std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads);
 
 } // namespace yv

@@ -150,7 +150,8 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     c.instances = instances;
     gl.drawList = uploadBuffer(draw.data(), draw.size() * 4);
 
-    gl.crossSection = uploadCrossSectionTexture(xs);
+    const TexelReads reads = texelReadsFor(settings.texelReads);
+    gl.crossSection = uploadCrossSectionTexture(xs, reads);
     checkGlError("uploading segments and the cross-section");
 
     glGetError(); // start the allocation check clean
@@ -167,7 +168,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     });
     checkGlError("clearing the 3D textures");
 
-    GlProgram program = GlProgram::graphics("slice.vert", "dense.frag", crossSectionDefines(xs, settings.texelReads, info.platform));
+    GlProgram program = GlProgram::graphics("slice.vert", "dense.frag", crossSectionDefines(xs, reads));
     glCreateVertexArrays(1, &gl.vao);
     glCreateFramebuffers(1, &gl.fbo);
     glNamedFramebufferParameteri(gl.fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, GLint(viewport));

@@ -83,11 +83,12 @@ class GlBackend::Impl {
         counters_.platform = info.platform;
         chooseBudgets(info);
         uploadSegments();
-        uploadCrossSection(xs);
+        const TexelReads reads = texelReadsFor(settings.texelReads);
+        uploadCrossSection(xs, reads);
         // --albedo compiles variants of their own (ALBEDO), so runs without it
         // keep the programs, fragments and brick words they always had.
         const auto compileStart = std::chrono::steady_clock::now();
-        std::vector<std::string> rasterDefines = crossSectionDefines(xs, settings.texelReads, info.platform);
+        std::vector<std::string> rasterDefines = crossSectionDefines(xs, reads);
         if (albedo_) rasterDefines.push_back("ALBEDO 1");
         raster_ = GlProgram::graphics("slice.vert", "append.frag", rasterDefines);
         flag_ = GlProgram::compute("brick_flag.comp");
@@ -207,10 +208,10 @@ class GlBackend::Impl {
         counters_.sliceDataBytes = segments_.size();
     }
 
-    void uploadCrossSection(const CrossSection& xs) {
+    void uploadCrossSection(const CrossSection& xs, TexelReads reads) {
         support_ = textureSupport(xs);
-        texture_ = uploadCrossSectionTexture(xs);
-        gpuBytes_ += std::uint64_t(xs.size) * xs.size;
+        texture_ = uploadCrossSectionTexture(xs, reads);
+        gpuBytes_ += reads == TexelReads::Quad ? std::uint64_t(xs.size + 1) * (xs.size + 1) * 4 : std::uint64_t(xs.size) * xs.size;
         if (albedo_) {
             albedoTexture_ = uploadAlbedoTexture(xs);
             gpuBytes_ += std::uint64_t(xs.size) * xs.size * 12;
