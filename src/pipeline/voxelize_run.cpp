@@ -583,6 +583,9 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             .set("ranks", static_cast<std::uint64_t>(group ? group->size() : 1));
     }
 
+    // Releasing the GPU's buffers and context, the writer's threads and the
+    // scratch file, once the output is in place.
+    timer.lap("finish");
     const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;
     const ResolveTally& tally = report.tally;
     const bool complete = report.tallyComplete;
