@@ -39,9 +39,17 @@ GlBrickResolver::GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* 
     maxGroups_ = static_cast<GLuint>(std::clamp(maxGroups, 1, 65535));
 }
 
-void GlBrickResolver::resolve(GLuint words, std::uint32_t count, const BrickKeys& keys, PackedBricks& out,
-                              std::uint64_t maxActiveVoxels) {
-    if (count == 0) return;
+void GlBrickResolver::startResolve(GLuint words, std::uint32_t count, const BrickKeys& keys,
+                                   std::uint64_t maxActiveVoxels) {
+    YV_CHECK(pendingCount_ < 2);
+    Pending& p = pending_[pendingCount_];
+    p = Pending{nextBuffer_, 0, 0};
+    if (count == 0) {
+        readback_[p.buffer].startCopy({}, gpuBytes_);
+        ++pendingCount_;
+        nextBuffer_ ^= 1;
+        return;
+    }
     const auto start = Clock::now();
     const std::uint64_t blocks = (count + kScanBlock - 1) / kScanBlock;
     places_.reserve(std::uint64_t(count) * 8, gpuBytes_);
@@ -96,17 +104,36 @@ void GlBrickResolver::resolve(GLuint words, std::uint32_t count, const BrickKeys
     YV_CHECK(totals[0] <= count && totals[1] <= std::uint64_t(totals[0]) * kBrickVoxels && totals[1] <= voxelCapacity);
     gpuSeconds_ += secondsSince(start);
 
+    // The output buffer is rewritten by the next resolve only after this
+    // copy, which the GL command order keeps ahead of it.
     const auto readStart = Clock::now();
     const std::uint64_t keptBytes = std::uint64_t(totals[0]) * sizeof(PackedBrickHeader);
     const std::uint64_t voxelBytes = std::uint64_t(totals[1]) * sizeof(PackedVoxel);
     const std::uint64_t albedoBytes = albedo_ ? std::uint64_t(totals[1]) * sizeof(PackedAlbedo) : 0;
-    const auto* bytes = static_cast<const unsigned char*>(readback_.read(
+    readback_[p.buffer].startCopy(
         {{output_.id(), 0, keptBytes}, {output_.id(), headerBytes, voxelBytes}, {output_.id(), albedoOffset, albedoBytes}},
-        gpuBytes_));
-    if (totals[0] > 0)
-        out.append(reinterpret_cast<const PackedBrickHeader*>(bytes), totals[0],
-                   reinterpret_cast<const PackedVoxel*>(bytes + keptBytes), totals[1],
+        gpuBytes_);
+    p.bricks = totals[0];
+    p.voxels = totals[1];
+    readbackSeconds_ += secondsSince(readStart);
+    ++pendingCount_;
+    nextBuffer_ ^= 1;
+}
+
+void GlBrickResolver::finishResolve(PackedBricks& out) {
+    if (pendingCount_ == 0) return;
+    const Pending p = pending_[0];
+    pending_[0] = pending_[1];
+    --pendingCount_;
+    const auto readStart = Clock::now();
+    const auto* bytes = static_cast<const unsigned char*>(readback_[p.buffer].waitForCopy());
+    if (p.bricks > 0) {
+        const std::uint64_t keptBytes = std::uint64_t(p.bricks) * sizeof(PackedBrickHeader);
+        const std::uint64_t voxelBytes = std::uint64_t(p.voxels) * sizeof(PackedVoxel);
+        out.append(reinterpret_cast<const PackedBrickHeader*>(bytes), p.bricks,
+                   reinterpret_cast<const PackedVoxel*>(bytes + keptBytes), p.voxels,
                    albedo_ ? reinterpret_cast<const PackedAlbedo*>(bytes + keptBytes + voxelBytes) : nullptr);
+    }
     readbackSeconds_ += secondsSince(readStart);
 }
 

@@ -44,11 +44,26 @@ class GlBrickResolver {
     /// `maxActiveVoxels` bounds the active voxels (the pass's fragment count
     /// does: every active voxel got one), so the output needs less GPU memory.
     void resolve(GLuint words, std::uint32_t count, const BrickKeys& keys, PackedBricks& out,
-                 std::uint64_t maxActiveVoxels = ~std::uint64_t(0));
+                 std::uint64_t maxActiveVoxels = ~std::uint64_t(0)) {
+        startResolve(words, count, keys, maxActiveVoxels);
+        finishResolve(out);
+    }
+    /// The same in two halves, so that the host can queue the next pass's
+    /// work between them: startResolve waits for the totals only and queues
+    /// the copy of the packed bricks; finishResolve waits for that copy and
+    /// appends the bricks. Two copies alternate between two host buffers, so
+    /// one resolve may start while the one before is still to finish; a
+    /// third start finishes nothing for you (call finishResolve in between).
+    void startResolve(GLuint words, std::uint32_t count, const BrickKeys& keys,
+                      std::uint64_t maxActiveVoxels = ~std::uint64_t(0));
+    /// Appends the oldest started resolve's bricks to `out`; nothing when none is started.
+    void finishResolve(PackedBricks& out);
+    /// True while a started resolve has not been finished.
+    bool resolvePending() const { return pendingCount_ > 0; }
     /// The same for accumulators on the host (uploaded first), in their order.
     void resolve(const std::vector<BrickAccumulator>& accumulators, PackedBricks& out);
 
-    std::uint64_t bytesRead() const { return small_.bytesRead() + readback_.bytesRead(); }
+    std::uint64_t bytesRead() const { return small_.bytesRead() + readback_[0].bytesRead() + readback_[1].bytesRead(); }
     /// Time from the first resolve pass until its totals were read back (the GPU's resolve work).
     double gpuSeconds() const { return gpuSeconds_; }
     /// Time of copying the packed bricks to the host.
@@ -60,7 +75,15 @@ class GlBrickResolver {
     std::uint64_t* gpuBytes_;
     GlProgram count_, scan_, resolve_;
     GlBuffer places_, blockSums_, totals_, output_, uploadWords_, uploadKeys_;
-    ReadbackBuffer small_, readback_;
+    /// A resolve whose packed bricks are being copied to readback_[buffer].
+    struct Pending {
+        int buffer = 0;
+        std::uint32_t bricks = 0, voxels = 0; ///< the totals
+    };
+    ReadbackBuffer small_, readback_[2];
+    Pending pending_[2];        ///< oldest first
+    int pendingCount_ = 0;
+    int nextBuffer_ = 0;
     GLuint maxGroups_ = 65535;
     double gpuSeconds_ = 0.0, readbackSeconds_ = 0.0;
 };

@@ -34,10 +34,17 @@ void GlBuffer::release() {
     size_ = 0;
 }
 
-const void* ReadbackBuffer::read(std::initializer_list<Range> ranges, std::uint64_t* gpuBytes) {
+ReadbackBuffer::~ReadbackBuffer() {
+    if (fence_) glDeleteSync(fence_);
+    release();
+}
+
+void ReadbackBuffer::startCopy(std::initializer_list<Range> ranges, std::uint64_t* gpuBytes) {
+    if (fence_) waitForCopy();
     std::uint64_t bytes = 0;
     for (const Range& r : ranges) bytes += r.bytes;
-    if (bytes == 0) return nullptr;
+    empty_ = bytes == 0;
+    if (empty_) return;
     bytesRead_ += bytes;
     if (bytes > size_) {
         if (gpuBytes) *gpuBytes -= size_;
@@ -58,9 +65,15 @@ const void* ReadbackBuffer::read(std::initializer_list<Range> ranges, std::uint6
         at += r.bytes;
     }
     glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
-    GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
-    const GLenum waited = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, GLuint64(600) * 1000000000);
-    glDeleteSync(fence);
+    fence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    glFlush(); // so that the copy starts while the host goes on
+}
+
+const void* ReadbackBuffer::waitForCopy() {
+    if (!fence_) return empty_ ? nullptr : mapped_;
+    const GLenum waited = glClientWaitSync(fence_, GL_SYNC_FLUSH_COMMANDS_BIT, GLuint64(600) * 1000000000);
+    glDeleteSync(fence_);
+    fence_ = nullptr;
     if (waited != GL_ALREADY_SIGNALED && waited != GL_CONDITION_SATISFIED)
         throw Error("GPU readback did not finish within 10 minutes (driver hang or lost device)");
     return mapped_;

@@ -39,7 +39,7 @@ class GlBuffer {
 class ReadbackBuffer {
   public:
     ReadbackBuffer() = default;
-    ~ReadbackBuffer() { release(); }
+    ~ReadbackBuffer();
     ReadbackBuffer(const ReadbackBuffer&) = delete;
     ReadbackBuffer& operator=(const ReadbackBuffer&) = delete;
 
@@ -50,7 +50,16 @@ class ReadbackBuffer {
     };
     /// Copies the ranges one after another and returns them, once the GPU is
     /// done (one wait for all of them); nullptr when they are empty.
-    const void* read(std::initializer_list<Range> ranges, std::uint64_t* gpuBytes);
+    const void* read(std::initializer_list<Range> ranges, std::uint64_t* gpuBytes) {
+        startCopy(ranges, gpuBytes);
+        return waitForCopy();
+    }
+    /// Queues the copies of the ranges behind the GL commands so far and
+    /// returns at once; waitForCopy() then waits for them. One copy at a time
+    /// per buffer: a second start waits for the first.
+    void startCopy(std::initializer_list<Range> ranges, std::uint64_t* gpuBytes);
+    /// The copied bytes, once the GPU has them in place (nullptr for empty ranges).
+    const void* waitForCopy();
     /// Copies `bytes` from the start of `source` and returns them, once the GPU is done.
     const void* read(GLuint source, std::uint64_t bytes, std::uint64_t* gpuBytes) {
         return read({Range{source, 0, bytes}}, gpuBytes);
@@ -64,6 +73,8 @@ class ReadbackBuffer {
     std::uint64_t size_ = 0;
     const void* mapped_ = nullptr;
     std::uint64_t bytesRead_ = 0;
+    GLsync fence_ = nullptr; ///< the copy in flight, if any
+    bool empty_ = false;     ///< the copy in flight moved no bytes
 };
 
 } // namespace yv

@@ -26,22 +26,56 @@ namespace {
 constexpr GLuint kWorkGroup = 256;
 constexpr std::uint64_t kInitialFragmentSlots = 1 << 20; // 16 MiB of fragments
 
-/// Time of the GL commands between begin() and end(): both ends wait for the
-/// GPU to drain (glFinish), so this is what the pass costs the pipeline.
-/// (Timer queries would be finer, but llvmpipe answers them with garbage.)
+/// Time of the GL commands between begin() and end(), summed. On a GPU
+/// (EGL's device platform) by timer queries, read at the end of the run, so
+/// that timing never stalls the pipeline; on llvmpipe, whose timer queries
+/// answer garbage, both ends wait for the GPU to drain (glFinish), so there
+/// it is what the pass costs the pipeline.
 class GpuTimer {
   public:
+    explicit GpuTimer(bool useQueries) : useQueries_(useQueries) {}
+    ~GpuTimer() {
+        if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
+    }
+    GpuTimer(const GpuTimer&) = delete;
+    GpuTimer& operator=(const GpuTimer&) = delete;
+
     void begin() {
+        if (useQueries_) {
+            GLuint query = 0;
+            glGenQueries(1, &query);
+            queries_.push_back(query);
+            glBeginQuery(GL_TIME_ELAPSED, query);
+            return;
+        }
         glFinish();
         start_ = std::chrono::steady_clock::now();
     }
-    double end() {
+    void end() {
+        if (useQueries_) {
+            glEndQuery(GL_TIME_ELAPSED);
+            return;
+        }
         glFinish();
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    }
+    /// Seconds so far (waits for the queries still running).
+    double seconds() {
+        for (GLuint query : queries_) {
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+            seconds_ += double(ns) * 1e-9;
+        }
+        if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
+        queries_.clear();
+        return seconds_;
     }
 
   private:
+    bool useQueries_;
+    std::vector<GLuint> queries_;
     std::chrono::steady_clock::time_point start_;
+    double seconds_ = 0.0;
 };
 
 /// A box of voxels (a whole number of bricks) and the segments that may touch it.
@@ -120,8 +154,9 @@ class GlBackend::Impl {
     }
 
     void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) {
+        sink_ = &sink;
         forEachRegionToDo(regions, sink, settings_.base.quiet, counters_.resumedRegions, [&](const ZoomRegion& region) {
-            packed_ = sink.emptyPackedBricks();
+            current_ = std::make_unique<RegionInFlight>(RegionInFlight{region, sink.emptyPackedBricks()});
             // Pieces of one region are finished before the next region starts,
             // so the sink gets each region whole, once.
             std::vector<WorkItem> stack{WorkItem{region.min, region.max, region.segments}};
@@ -134,17 +169,26 @@ class GlBackend::Impl {
                 }
             }
             if (!partials_.empty()) {
+                // After the region's packed bricks still on their way, so they keep their order.
+                finishReadbacks();
                 counters_.hostSummedBricks += partials_.size();
-                resolver_->resolve(partials_, packed_);
+                resolver_->resolve(partials_, current_->packed);
                 partials_.clear();
                 slotOfKey_.clear();
             }
             ++counters_.regions;
-            noteResolver();
-            sink.consume(region, std::move(packed_));
-            packed_ = {};
+            // The region's last packed bricks may still be on their way: it
+            // goes to the sink once they are in, while the next region's
+            // raster runs (process), or at the end.
+            if (awaiting_) finishReadbacks(); // the region before, if no pass of this one handed it over
+            awaiting_ = std::move(current_);
         });
+        finishReadbacks();
+        counters_.rasterSeconds = rasterTimer_.seconds();
+        counters_.brickSeconds = brickTimer_.seconds();
+        noteResolver();
         counters_.fragmentCapacity = capacity_;
+        sink_ = nullptr;
     }
 
     std::uint64_t fragmentBudget() const { return capacity_; }
@@ -295,11 +339,13 @@ class GlBackend::Impl {
         }
         glBindVertexArray(vao_);
 
-        GpuTimer timer;
-        timer.begin();
+        rasterTimer_.begin();
         glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances));
-        counters_.rasterSeconds += timer.end();
+        rasterTimer_.end();
         checkGlError("raster pass");
+        glFlush();
+        // While the GPU rasterizes, the host takes in the pass before's bricks.
+        finishReadbacks();
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
         GLuint count[2] = {0, 0};
@@ -320,7 +366,7 @@ class GlBackend::Impl {
         if (fragmentCount == 0) return true;
 
         // Brick passes: flag, scan, then scatter into the touched bricks only.
-        timer.begin();
+        brickTimer_.begin();
         const std::uint64_t blocks = (regionBricks + 1023) / 1024;
         flags_.reserve(regionBricks * 4, &gpuBytes_);
         blockSums_.reserve(blocks * 4, &gpuBytes_);
@@ -347,7 +393,7 @@ class GlBackend::Impl {
         GLuint activeBricks = 0;
         std::memcpy(&activeBricks, small_.read(counts_.id(), 4, &gpuBytes_), 4);
         if (activeBricks > brickBudget_) {
-            counters_.brickSeconds += timer.end();
+            brickTimer_.end();
             return false;
         }
 
@@ -366,18 +412,20 @@ class GlBackend::Impl {
             glDispatchCompute(groupsFor(fragmentCount, maxGroups_), 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         }
-        counters_.brickSeconds += timer.end();
+        brickTimer_.end();
         checkGlError("brick passes");
         notePeak();
 
         // Per pass the host waits for the fragment count, the touched bricks'
-        // count and (in the resolver) the resolved totals, each a few bytes,
-        // then for the packed bricks; the timers' glFinish are for --stats.
-        if (item.partial)
+        // count and (in the resolver) the resolved totals, each a few bytes;
+        // the packed bricks' copy is taken in during the next pass's raster.
+        if (item.partial) {
             readPartial(item.min, bricks, activeBricks);
-        else
-            resolver_->resolve(brickWords_.id(), activeBricks, BrickKeys{slotBricks_.id(), true, item.min / 8, bricks},
-                               packed_, fragmentCount);
+        } else {
+            resolver_->startResolve(brickWords_.id(), activeBricks,
+                                    BrickKeys{slotBricks_.id(), true, item.min / 8, bricks}, fragmentCount);
+            pendingTarget_ = &current_->packed;
+        }
         notePeak();
         counters_.fragments += fragmentCount;
         ++counters_.passes;
@@ -424,6 +472,19 @@ class GlBackend::Impl {
         partialReadSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - readStart).count();
     }
 
+    /// Takes in the packed bricks still on their way (into the region they
+    /// belong to), then hands a finished region that waited for them to the sink.
+    void finishReadbacks() {
+        if (resolver_->resolvePending()) {
+            resolver_->finishResolve(*pendingTarget_);
+            pendingTarget_ = nullptr;
+        }
+        if (awaiting_) {
+            sink_->consume(awaiting_->region, std::move(awaiting_->packed));
+            awaiting_.reset();
+        }
+    }
+
     /// Copies the resolver's counters (totals so far) into the backend's.
     void noteResolver() {
         counters_.resolveSeconds = resolver_->gpuSeconds();
@@ -453,7 +514,16 @@ class GlBackend::Impl {
     double support_ = 0.0; ///< textureSupport() of the cross-section
     GlProgram raster_, clear_, flag_, scan_, scatter_, maxOrient_;
     std::unique_ptr<GlBrickResolver> resolver_;
-    PackedBricks packed_;                    ///< the current region's resolved bricks
+    /// A region being rasterized, or done and waiting for its last packed bricks.
+    struct RegionInFlight {
+        ZoomRegion region;
+        PackedBricks packed; ///< its resolved bricks so far
+    };
+    RegionSink* sink_ = nullptr;                ///< during run()
+    std::unique_ptr<RegionInFlight> current_;  ///< the region being rasterized
+    std::unique_ptr<RegionInFlight> awaiting_; ///< the region before, until its last bricks are in
+    PackedBricks* pendingTarget_ = nullptr;    ///< where the resolve in flight appends
+    GpuTimer rasterTimer_{context_->info().platform == "device"}, brickTimer_{context_->info().platform == "device"};
     std::vector<BrickAccumulator> partials_; ///< the current region's bricks drawn in several passes
     std::unordered_map<std::uint64_t, std::size_t> slotOfKey_; ///< key -> index in partials_
     double partialReadSeconds_ = 0.0;
