@@ -58,14 +58,12 @@ vec3 bilinearAlbedo(vec2 c) {
 // with fibre, at the cell centres footprintCells uses (src/cpu/slice_sampler.h).
 // `right` and `up` come axis first (axisFirst).
 vec3 sampleAlbedo(vec3 right, vec3 up, float det, float S, float x, float y, float cellDensity[kCells], float cellSum) {
-    float m = float(kFootprintCells);
+    CellGrid cells = footprintCellGrid(right, up, det, S, uRadius, x, y);
     vec3 sum = vec3(0.0);
     for (int q = 0; q < kFootprintCells; ++q)
         for (int p = 0; p < kFootprintCells; ++p) {
             if (!(cellDensity[q * kFootprintCells + p] > 0.0)) continue;
-            float ob = ((float(p) + 0.5) / m - 0.5) / S, oc = ((float(q) + 0.5) / m - 0.5) / S;
-            float cx = x + (ob * up.z - oc * up.y) / det, cy = y + (right.y * oc - right.z * ob) / det;
-            sum += bilinearAlbedo(vec2(cx, cy) / uRadius);
+            sum += bilinearAlbedo(cells.first + float(p) * cells.stepP + float(q) * cells.stepQ);
         }
     return min(sum / cellSum, vec3(1.0));
 }

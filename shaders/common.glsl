@@ -200,6 +200,23 @@ ivec3 axisFirst(ivec3 v, int a) { return a == 0 ? v : (a == 1 ? v.yzx : v.zxy); 
 // The inverse: (a, b, c) components back to (x, y, z).
 ivec3 axisBack(ivec3 v, int a) { return a == 0 ? v : (a == 1 ? v.zxy : v.yzx); }
 
+// Where the centre of footprint cell (p, q) lies on the slice, in units of
+// the radius: first + p stepP + q stepQ (the pixel's sub-squares seen on the
+// slice plane, about the column's crossing (x, y), voxel units; det =
+// tangent[a]). Vectors axis first (axisFirst).
+struct CellGrid {
+    vec2 first, stepP, stepQ;
+};
+CellGrid footprintCellGrid(vec3 right, vec3 up, float det, float S, float radius, float x, float y) {
+    float m = float(kFootprintCells);
+    float scale = 1.0 / (det * radius * m * S);
+    CellGrid g;
+    g.stepP = vec2(up.z, -right.z) * scale; // one cell along the face's axis b
+    g.stepQ = vec2(-up.y, right.y) * scale; // one cell along c
+    g.first = vec2(x, y) / radius - 0.5 * (m - 1.0) * (g.stepP + g.stepQ);
+    return g;
+}
+
 // A sample's footprint on the slice in kFootprintCells^2 cells, each with
 // its fibre density and its column's depth interval [z0, z1) through the
 // slab, in voxels along the projection axis (src/cpu/slice_sampler.h:
@@ -229,16 +246,19 @@ float footprintCells(usampler2D crossSection, bool disk, float support, float S,
 #else
     int size = disk ? 0 : textureSize(crossSection, 0).x;
 #endif
+    // The cells' centres, their lookups and their depths are affine in the
+    // cell's (p, q): a start and two steps, worked out once a sample.
     float m = float(kFootprintCells), density = 0.0;
+    CellGrid cells = footprintCellGrid(right, up, det, S, radius, x, y);
+    float bendR = dot(curvature, right) * radius, bendU = dot(curvature, up) * radius;
+    float rightA = right.x * radius, upA = up.x * radius;
     for (int q = 0; q < kFootprintCells; ++q)
         for (int p = 0; p < kFootprintCells; ++p) {
             int k = q * kFootprintCells + p;
-            float ob = ((float(p) + 0.5) / m - 0.5) / S, oc = ((float(q) + 0.5) / m - 0.5) / S;
-            float cx = x + (ob * up.z - oc * up.y) / det, cy = y + (right.y * oc - right.z * ob) / det;
-            float d = disk && coverage >= 1.0 ? 1.0
-                                              : footprintDensity(crossSection, size, disk, vec2(cx, cy) / radius, edgeB / m, edgeC / m);
-            float depth = max(0.0, 1.0 - dot(curvature, cx * right + cy * up)) * depthScale;
-            cellZ0[k] = center.x + cx * right.x + cy * up.x - 0.5 * depth;
+            vec2 c = cells.first + float(p) * cells.stepP + float(q) * cells.stepQ;
+            float d = disk && coverage >= 1.0 ? 1.0 : footprintDensity(crossSection, size, disk, c, edgeB / m, edgeC / m);
+            float depth = max(0.0, 1.0 - (c.x * bendR + c.y * bendU)) * depthScale;
+            cellZ0[k] = center.x + c.x * rightA + c.y * upA - 0.5 * depth;
             cellZ1[k] = cellZ0[k] + depth;
             cellDensity[k] = d > 0.0 && depth > 0.0 ? d : 0.0;
             if (cellDensity[k] > 0.0) {
