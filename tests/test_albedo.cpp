@@ -453,6 +453,7 @@ AlbedoAgreement agreeWithAlbedo(const BrickVolume& cpu, const BrickVolume& gl) {
 GlVoxelizeSettings glAlbedoSettings(std::uint64_t capacity = 0) {
     GlVoxelizeSettings s;
     s.fragmentCapacity = capacity;
+    s.brickResolve = BrickResolve::Gpu; // the GPU's path (llvmpipe would resolve on the host)
     return s;
 }
 

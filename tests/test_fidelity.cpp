@@ -53,6 +53,7 @@ BrickVolume voxelize(Backend backend, const SlicePlan& plan, const CrossSection&
     }
     GlVoxelizeSettings s;
     s.base.overlap = overlap;
+    s.brickResolve = BrickResolve::Gpu; // the GPU's path (llvmpipe would resolve on the host)
     return voxelizeGl(plan, xs, grid, s);
 }
 

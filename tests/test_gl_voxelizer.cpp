@@ -13,10 +13,12 @@ using namespace yv;
 
 namespace {
 
+/// The GPU resolve, as on a GPU (on llvmpipe the backend would resolve on the host).
 GlVoxelizeSettings glSettings(Reduce r = Reduce::Mean, std::uint64_t capacity = 0) {
     GlVoxelizeSettings s;
     s.base.reduce = r;
     s.fragmentCapacity = capacity;
+    s.brickResolve = BrickResolve::Gpu;
     return s;
 }
 
@@ -218,6 +220,54 @@ TEST_CASE("GL: a brick too full for one pass is drawn in halves, summed on the h
         CHECK(identical(a, b));
         CHECK(b.tally.activeVoxels == a.tally.activeVoxels);
         CHECK(b.tally.densitySum == Approx(a.tally.densitySum).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("GL: bricks resolved on the host are the GPU resolve's, bit for bit, tally included", "[gl][agreement]") {
+    YV_REQUIRE_GL();
+    // With the smallest budget: a woven cylinder in many regions, and yarns
+    // through one point, whose bricks there are drawn in halves.
+    GenerateOptions g;
+    g.pattern = WeavePattern::Twill;
+    g.shape = GarmentShape::Cylinder;
+    g.crossings = 64;
+    Garment crossing;
+    for (int i = 0; i < 10; ++i) {
+        const double a = 0.45 * i, b = 0.9 * i;
+        const glm::dvec3 dir(std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b));
+        crossing.yarns.push_back(test::straightYarn(-2.0 * dir, dir, 4).yarns[0]);
+    }
+    struct Case {
+        Garment garment;
+        double radius, voxelSize;
+        CrossSection xs;
+    };
+    const Garment woven = generateGarment(g);
+    for (const Case& c : {Case{woven, woven.yarnRadius, 0.0, makeFiberCrossSection()}, Case{crossing, 0.6, 0.125, makeDiskCrossSection()}}) {
+        SliceOptions opt;
+        opt.radius = c.radius;
+        opt.twist = 1.0;
+        opt.slicesPerSegment = 8;
+        const SlicePlan plan = planSlices(c.garment, opt);
+        const VoxelGrid grid = makeGrid(plan, c.voxelSize > 0.0 ? 0 : 96, c.voxelSize);
+        std::uint32_t maxSlices = 0;
+        for (const SegmentRecord& seg : plan.segments) maxSlices = std::max(maxSlices, seg.sliceCount);
+        for (Reduce r : {Reduce::Mean, Reduce::Max}) {
+            GlVoxelizeSettings gpu = glSettings(r, std::uint64_t(maxSlices) * 64 * 8), host = gpu;
+            host.brickResolve = BrickResolve::Host;
+            GlVoxelizeCounters onGpu, onHost;
+            const BrickVolume a = voxelizeGl(plan, c.xs, grid, gpu, &onGpu), b = voxelizeGl(plan, c.xs, grid, host, &onHost);
+            INFO(toString(r) << ": " << onGpu.regions << " regions, " << onGpu.hostSummedBricks << " bricks summed");
+            REQUIRE(a.activeVoxelCount() > 1000);
+            CHECK((onGpu.regions > 4 || onGpu.hostSummedBricks > 0));
+            CHECK(onHost.fragments == onGpu.fragments);
+            CHECK(onHost.hostSummedBricks == onGpu.hostSummedBricks);
+            CHECK(identical(a, b));
+            CHECK(b.tally.activeVoxels == a.tally.activeVoxels);
+            CHECK(b.tally.voxelsOverOne == a.tally.voxelsOverOne);
+            CHECK(b.tally.densitySum == a.tally.densitySum);
+            CHECK(b.tally.rawDensitySum == a.tally.rawDensitySum);
+        }
     }
 }
 

@@ -37,6 +37,7 @@ BrickVolume runWithBudget(const SlicePlan& plan, const CrossSection& xs, const V
                           GlVoxelizeCounters& counters) {
     GlVoxelizeSettings s;
     s.fragmentCapacity = budget;
+    s.brickResolve = BrickResolve::Gpu; // Collect takes packed bricks
     GlBackend backend(plan, xs, grid, s, counters);
     const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), 1});
     counters.plannedRegions = zoom.regions.size();

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <unordered_map>
 #include <utility>
 
@@ -113,6 +114,8 @@ class GlBackend::Impl {
         if (albedo_ && reduce_ != Reduce::Mean)
             throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
         const GlInfo& info = context_->info();
+        hostResolve_ = settings.brickResolve == BrickResolve::Host ||
+                       (settings.brickResolve == BrickResolve::Auto && info.platform == "surfaceless");
         counters_.renderer = info.renderer;
         counters_.platform = info.platform;
         chooseBudgets(info);
@@ -168,10 +171,21 @@ class GlBackend::Impl {
                     split(item, stack);
                 }
             }
+            if (hostResolve_) {
+                // The raw accumulators go to the sink, which resolves them on its threads.
+                finishReadbacks();
+                ++counters_.regions;
+                std::sort(partials_.begin(), partials_.end(),
+                          [](const BrickAccumulator& a, const BrickAccumulator& b) { return a.key < b.key; });
+                sink.consumeAccumulators(region, std::move(partials_));
+                partials_.clear();
+                slotOfKey_.clear();
+                current_.reset();
+                return;
+            }
             if (!partials_.empty()) {
                 // After the region's packed bricks still on their way, so they keep their order.
                 finishReadbacks();
-                counters_.hostSummedBricks += partials_.size();
                 resolver_->resolve(partials_, current_->packed);
                 partials_.clear();
                 slotOfKey_.clear();
@@ -419,7 +433,7 @@ class GlBackend::Impl {
         // Per pass the host waits for the fragment count, the touched bricks'
         // count and (in the resolver) the resolved totals, each a few bytes;
         // the packed bricks' copy is taken in during the next pass's raster.
-        if (item.partial) {
+        if (item.partial || hostResolve_) {
             readPartial(item.min, bricks, activeBricks);
         } else {
             resolver_->startResolve(brickWords_.id(), activeBricks,
@@ -464,10 +478,12 @@ class GlBackend::Impl {
             const std::uint64_t key = brickKey(min / 8 + local);
             const std::uint32_t* src = words + slot * perBrick;
             auto [it, inserted] = slotOfKey_.try_emplace(key, partials_.size());
-            if (inserted)
+            if (inserted) {
                 partials_.push_back({key, std::vector<std::uint32_t>(src, src + perBrick)});
-            else
+            } else {
                 combineAccumulators(reduce_, partials_[it->second].words.data(), src, albedo_);
+                ++counters_.hostSummedBricks;
+            }
         }
         partialReadSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - readStart).count();
     }
@@ -501,6 +517,7 @@ class GlBackend::Impl {
     std::unique_ptr<GlContext> context_;
     Reduce reduce_;
     bool albedo_; ///< --albedo: the ALBEDO program variants, a colour list and three more words a voxel
+    bool hostResolve_ = false; ///< BrickResolve::Host (settled from Auto by the platform)
     int words_;
     std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
     std::uint32_t counterStart_ = settings_.firstCounterStart;
@@ -524,7 +541,9 @@ class GlBackend::Impl {
     std::unique_ptr<RegionInFlight> awaiting_; ///< the region before, until its last bricks are in
     PackedBricks* pendingTarget_ = nullptr;    ///< where the resolve in flight appends
     GpuTimer rasterTimer_{context_->info().platform == "device"}, brickTimer_{context_->info().platform == "device"};
-    std::vector<BrickAccumulator> partials_; ///< the current region's bricks drawn in several passes
+    /// The current region's raw bricks: those drawn in several passes (their
+    /// words summed on the host), or all of them with the host resolve.
+    std::vector<BrickAccumulator> partials_;
     std::unordered_map<std::uint64_t, std::size_t> slotOfKey_; ///< key -> index in partials_
     double partialReadSeconds_ = 0.0;
 };
@@ -546,7 +565,11 @@ namespace {
 class CollectingSink : public RegionSink {
   public:
     void consume(const ZoomRegion&, PackedBricks&& bricks) override { regions.push_back(std::move(bricks)); }
+    void consumeAccumulators(const ZoomRegion&, std::vector<BrickAccumulator>&& bricks) override {
+        std::move(bricks.begin(), bricks.end(), std::back_inserter(accumulators));
+    }
     std::vector<PackedBricks> regions;
+    std::vector<BrickAccumulator> accumulators; ///< with the host resolve
 };
 
 } // namespace
@@ -560,6 +583,8 @@ BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const Voxe
     c.plannedRegions = zoom.regions.size();
     CollectingSink sink;
     backend.run(zoom.regions, sink);
+    if (!sink.accumulators.empty())
+        return resolveVolume(grid, settings.base.reduce, settings.base.overlap, sink.accumulators);
     return unpackVolume(grid, settings.base.reduce, sink.regions);
 }
 

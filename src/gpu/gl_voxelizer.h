@@ -20,6 +20,14 @@
 
 namespace yv {
 
+/// Where the GL backend resolves its bricks. Gpu: compute passes, and only
+/// finished bricks come back (packed). Host: the raw accumulators come back
+/// and the sink's writer threads resolve them, as the CPU backend's are.
+/// Auto: Host on llvmpipe (EGL's surfaceless platform), where the resolve's
+/// double-precision compute shader took three times the host's time on the
+/// same cores; Gpu on a GPU. Both give the same bricks, bit for bit.
+enum class BrickResolve { Auto, Gpu, Host };
+
 struct GlVoxelizeSettings {
     VoxelizeSettings base;
     int device = -1; ///< EGL device index (-1: first GPU, else llvmpipe)
@@ -31,6 +39,7 @@ struct GlVoxelizeSettings {
     /// How the sampling shader reads the cross-section's texels: as suits the
     /// platform (Auto), or forced (tests compare the two).
     TexelReads texelReads = TexelReads::Auto;
+    BrickResolve brickResolve = BrickResolve::Auto;
     /// Where the first raster pass's 32-bit append counter starts (tests set
     /// it near 2^32 to make it wrap; runs leave it at 0).
     std::uint32_t firstCounterStart = 0;
@@ -42,7 +51,7 @@ struct GlVoxelizeCounters {
     std::uint64_t passes = 0;           ///< raster passes that fit
     std::uint64_t overflows = 0;        ///< passes redone in smaller pieces
     std::uint64_t listGrowths = 0;      ///< passes redone after growing the fragment list within the budget
-    std::uint64_t hostSummedBricks = 0; ///< bricks drawn in several passes (segments halved), summed on the host
+    std::uint64_t hostSummedBricks = 0; ///< a brick's passes after its first (segments halved), added up on the host
     std::uint64_t plannedRegions = 0;   ///< zoom regions in the plan
     std::uint64_t regions = 0;          ///< zoom regions computed
     std::uint64_t resumedRegions = 0;   ///< zoom regions taken from a resumed work directory
