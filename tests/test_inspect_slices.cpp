@@ -4,7 +4,6 @@
 #include "core/error.h"
 #include "cpu/cpu_voxelizer.h"
 #include "garment/cross_section.h"
-#include "garment/generate.h"
 #include "garment/slices.h"
 #include "gpu/egl_context.h"
 #include "inspect/brick_atlas.h"
@@ -14,6 +13,7 @@
 #include "inspect/region_outlines.h"
 #include "inspect/slice_renderer.h"
 #include "inspect/transfer_function.h"
+#include "inspect_test_volumes.h"
 #include "run_cli.h"
 #include "test_helpers.h"
 
@@ -164,15 +164,7 @@ TEST_CASE("inspect slices: a straight yarn seen side-on covers the pixels its ra
 
 TEST_CASE("inspect regions: outlines appear at the projected box edges in the colour of each region's heat", "[inspect][gl]") {
     YV_REQUIRE_GL();
-    GenerateOptions gen;
-    gen.crossings = 300;
-    gen.shape = GarmentShape::Cylinder;
-    gen.pattern = WeavePattern::Knit;
-    const Garment garment = generateGarment(gen);
-    SliceOptions opt;
-    opt.radius = garment.yarnRadius;
-    const SlicePlan plan = planSlices(garment, opt);
-    const BrickVolume volume = voxelizeCpu(plan, makeFiberCrossSection(), makeGrid(plan, 64, 0.0), VoxelizeSettings{});
+    const BrickVolume volume = test::knitCylinderVolume(64);
     const VoxelBox all = memorySource(volume)->bounds();
     // Three boxes apart from each other (no shared edges), hot, cool and between.
     const glm::ivec3 e = all.max - all.min;
