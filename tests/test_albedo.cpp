@@ -492,15 +492,9 @@ TEST_CASE("Albedo (GL): a two-colour cross-section on a generated garment agrees
 
 TEST_CASE("Albedo (GL): bricks drawn in several passes add their colour on the host to the same bits", "[albedo][gl][overflow]") {
     YV_REQUIRE_GL();
-    // Yarns through one point (test_gl_voxelizer.cpp's overflow garment): with
-    // the smallest list, the bricks at the crossing are drawn with their
+    // With the smallest list, the bricks at the crossing are drawn with their
     // segments split, and their accumulators, colour words too, add up on the host.
-    Garment garment;
-    for (int i = 0; i < 10; ++i) {
-        const double a = 0.45 * i, b = 0.9 * i;
-        const glm::dvec3 dir(std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b));
-        garment.yarns.push_back(test::straightYarn(-2.0 * dir, dir, 4).yarns[0]);
-    }
+    const Garment garment = test::yarnsThroughOnePoint();
     SliceOptions opt;
     opt.radius = 0.6;
     opt.slicesPerSegment = 8;

@@ -32,19 +32,6 @@ bool identical(const BrickVolume& a, const BrickVolume& b) {
     return true;
 }
 
-/// Ten straight yarns through one point, each segment one brick long (at a
-/// voxel size of 0.125): with the smallest list, the bricks at the crossing
-/// take fragments from so many segments that they are drawn in halves.
-Garment yarnsThroughOnePoint() {
-    Garment garment;
-    for (int i = 0; i < 10; ++i) {
-        const double a = 0.45 * i, b = 0.9 * i;
-        const glm::dvec3 dir(std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b));
-        garment.yarns.push_back(test::straightYarn(-2.0 * dir, dir, 4).yarns[0]);
-    }
-    return garment;
-}
-
 } // namespace
 
 TEST_CASE("GL: a straight disk yarn fills pi r^2 L and follows its axis", "[gl][analytic]") {
@@ -205,7 +192,7 @@ TEST_CASE("GL: a brick too full for one pass is drawn in halves, summed on the h
     YV_REQUIRE_GL();
     // The bricks at the crossing take more fragments than the smallest list
     // holds, from many segments, so they are drawn with their segments split.
-    const Garment garment = yarnsThroughOnePoint();
+    const Garment garment = test::yarnsThroughOnePoint();
     SliceOptions opt;
     opt.radius = 0.6;
     opt.slicesPerSegment = 8;
@@ -238,7 +225,7 @@ TEST_CASE("GL: bricks resolved on the host are the GPU resolve's, bit for bit, t
     g.pattern = WeavePattern::Twill;
     g.shape = GarmentShape::Cylinder;
     g.crossings = 64;
-    const Garment crossing = yarnsThroughOnePoint();
+    const Garment crossing = test::yarnsThroughOnePoint();
     struct Case {
         Garment garment;
         double radius, voxelSize;

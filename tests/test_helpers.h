@@ -109,6 +109,20 @@ inline Garment straightYarn(glm::dvec3 start, glm::dvec3 direction, int length) 
     return g;
 }
 
+/// Ten straight yarns through one point, each segment one brick long at a
+/// voxel size of 0.125: with the GL backend's smallest list, the bricks at
+/// the crossing take fragments from so many segments that they are drawn in
+/// halves (segments split) and added up on the host.
+inline Garment yarnsThroughOnePoint() {
+    Garment garment;
+    for (int i = 0; i < 10; ++i) {
+        const double a = 0.45 * i, b = 0.9 * i;
+        const glm::dvec3 dir(std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b));
+        garment.yarns.push_back(straightYarn(-2.0 * dir, dir, 4).yarns[0]);
+    }
+    return garment;
+}
+
 /// Voxel lookup over a BrickVolume by global voxel coordinate.
 class VolumeIndex {
   public:
