@@ -16,10 +16,8 @@ after="$build/yarnvox"
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 
-gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 || true)
-printf '{ "bench": "albedo_cost", "date": "%s", "host_cores": %s, "gpu": "%s", "commit": "%s", "command": "%s" }\n' \
-    "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$(nproc)" "${gpu:-none}" \
-    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" "$0 $*"
+. "$root/bench/header.sh"
+bench_header albedo_cost "$0 $*"
 
 "$after" gen --pattern knit --crossings "$crossings" --seed 1 -o "$scratch/knit.bcc" > /dev/null
 # A colour cross-section for the --albedo run: the fibre plies' density, tinted.

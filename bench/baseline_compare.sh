@@ -15,10 +15,8 @@ scratch=${YV_SCRATCH:-$(mktemp -d)}
 mkdir -p "$scratch"
 trap 'rm -rf "$scratch"/yv-* "$scratch"/base-*' EXIT
 
-gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 || true)
-printf '{ "bench": "baseline_compare", "date": "%s", "host_cores": %s, "gpu": "%s", "commit": "%s", "command": "%s" }\n' \
-    "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$(nproc)" "${gpu:-none}" \
-    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" "$0 $*"
+. "$root/bench/header.sh"
+bench_header baseline_compare "$0 $*"
 
 input=$garment
 if [[ $garment == gen:* ]]; then

@@ -17,10 +17,8 @@ after="$build/yarnvox"
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 
-gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 || true)
-printf '{ "bench": "fidelity_cost", "date": "%s", "host_cores": %s, "gpu": "%s", "commit": "%s", "command": "%s" }\n' \
-    "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$(nproc)" "${gpu:-none}" \
-    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" "$0 $*"
+. "$root/bench/header.sh"
+bench_header fidelity_cost "$0 $*"
 
 for res in $resolutions; do
     for which in before after; do

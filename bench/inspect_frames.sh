@@ -26,13 +26,9 @@ modes=${YV_MODES:-raycast mip orientation}
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 
-gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 || true)
-# The load average says how much else the machine was doing (timings on a
-# shared machine are only comparable at a similar load).
-printf '{ "bench": "inspect_frames", "date": "%s", "host_cores": %s, "load_average": "%s", "gpu": "%s", "commit": "%s", "command": "%s", "env": "YV_GPU_BUDGET=%s YV_REPEAT=%s YV_VIEW=%s YV_MODES=%s" }\n' \
-    "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$(nproc)" "$(cut -d' ' -f1-3 /proc/loadavg)" "${gpu:-none}" \
-    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" "$0 $input '$resolutions' $size $*" \
-    "$budget" "$repeat" "$view" "'$modes'"
+. "$root/bench/header.sh"
+bench_header inspect_frames "$0 $input '$resolutions' $size $*" \
+    "$(printf ', "env": "YV_GPU_BUDGET=%s YV_REPEAT=%s YV_VIEW=%s YV_MODES=%s"' "$budget" "$repeat" "$view" "'$modes'")"
 
 case "$input" in
 *.bcc) ;;

@@ -32,11 +32,9 @@ mpirun_flags=(--bind-to "${YV_BIND:-none}" --allow-run-as-root --oversubscribe -
 scratch=$(mktemp -d "${YV_SCRATCH:-${TMPDIR:-/tmp}}/yv-mpi-bench.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
 
-gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 || true)
-printf '{ "bench": "mpi_ranks", "date": "%s", "host_cores": %s, "load_average": "%s", "gpu": "%s", "commit": "%s", "mpirun": "%s", "command": "%s", "env": "YV_RANKS=%s YV_REPEAT=%s" }\n' \
-    "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$(nproc)" "$(cut -d' ' -f1-3 /proc/loadavg)" "${gpu:-none}" \
-    "${YV_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}" \
-    "$("$mpirun" --version 2>/dev/null | head -1)" "$0 $input '$resolutions' $*" "'$ranks_list'" "$repeat"
+. "$root/bench/header.sh"
+bench_header mpi_ranks "$0 $input '$resolutions' $*" \
+    "$(printf ', "mpirun": "%s", "env": "YV_RANKS=%s YV_REPEAT=%s"' "$("$mpirun" --version 2>/dev/null | head -1)" "'$ranks_list'" "$repeat")"
 
 # One run: wall seconds (best of YV_REPEAT) and the run's --stats, as one JSON line.
 measure() { # label resolution output stats command...
