@@ -86,22 +86,9 @@ glm::dvec3 massWeightedAlbedo(const BrickVolume& v) {
 
 constexpr std::array<std::uint8_t, 3> kRust{200, 90, 40}, kRed{230, 20, 10}, kBlue{15, 40, 220};
 
-} // namespace
-
-TEST_CASE("Albedo: sRGB to linear follows the sRGB transfer function", "[albedo]") {
-    CHECK(srgbToLinear(0) == 0.0);
-    CHECK(srgbToLinear(255) == Approx(1.0));
-    CHECK(srgbToLinear(10) == Approx(10 / 255.0 / 12.92));           // the linear toe
-    CHECK(srgbToLinear(128) == Approx(0.2158605).epsilon(1e-5));     // mid grey is about 21.6 % linear
-}
-
-TEST_CASE("Albedo: a uniformly coloured cross-section gives that colour in every voxel with fibre and none elsewhere", "[albedo]") {
-    const fs::path png = writeRgbaPng("uniform.png", 32, [](int, int) { return kRust; });
-    const CrossSection xs = loadCrossSectionPng(png.string(), true);
-    REQUIRE(xs.hasAlbedo());
-    const StraightRun run = straightRun();
-    const BrickVolume volume = voxelizeCpu(run.plan, xs, run.grid, VoxelizeSettings{});
-    const glm::vec3 expected = linearColour(kRust);
+/// Checks that every active voxel of `volume` has the colour `expected` and
+/// every other voxel none; returns the active voxels.
+std::uint64_t checkUniformAlbedo(const BrickVolume& volume, glm::vec3 expected) {
     std::uint64_t active = 0;
     for (const VoxelBrick& b : volume.bricks) {
         REQUIRE(b.albedo.size() == std::size_t(kBrickVoxels));
@@ -117,7 +104,25 @@ TEST_CASE("Albedo: a uniformly coloured cross-section gives that colour in every
             for (int c = 0; c < 3; ++c) REQUIRE(b.albedo[i][c] == Approx(expected[c]).margin(4e-3));
         }
     }
-    CHECK(active > 1000);
+    return active;
+}
+
+} // namespace
+
+TEST_CASE("Albedo: sRGB to linear follows the sRGB transfer function", "[albedo]") {
+    CHECK(srgbToLinear(0) == 0.0);
+    CHECK(srgbToLinear(255) == Approx(1.0));
+    CHECK(srgbToLinear(10) == Approx(10 / 255.0 / 12.92));           // the linear toe
+    CHECK(srgbToLinear(128) == Approx(0.2158605).epsilon(1e-5));     // mid grey is about 21.6 % linear
+}
+
+TEST_CASE("Albedo: a uniformly coloured cross-section gives that colour in every voxel with fibre and none elsewhere", "[albedo]") {
+    const fs::path png = writeRgbaPng("uniform.png", 32, [](int, int) { return kRust; });
+    const CrossSection xs = loadCrossSectionPng(png.string(), true);
+    REQUIRE(xs.hasAlbedo());
+    const StraightRun run = straightRun();
+    const BrickVolume volume = voxelizeCpu(run.plan, xs, run.grid, VoxelizeSettings{});
+    CHECK(checkUniformAlbedo(volume, linearColour(kRust)) > 1000);
 
     // The same run without --albedo carries no colour at all.
     const BrickVolume plain = voxelizeCpu(run.plan, loadCrossSectionPng(png.string()), run.grid, VoxelizeSettings{});
@@ -494,19 +499,14 @@ TEST_CASE("Albedo (GL): bricks drawn in several passes add their colour on the h
     YV_REQUIRE_GL();
     // With the smallest list, the bricks at the crossing are drawn with their
     // segments split, and their accumulators, colour words too, add up on the host.
-    const Garment garment = test::yarnsThroughOnePoint();
-    SliceOptions opt;
-    opt.radius = 0.6;
-    opt.slicesPerSegment = 8;
-    const SlicePlan plan = planSlices(garment, opt);
-    const VoxelGrid grid = makeGrid(plan, 0, 0.125);
+    const test::CrossingRun run = test::crossingRun();
+    const SlicePlan& plan = run.plan;
+    const VoxelGrid& grid = run.grid;
     const fs::path png = writeRgbaPng("gl-split.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
     const CrossSection xs = loadCrossSectionPng(png.string(), true);
-    std::uint32_t maxSlices = 0;
-    for (const SegmentRecord& seg : plan.segments) maxSlices = std::max(maxSlices, seg.sliceCount);
     GlVoxelizeCounters ample, tiny;
     const BrickVolume whole = voxelizeGl(plan, xs, grid, glAlbedoSettings(), &ample);
-    const BrickVolume split = voxelizeGl(plan, xs, grid, glAlbedoSettings(std::uint64_t(maxSlices) * 64 * 8), &tiny);
+    const BrickVolume split = voxelizeGl(plan, xs, grid, glAlbedoSettings(test::smallestFragmentBudget(plan)), &tiny);
     INFO(tiny.hostSummedBricks << " bricks summed on the host, " << tiny.overflows << " overflows");
     CHECK(ample.hostSummedBricks == 0);
     CHECK(tiny.hostSummedBricks > 0);
@@ -531,20 +531,7 @@ TEST_CASE("Albedo (GL): a uniformly coloured straight yarn gives that colour in 
     const CrossSection xs = loadCrossSectionPng(png.string(), true);
     const StraightRun run = straightRun();
     const BrickVolume volume = voxelizeGl(run.plan, xs, run.grid, glAlbedoSettings());
-    const glm::vec3 expected = linearColour(kRust);
-    std::uint64_t active = 0;
-    for (const VoxelBrick& b : volume.bricks) {
-        REQUIRE(b.albedo.size() == std::size_t(kBrickVoxels));
-        for (int i = 0; i < kBrickVoxels; ++i) {
-            if (!b.isActive(i)) {
-                REQUIRE(b.albedo[i] == glm::vec3(0.0f));
-                continue;
-            }
-            ++active;
-            for (int c = 0; c < 3; ++c) REQUIRE(b.albedo[i][c] == Approx(expected[c]).margin(4e-3));
-        }
-    }
-    CHECK(active > 1000);
+    CHECK(checkUniformAlbedo(volume, linearColour(kRust)) > 1000);
 }
 
 TEST_CASE("Albedo (GL): without it the run is what the default program makes, bit for bit", "[albedo][gl]") {

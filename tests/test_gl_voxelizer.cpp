@@ -192,20 +192,12 @@ TEST_CASE("GL: a brick too full for one pass is drawn in halves, summed on the h
     YV_REQUIRE_GL();
     // The bricks at the crossing take more fragments than the smallest list
     // holds, from many segments, so they are drawn with their segments split.
-    const Garment garment = test::yarnsThroughOnePoint();
-    SliceOptions opt;
-    opt.radius = 0.6;
-    opt.slicesPerSegment = 8;
-    const SlicePlan plan = planSlices(garment, opt);
-    const VoxelGrid grid = makeGrid(plan, 0, 0.125);
+    const test::CrossingRun run = test::crossingRun();
     const CrossSection xs = makeDiskCrossSection();
-    std::uint32_t maxSlices = 0;
-    for (const SegmentRecord& seg : plan.segments) maxSlices = std::max(maxSlices, seg.sliceCount);
     for (Reduce r : {Reduce::Mean, Reduce::Max}) {
         GlVoxelizeCounters ample, tiny;
-        const BrickVolume a = voxelizeGl(plan, xs, grid, glSettings(r), &ample);
-        // Accepted for any slab depth: 64 pixels of a brick face, 8 voxels deep.
-        const BrickVolume b = voxelizeGl(plan, xs, grid, glSettings(r, std::uint64_t(maxSlices) * 64 * 8), &tiny);
+        const BrickVolume a = voxelizeGl(run.plan, xs, run.grid, glSettings(r), &ample);
+        const BrickVolume b = voxelizeGl(run.plan, xs, run.grid, glSettings(r, test::smallestFragmentBudget(run.plan)), &tiny);
         INFO(toString(r) << ": " << tiny.hostSummedBricks << " bricks summed on the host, " << tiny.overflows
                          << " overflows");
         CHECK(ample.hostSummedBricks == 0);
@@ -219,33 +211,13 @@ TEST_CASE("GL: a brick too full for one pass is drawn in halves, summed on the h
 
 TEST_CASE("GL: bricks resolved on the host are the GPU resolve's, bit for bit, tally included", "[gl][agreement]") {
     YV_REQUIRE_GL();
-    // With the smallest budget: a woven cylinder in many regions, and yarns
-    // through one point, whose bricks there are drawn in halves.
-    GenerateOptions g;
-    g.pattern = WeavePattern::Twill;
-    g.shape = GarmentShape::Cylinder;
-    g.crossings = 64;
-    const Garment crossing = test::yarnsThroughOnePoint();
-    struct Case {
-        Garment garment;
-        double radius, voxelSize;
-        CrossSection xs;
-    };
-    const Garment woven = generateGarment(g);
-    for (const Case& c : {Case{woven, woven.yarnRadius, 0.0, makeFiberCrossSection()}, Case{crossing, 0.6, 0.125, makeDiskCrossSection()}}) {
-        SliceOptions opt;
-        opt.radius = c.radius;
-        opt.twist = 1.0;
-        opt.slicesPerSegment = 8;
-        const SlicePlan plan = planSlices(c.garment, opt);
-        const VoxelGrid grid = makeGrid(plan, c.voxelSize > 0.0 ? 0 : 96, c.voxelSize);
-        std::uint32_t maxSlices = 0;
-        for (const SegmentRecord& seg : plan.segments) maxSlices = std::max(maxSlices, seg.sliceCount);
+    // With the smallest budget, both reductions.
+    const auto check = [](const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs) {
         for (Reduce r : {Reduce::Mean, Reduce::Max}) {
-            GlVoxelizeSettings gpu = glSettings(r, std::uint64_t(maxSlices) * 64 * 8), host = gpu;
+            GlVoxelizeSettings gpu = glSettings(r, test::smallestFragmentBudget(plan)), host = gpu;
             host.brickResolve = BrickResolve::Host;
             GlVoxelizeCounters onGpu, onHost;
-            const BrickVolume a = voxelizeGl(plan, c.xs, grid, gpu, &onGpu), b = voxelizeGl(plan, c.xs, grid, host, &onHost);
+            const BrickVolume a = voxelizeGl(plan, xs, grid, gpu, &onGpu), b = voxelizeGl(plan, xs, grid, host, &onHost);
             INFO(toString(r) << ": " << onGpu.regions << " regions, " << onGpu.hostSummedBricks << " bricks summed");
             REQUIRE(a.activeVoxelCount() > 1000);
             CHECK((onGpu.regions > 4 || onGpu.hostSummedBricks > 0));
@@ -257,7 +229,13 @@ TEST_CASE("GL: bricks resolved on the host are the GPU resolve's, bit for bit, t
             CHECK(b.tally.densitySum == a.tally.densitySum);
             CHECK(b.tally.rawDensitySum == a.tally.rawDensitySum);
         }
-    }
+    };
+    // A woven cylinder in many regions.
+    const test::GeneratedRun woven = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 64, 1.0, 96);
+    check(woven.plan, woven.grid, makeFiberCrossSection());
+    // Yarns through one point, whose bricks there are drawn in halves.
+    const test::CrossingRun crossing = test::crossingRun(1.0);
+    check(crossing.plan, crossing.grid, makeDiskCrossSection());
 }
 
 TEST_CASE("GL: a capacity below one segment's worth is refused with a clear error", "[gl][overflow]") {

@@ -123,6 +123,32 @@ inline Garment yarnsThroughOnePoint() {
     return garment;
 }
 
+/// yarnsThroughOnePoint sliced (radius 0.6, 8 slices a segment, `twist`) on
+/// voxels of 0.125.
+struct CrossingRun {
+    SlicePlan plan;
+    VoxelGrid grid;
+};
+inline CrossingRun crossingRun(double twist = 0.0) {
+    SliceOptions opt;
+    opt.radius = 0.6;
+    opt.slicesPerSegment = 8;
+    opt.twist = twist;
+    CrossingRun run;
+    run.plan = planSlices(yarnsThroughOnePoint(), opt);
+    run.grid = makeGrid(run.plan, 0, 0.125);
+    return run;
+}
+
+/// The smallest fragment budget the GL backend accepts for `plan` whatever
+/// the slab depth: one segment's slices over 64 pixels of a brick face, 8
+/// voxels deep.
+inline std::uint64_t smallestFragmentBudget(const SlicePlan& plan) {
+    std::uint32_t maxSlices = 0;
+    for (const SegmentRecord& seg : plan.segments) maxSlices = std::max(maxSlices, seg.sliceCount);
+    return std::uint64_t(maxSlices) * 64 * 8;
+}
+
 /// Voxel lookup over a BrickVolume by global voxel coordinate.
 class VolumeIndex {
   public:
