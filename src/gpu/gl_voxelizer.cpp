@@ -159,7 +159,8 @@ class GlBackend::Impl {
     void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) {
         sink_ = &sink;
         forEachRegionToDo(regions, sink, settings_.base.quiet, counters_.resumedRegions, [&](const ZoomRegion& region) {
-            current_ = std::make_unique<RegionInFlight>(RegionInFlight{region, sink.emptyPackedBricks()});
+            // With the host resolve the region's bricks stay raw (partials_).
+            if (!hostResolve_) current_ = std::make_unique<RegionInFlight>(RegionInFlight{region, sink.emptyPackedBricks()});
             // Pieces of one region are finished before the next region starts,
             // so the sink gets each region whole, once.
             std::vector<WorkItem> stack{WorkItem{region.min, region.max, region.segments}};
@@ -171,16 +172,14 @@ class GlBackend::Impl {
                     split(item, stack);
                 }
             }
+            ++counters_.regions;
             if (hostResolve_) {
                 // The raw accumulators go to the sink, which resolves them on its threads.
-                finishReadbacks();
-                ++counters_.regions;
                 std::sort(partials_.begin(), partials_.end(),
                           [](const BrickAccumulator& a, const BrickAccumulator& b) { return a.key < b.key; });
                 sink.consumeAccumulators(region, std::move(partials_));
                 partials_.clear();
                 slotOfKey_.clear();
-                current_.reset();
                 return;
             }
             if (!partials_.empty()) {
@@ -190,7 +189,6 @@ class GlBackend::Impl {
                 partials_.clear();
                 slotOfKey_.clear();
             }
-            ++counters_.regions;
             // The region's last packed bricks may still be on their way: it
             // goes to the sink once they are in, while the next region's
             // raster runs (process), or at the end.
