@@ -582,6 +582,38 @@ TEST_CASE("bad input: checkCurves reports by file index, after drops", "[bad-inp
     CHECK_THROWS_WITH(yv::checkCurves(g, "idx.bcc"), Contains("idx.bcc: curve 0 point 4"));
 }
 
+TEST_CASE("bad input: curves checked side by side report as in file order", "[bad-input][curves]") {
+    // Many curves, so that they are checked on several threads: the long-span
+    // warnings come in file order (five lines, then a count), and of two
+    // curves that cannot be used, the first in the file is named.
+    const auto zigzag = [](double x0, bool longSpan) {
+        yv::Yarn y;
+        for (int j = 0; j < 12; ++j) y.points.push_back({x0 + j, 0.3 * (j % 2), 0});
+        if (longSpan) y.points.back().x += 100; // its last span is over 20 times the median
+        return y;
+    };
+    yv::Garment g;
+    for (int i = 0; i < 600; ++i) g.yarns.push_back(zigzag(0, i % 50 == 7));
+    const yv::CurveCheckReport report = yv::checkCurves(g, "many.bcc");
+    REQUIRE(report.warnings.size() == 6);
+    for (int n = 0; n < 5; ++n)
+        CHECK_THAT(report.warnings[n], Catch::StartsWith("many.bcc: curve " + std::to_string(50 * n + 7) + ": the span"));
+    CHECK(report.warnings[5] == "many.bcc: 7 more curves have a span over 20 times their median span");
+
+    yv::Garment bad = g;
+    bad.yarns[431].points = {{0, 0, 0}, {0, 0, 0}};
+    bad.yarns[123].points = {{5, 5, 5}};
+    CHECK_THROWS_WITH(yv::checkCurves(bad, "many.bcc"), Contains("many.bcc: curve 123:"));
+    // Repeats dropped on every thread add up.
+    yv::Garment repeats;
+    for (int i = 0; i < 500; ++i) {
+        yv::Yarn y = zigzag(0, false);
+        y.points.insert(y.points.begin() + 3, y.points[2]);
+        repeats.yarns.push_back(y);
+    }
+    CHECK(yv::checkCurves(repeats, "r.bcc").droppedSpans == 500);
+}
+
 TEST_CASE("bad input: a run that needs more disk than the machine has is refused at the start, with the numbers", "[bad-input][cli]") {
     // The bound: a quarter of the yarn's disk along its length, over the voxel volume.
     yv::Garment g;

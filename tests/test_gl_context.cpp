@@ -1,24 +1,21 @@
 #include "core/error.h"
 #include "gpu/egl_context.h"
+#include "gpu/gl_buffer.h"
 #include "gpu/gl_program.h"
+#include "test_helpers.h"
 
 #include <catch2/catch.hpp>
 
+#include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
+#include <cstdint>
+#include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
-
-// Catch 2.13 has no SKIP: machines without a GL 4.5 driver warn and pass.
-#define YV_REQUIRE_GL_OR_RETURN()                                                   \
-    do {                                                                            \
-        if (!yv::GlContext::available()) {                                          \
-            WARN("no OpenGL 4.5 context on this machine: GL test skipped");        \
-            return;                                                                 \
-        }                                                                           \
-    } while (0)
 
 /// Compiles and links an inline compute source (the real shaders belong to the
 /// voxelizer and are tested there).
@@ -60,7 +57,7 @@ void main() {
 } // namespace
 
 TEST_CASE("GlContext gives an OpenGL 4.5 core context with sane limits", "[gl]") {
-    YV_REQUIRE_GL_OR_RETURN();
+    YV_REQUIRE_GL();
     yv::GlContext ctx;
     const yv::GlInfo& info = ctx.info();
     INFO("renderer: " << info.renderer << ", version: " << info.version << ", platform: " << info.platform);
@@ -88,7 +85,7 @@ TEST_CASE("GlContext gives an OpenGL 4.5 core context with sane limits", "[gl]")
 }
 
 TEST_CASE("a compute shader writes an SSBO and counts atomically", "[gl]") {
-    YV_REQUIRE_GL_OR_RETURN();
+    YV_REQUIRE_GL();
     yv::GlContext ctx;
     GLuint prog = inlineComputeProgram(kCountingShader);
 
@@ -127,7 +124,7 @@ TEST_CASE("a compute shader writes an SSBO and counts atomically", "[gl]") {
 }
 
 TEST_CASE("a shader name that is not embedded is an Error naming it", "[gl]") {
-    YV_REQUIRE_GL_OR_RETURN();
+    YV_REQUIRE_GL();
     yv::GlContext ctx;
     const std::string name = "no_such_shader_for_test.comp";
     REQUIRE_THROWS_AS(yv::compileShaderStage(GL_COMPUTE_SHADER, name, {}), yv::Error);
@@ -136,7 +133,7 @@ TEST_CASE("a shader name that is not embedded is an Error naming it", "[gl]") {
 }
 
 TEST_CASE("checkGlError reports and clears a GL error", "[gl]") {
-    YV_REQUIRE_GL_OR_RETURN();
+    YV_REQUIRE_GL();
     yv::GlContext ctx;
     glGetError(); // start clean
     glBindBuffer(GL_ARRAY_BUFFER, 0xdead); // not a buffer name: GL_INVALID_OPERATION in core
@@ -145,7 +142,7 @@ TEST_CASE("checkGlError reports and clears a GL error", "[gl]") {
 }
 
 TEST_CASE("contexts can be created and destroyed one after another", "[gl]") {
-    YV_REQUIRE_GL_OR_RETURN();
+    YV_REQUIRE_GL();
     for (int round = 0; round < 3; ++round) {
         INFO("round " << round);
         yv::GlContext ctx;
@@ -166,7 +163,7 @@ TEST_CASE("contexts can be created and destroyed one after another", "[gl]") {
 }
 
 TEST_CASE("destroying a nested context makes the outer one current again", "[gl]") {
-    YV_REQUIRE_GL_OR_RETURN();
+    YV_REQUIRE_GL();
     yv::GlContext outer;
     { yv::GlContext inner; }
     GLuint buf = 0;
@@ -174,4 +171,63 @@ TEST_CASE("destroying a nested context makes the outer one current again", "[gl]
     CHECK(buf != 0);
     glDeleteBuffers(1, &buf);
     REQUIRE_NOTHROW(yv::checkGlError("outer after inner"));
+}
+
+TEST_CASE("a context started on a thread of its own is made current on the thread that takes it", "[gl]") {
+    YV_REQUIRE_GL();
+    auto pending = yv::startGlContext({});
+    std::unique_ptr<yv::GlContext> ctx = pending.get();
+    REQUIRE(ctx);
+    CHECK_FALSE(ctx->info().renderer.empty());
+    // Nothing is current here until it is taken; after that GL calls work here.
+    CHECK(eglGetCurrentContext() == EGL_NO_CONTEXT);
+    ctx->makeCurrent();
+    CHECK(eglGetCurrentContext() != EGL_NO_CONTEXT);
+    GLuint buf = 0;
+    glCreateBuffers(1, &buf);
+    const GLuint value = 1234u;
+    glNamedBufferStorage(buf, sizeof value, &value, 0);
+    GLuint back = 0;
+    glGetNamedBufferSubData(buf, 0, sizeof back, &back);
+    CHECK(back == value);
+    glDeleteBuffers(1, &buf);
+    REQUIRE_NOTHROW(yv::checkGlError("taken context"));
+    // Released, another thread can make it current and use it.
+    ctx->releaseCurrent();
+    CHECK(eglGetCurrentContext() == EGL_NO_CONTEXT);
+    GLuint onOther = 0;
+    std::thread([&] {
+        ctx->makeCurrent();
+        glCreateBuffers(1, &onOther);
+        glDeleteBuffers(1, &onOther);
+        ctx->releaseCurrent();
+    }).join();
+    CHECK(onOther != 0);
+    ctx->makeCurrent();
+}
+
+TEST_CASE("a context that cannot be made is an Error from the future, not a crash on its thread", "[gl]") {
+    auto pending = yv::startGlContext({1000}); // no machine has a thousand GL devices
+    CHECK_THROWS_AS(pending.get(), yv::Error);
+}
+
+TEST_CASE("GlBuffer::fill makes the buffer what the writer wrote through the mapping", "[gl]") {
+    YV_REQUIRE_GL();
+    yv::GlContext ctx;
+    std::uint64_t gpuBytes = 0;
+    yv::GlBuffer buffer;
+    const std::size_t words = 300001; // not a multiple of any page or block size
+    buffer.fill(words * 4, &gpuBytes, [&](void* mapped) {
+        auto* w = static_cast<std::uint32_t*>(mapped);
+        for (std::size_t i = 0; i < words; ++i) w[i] = static_cast<std::uint32_t>(i * 2654435761u);
+    });
+    CHECK(gpuBytes == buffer.size());
+    std::vector<std::uint32_t> back(words);
+    glGetNamedBufferSubData(buffer.id(), 0, static_cast<GLsizeiptr>(words * 4), back.data());
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < words; ++i) wrong += back[i] != static_cast<std::uint32_t>(i * 2654435761u);
+    CHECK(wrong == 0);
+    // A writer that throws leaves no mapping behind and the error goes on.
+    CHECK_THROWS_WITH(buffer.fill(64, &gpuBytes, [](void*) { throw yv::Error("writer failed"); }), "writer failed");
+    REQUIRE_NOTHROW(yv::checkGlError("after a failed fill"));
 }

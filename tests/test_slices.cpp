@@ -4,6 +4,9 @@
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 
+#include <cmath>
+#include <cstring>
+
 using namespace yv;
 
 namespace {
@@ -100,4 +103,52 @@ TEST_CASE("Bad yarns give clear errors", "[slices]") {
     Garment same;
     same.yarns.push_back(Yarn{{{1, 1, 1}, {1, 1, 1}}, false});
     CHECK_THROWS_WITH(planSlices(same, opt), Catch::Contains("yarn 0") && Catch::Contains("tangent"));
+}
+
+TEST_CASE("Slices of many yarns planned side by side keep file order, per-yarn frames and global offsets", "[slices]") {
+    // Enough yarns to be planned on several threads.
+    Garment g;
+    for (int i = 0; i < 400; ++i) {
+        Yarn y;
+        for (int j = 0; j < 9; ++j) y.points.push_back({0.5 * j, std::sin(0.7 * j + i), 0.2 * i});
+        y.closed = i % 3 == 0;
+        g.yarns.push_back(y);
+    }
+    SliceOptions opt;
+    opt.spacing = 0.13;
+    opt.radius = 0.05;
+    opt.twist = 1.5;
+    const SlicePlan plan = planSlices(g, opt);
+    std::uint64_t nextSlice = 0;
+    for (std::size_t i = 0; i < plan.segments.size(); ++i) {
+        const SegmentRecord& s = plan.segments[i];
+        const bool first = i == 0 || plan.segments[i - 1].yarn != s.yarn;
+        INFO("segment " << i << " of yarn " << s.yarn);
+        REQUIRE(s.firstSlice == nextSlice);
+        nextSlice += s.sliceCount;
+        if (first) {
+            CHECK(s.arcStart == 0.0);
+            CHECK((i == 0 ? 0u : plan.segments[i - 1].yarn + 1) == s.yarn);
+        } else {
+            const SegmentRecord& prev = plan.segments[i - 1];
+            CHECK(s.arcStart == prev.arcStart + prev.length);
+            CHECK(s.twistRate == prev.twistRate);
+        }
+        CHECK(std::abs(glm::dot(s.knotUp, s.knotTangent)) < 1e-9);
+        CHECK(s.phaseStart >= 0.0);
+        CHECK(s.phaseStart < 2.0 * M_PI);
+    }
+    CHECK(nextSlice == plan.sliceCount);
+    CHECK(plan.segments.back().yarn == 399u);
+    // The same garment planned once more gives the same bits.
+    const SlicePlan again = planSlices(g, opt);
+    REQUIRE(again.segments.size() == plan.segments.size());
+    CHECK(std::memcmp(again.segments.data(), plan.segments.data(), plan.segments.size() * sizeof(SegmentRecord)) == 0);
+    CHECK(again.maxReach == plan.maxReach);
+    CHECK(again.centerMin == plan.centerMin);
+
+    // Of two yarns without a tangent, the first in the file is named.
+    Garment bad = g;
+    for (std::size_t y : {std::size_t(321), std::size_t(77)}) bad.yarns[y].points[3] = bad.yarns[y].points[1];
+    CHECK_THROWS_WITH(planSlices(bad, opt), Catch::StartsWith("yarn 77: "));
 }

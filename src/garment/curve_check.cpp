@@ -5,6 +5,7 @@
 #include "garment/catmull_rom.h"
 
 #include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <string>
@@ -93,25 +94,31 @@ void checkTangents(const Yarn& yarn, CurveType type, const std::vector<std::size
     }
 }
 
-/// Warns about a span far longer than the curve's median span.
-void checkLongSpans(const Yarn& yarn, CurveType type, const std::vector<std::size_t>& original, const std::string& where,
-                    std::size_t& curvesWithLongSpans, CurveCheckReport& report) {
+/// The warning for a span far longer than the curve's median span, or "".
+std::string longSpanWarning(const Yarn& yarn, CurveType type, const std::vector<std::size_t>& original,
+                            const std::string& where) {
     const std::size_t n = yarn.points.size();
     const std::size_t spans = yarn.closed ? n : n - 1;
-    if (spans < 4 || type == CurveType::Bezier) return; // Bezier handles are not spans of the curve
+    if (spans < 4 || type == CurveType::Bezier) return {}; // Bezier handles are not spans of the curve
     std::vector<double> length(spans);
     for (std::size_t j = 0; j < spans; ++j) length[j] = glm::length(yarn.points[(j + 1) % n] - yarn.points[j]);
     const double typical = median(length);
     const std::size_t worst = std::max_element(length.begin(), length.end()) - length.begin();
-    if (!(length[worst] > kLongSpanFactor * typical)) return;
-    if (++curvesWithLongSpans > kMaxLongSpanLines) return;
+    if (!(length[worst] > kLongSpanFactor * typical)) return {};
     const bool closing = yarn.closed && worst == n - 1;
-    report.warnings.push_back(where + ": the span from point " + std::to_string(original[worst]) + " to point " +
-                              std::to_string(original[(worst + 1) % n]) + " is " + numberText(length[worst]) +
-                              " long, " + numberText(length[worst] / typical) + " times the curve's median span " +
-                              numberText(typical) +
-                              (closing ? " (the closing span of a closed curve: is the closed flag right?)" : ""));
+    return where + ": the span from point " + std::to_string(original[worst]) + " to point " +
+           std::to_string(original[(worst + 1) % n]) + " is " + numberText(length[worst]) + " long, " +
+           numberText(length[worst] / typical) + " times the curve's median span " + numberText(typical) +
+           (closing ? " (the closing span of a closed curve: is the closed flag right?)" : "");
 }
+
+/// What checking one curve found; curves are checked side by side and their
+/// findings taken in file order, so the report is the same on any core count.
+struct CurveFinding {
+    CurveCheckReport dropped; ///< its dropped spans (no warnings)
+    std::string error;        ///< why the curve cannot be used, or ""
+    std::string longSpan;     ///< longSpanWarning's text, or ""
+};
 
 } // namespace
 
@@ -125,26 +132,40 @@ std::string CurveCheckReport::droppedText(const std::string& name) const {
 }
 
 CurveCheckReport checkCurves(Garment& garment, const std::string& name) {
-    CurveCheckReport report;
     // Interior repeats are zero-length spans only where spans join consecutive
     // points; a B-spline's double point is a legitimate, still moving, curve.
     const bool interior = garment.curveType == CurveType::CatmullRom || garment.curveType == CurveType::Polyline;
     const bool closing = interior || garment.curveType == CurveType::Bezier;
-    std::size_t curvesWithLongSpans = 0;
-    std::vector<std::size_t> original;
-    for (std::size_t i = 0; i < garment.yarns.size(); ++i) {
+    std::vector<CurveFinding> findings(garment.yarns.size());
+    tbb::parallel_for(std::size_t(0), garment.yarns.size(), [&](std::size_t i) {
         Yarn& yarn = garment.yarns[i];
+        CurveFinding& found = findings[i];
         const std::string where = curveText(name, i);
         const std::size_t filePoints = yarn.points.size();
+        std::vector<std::size_t> original;
         if (closing) {
-            dropRepeats(yarn, interior, original, report);
+            dropRepeats(yarn, interior, original, found.dropped);
         } else {
             original.resize(filePoints);
             for (std::size_t j = 0; j < filePoints; ++j) original[j] = j;
         }
-        checkCount(yarn, garment.curveType, filePoints, where);
-        checkTangents(yarn, garment.curveType, original, where);
-        checkLongSpans(yarn, garment.curveType, original, where, curvesWithLongSpans, report);
+        try {
+            checkCount(yarn, garment.curveType, filePoints, where);
+            checkTangents(yarn, garment.curveType, original, where);
+        } catch (const Error& e) {
+            found.error = e.what();
+            return;
+        }
+        found.longSpan = longSpanWarning(yarn, garment.curveType, original, where);
+    });
+
+    CurveCheckReport report;
+    std::size_t curvesWithLongSpans = 0;
+    for (const CurveFinding& found : findings) {
+        if (!found.error.empty()) throw Error(found.error); // the first curve that cannot be used
+        report.droppedSpans += found.dropped.droppedSpans;
+        report.droppedClosingSpans += found.dropped.droppedClosingSpans;
+        if (!found.longSpan.empty() && ++curvesWithLongSpans <= kMaxLongSpanLines) report.warnings.push_back(found.longSpan);
     }
     if (curvesWithLongSpans > kMaxLongSpanLines)
         report.warnings.push_back(name + ": " + std::to_string(curvesWithLongSpans - kMaxLongSpanLines) +

@@ -8,7 +8,9 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -29,6 +31,48 @@ glm::dvec3 unitTangent(const glm::dvec3& d, std::uint32_t yarn) {
     if (!(len > 1e-12))
         throw Error("yarn " + std::to_string(yarn) + ": repeated control points leave the curve without a tangent");
     return d / len;
+}
+
+/// Arc lengths, parallel-transported knot frames and twist phases of one
+/// yarn's segments (slice counts and lengths already set). An open yarn turns
+/// at the requested rate. A closed yarn must come back to its first frame:
+/// transport brings the frame back turned by the holonomy angle, so the rate
+/// becomes the one nearest the requested rate whose turn over the loop
+/// cancels it, in whole turns.
+void frameAndTwistYarn(const Yarn& yarn, double twist, std::span<SegmentRecord> segments) {
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+        SegmentRecord& rec = segments[i];
+        const glm::dvec3 t0 = unitTangent(evalCatmullRomDerivative(rec.points, 0.0), rec.yarn);
+        rec.knotTangent = t0;
+        if (i == 0) {
+            rec.arcStart = 0.0;
+            rec.knotUp = anyPerpendicular(t0);
+        } else {
+            const SegmentRecord& prevRec = segments[i - 1];
+            rec.arcStart = prevRec.arcStart + prevRec.length;
+            // Parallel transport: the frame turns only as much as the tangent does.
+            const glm::dvec3 up = rotateMinimal(prevRec.knotUp, prevRec.knotTangent, t0);
+            rec.knotUp = glm::normalize(up - glm::dot(up, t0) * t0);
+        }
+    }
+    const SegmentRecord& head = segments.front();
+    const SegmentRecord& tail = segments.back();
+    const double loopLength = tail.arcStart + tail.length;
+    double rate = twist;
+    if (yarn.closed && loopLength > 0.0) {
+        glm::dvec3 back = rotateMinimal(tail.knotUp, tail.knotTangent, head.knotTangent);
+        back = glm::normalize(back - glm::dot(back, head.knotTangent) * head.knotTangent);
+        const double holonomy =
+            std::atan2(glm::dot(head.knotTangent, glm::cross(head.knotUp, back)), glm::dot(head.knotUp, back));
+        const double turns = std::round((twist * loopLength + holonomy) / (2.0 * M_PI));
+        rate = (2.0 * M_PI * turns - holonomy) / loopLength;
+    }
+    for (SegmentRecord& rec : segments) {
+        rec.twistRate = rate;
+        // Kept in [0, 2 pi) so that float shaders lose no precision on long yarns.
+        const double phase = std::fmod(rate * rec.arcStart, 2.0 * M_PI);
+        rec.phaseStart = phase < 0.0 ? phase + 2.0 * M_PI : phase;
+    }
 }
 
 } // namespace
@@ -52,20 +96,30 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
 
     SlicePlan plan;
     plan.options = options;
-    plan.segments.reserve(garment.segmentCount());
+    // Segments are counted per yarn first, so that each yarn fills its own
+    // records on every core (the records of a large garment are hundreds of MB).
+    std::vector<std::size_t> yarnFirst(garment.yarns.size() + 1, 0);
     for (std::size_t y = 0; y < garment.yarns.size(); ++y) {
         const Yarn& yarn = garment.yarns[y];
         const std::size_t segCount = yarnSegmentCount(yarn, garment.curveType);
         if (segCount == 0)
             throw Error("yarn " + std::to_string(y) + ": " + std::to_string(yarn.points.size()) +
                         " control points make no curve segment (at least 2 are needed; 4 for an open B-spline or Bezier curve)");
-        for (std::size_t s = 0; s < segCount; ++s) {
-            SegmentRecord rec;
-            rec.points = segmentPoints(yarn, s, garment.curveType);
-            rec.yarn = static_cast<std::uint32_t>(y);
-            plan.segments.push_back(rec);
-        }
+        yarnFirst[y + 1] = yarnFirst[y] + segCount;
     }
+    plan.segments.resize(yarnFirst.back());
+    const auto eachYarn = [&](auto&& body) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, garment.yarns.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t y = r.begin(); y != r.end(); ++y) body(y, yarnFirst[y], yarnFirst[y + 1]);
+        });
+    };
+    eachYarn([&](std::size_t y, std::size_t first, std::size_t end) {
+        for (std::size_t i = first; i < end; ++i) {
+            plan.segments[i] = SegmentRecord{};
+            plan.segments[i].points = segmentPoints(garment.yarns[y], i - first, garment.curveType);
+            plan.segments[i].yarn = static_cast<std::uint32_t>(y);
+        }
+    });
 
     // Slice counts and lengths are independent per segment.
     tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t i) {
@@ -86,56 +140,28 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
         rec.length = len;
     });
 
-    // Arc lengths, slice offsets and knot frames run along each yarn in order.
+    // Slice offsets run over the whole garment.
     std::uint64_t firstSlice = 0;
-    for (std::size_t i = 0; i < plan.segments.size(); ++i) {
-        SegmentRecord& rec = plan.segments[i];
-        const bool yarnStart = i == 0 || plan.segments[i - 1].yarn != rec.yarn;
-        const glm::dvec3 t0 = unitTangent(evalCatmullRomDerivative(rec.points, 0.0), rec.yarn);
-        rec.knotTangent = t0;
-        if (yarnStart) {
-            rec.arcStart = 0.0;
-            rec.knotUp = anyPerpendicular(t0);
-        } else {
-            const SegmentRecord& prevRec = plan.segments[i - 1];
-            rec.arcStart = prevRec.arcStart + prevRec.length;
-            // Parallel transport: the frame turns only as much as the tangent does.
-            const glm::dvec3 up = rotateMinimal(prevRec.knotUp, prevRec.knotTangent, t0);
-            rec.knotUp = glm::normalize(up - glm::dot(up, t0) * t0);
-        }
+    for (SegmentRecord& rec : plan.segments) {
         rec.firstSlice = firstSlice;
         firstSlice += rec.sliceCount;
     }
     plan.sliceCount = firstSlice;
 
-    // Twist phase per yarn. An open yarn turns at the requested rate. A closed
-    // yarn must come back to its first frame: transport brings the frame back
-    // turned by the holonomy angle, so the rate becomes the one nearest the
-    // requested rate whose turn over the loop cancels it, in whole turns.
-    for (std::size_t first = 0; first < plan.segments.size();) {
-        std::size_t end = first;
-        while (end < plan.segments.size() && plan.segments[end].yarn == plan.segments[first].yarn) ++end;
-        const SegmentRecord& head = plan.segments[first];
-        const SegmentRecord& tail = plan.segments[end - 1];
-        const double loopLength = tail.arcStart + tail.length;
-        double rate = options.twist;
-        if (garment.yarns[head.yarn].closed && loopLength > 0.0) {
-            glm::dvec3 back = rotateMinimal(tail.knotUp, tail.knotTangent, head.knotTangent);
-            back = glm::normalize(back - glm::dot(back, head.knotTangent) * head.knotTangent);
-            const double holonomy = std::atan2(glm::dot(head.knotTangent, glm::cross(head.knotUp, back)),
-                                               glm::dot(head.knotUp, back));
-            const double turns = std::round((options.twist * loopLength + holonomy) / (2.0 * M_PI));
-            rate = (2.0 * M_PI * turns - holonomy) / loopLength;
+    // Arc lengths, knot frames and the twist run along each yarn in order,
+    // yarns side by side. A yarn without a tangent is reported as the serial
+    // loop would: the first such yarn, whichever core found it.
+    std::atomic<std::size_t> firstBadYarn{garment.yarns.size()};
+    eachYarn([&](std::size_t y, std::size_t first, std::size_t end) {
+        try {
+            frameAndTwistYarn(garment.yarns[y], options.twist, std::span(plan.segments).subspan(first, end - first));
+        } catch (const Error&) {
+            std::size_t seen = firstBadYarn.load();
+            while (y < seen && !firstBadYarn.compare_exchange_weak(seen, y)) {}
         }
-        for (std::size_t i = first; i < end; ++i) {
-            SegmentRecord& rec = plan.segments[i];
-            rec.twistRate = rate;
-            // Kept in [0, 2 pi) so that float shaders lose no precision on long yarns.
-            const double phase = std::fmod(rate * rec.arcStart, 2.0 * M_PI);
-            rec.phaseStart = phase < 0.0 ? phase + 2.0 * M_PI : phase;
-        }
-        first = end;
-    }
+    });
+    if (const std::size_t bad = firstBadYarn.load(); bad < garment.yarns.size())
+        frameAndTwistYarn(garment.yarns[bad], options.twist, std::span(plan.segments).subspan(yarnFirst[bad], yarnFirst[bad + 1] - yarnFirst[bad]));
 
     // Per segment: bounds of slice centres (for culling), and how far from its
     // centre a slice's samples reach: the square's half-diagonal in its plane,
@@ -162,15 +188,30 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
         rec.reach = reach;
         spacingOf[i] = spacing;
     });
-    glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
-    for (const SegmentRecord& rec : plan.segments) {
-        lo = glm::min(lo, rec.centerMin);
-        hi = glm::max(hi, rec.centerMax);
-        plan.maxReach = std::max(plan.maxReach, rec.reach);
-    }
-    for (double d : spacingOf) plan.maxSpacing = std::max(plan.maxSpacing, d);
-    plan.centerMin = lo;
-    plan.centerMax = hi;
+    // Min and max are exact, so any split gives the same answers.
+    struct Extremes {
+        glm::dvec3 lo{HUGE_VAL}, hi{-HUGE_VAL};
+        double reach = 0.0, spacing = 0.0;
+    };
+    const Extremes all = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, plan.segments.size()), Extremes{},
+        [&](const tbb::blocked_range<std::size_t>& range, Extremes acc) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const SegmentRecord& rec = plan.segments[i];
+                acc.lo = glm::min(acc.lo, rec.centerMin);
+                acc.hi = glm::max(acc.hi, rec.centerMax);
+                acc.reach = std::max(acc.reach, rec.reach);
+                acc.spacing = std::max(acc.spacing, spacingOf[i]);
+            }
+            return acc;
+        },
+        [](const Extremes& a, const Extremes& b) {
+            return Extremes{glm::min(a.lo, b.lo), glm::max(a.hi, b.hi), std::max(a.reach, b.reach), std::max(a.spacing, b.spacing)};
+        });
+    plan.centerMin = all.lo;
+    plan.centerMax = all.hi;
+    plan.maxReach = all.reach;
+    plan.maxSpacing = all.spacing;
     curveBounds(garment, plan.curveMin, plan.curveMax);
     return plan;
 }

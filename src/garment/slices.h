@@ -7,6 +7,7 @@
 // evaluates slices from it; the GL vertex shader does the same per instance.
 #pragma once
 
+#include "core/default_init_allocator.h"
 #include "garment/catmull_rom.h"
 #include "garment/garment.h"
 
@@ -14,6 +15,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace yv {
@@ -31,24 +33,27 @@ struct SliceOptions {
 };
 
 /// One curve segment of one yarn, with what it takes to place its slices.
+/// Trivial on purpose: planSlices sets every field (value-initializing each
+/// record on the thread that fills it), see DefaultInitAllocator.
 struct SegmentRecord {
-    SegmentPoints points;     ///< P[i-1], P[i], P[i+1], P[i+2]
-    glm::dvec3 knotTangent;   ///< unit tangent at t = 0
-    glm::dvec3 knotUp;        ///< frame "up" at t = 0, perpendicular to knotTangent
-    double arcStart = 0.0;    ///< arc length of the yarn before this segment
-    double length = 0.0;      ///< arc length of this segment (sum of its slices' thicknesses)
-    double phaseStart = 0.0;  ///< twist phase at t = 0, radians in [0, 2 pi)
-    double twistRate = 0.0;   ///< twist, radians per world unit (closed yarns: adjusted so the loop closes)
-    double reach = 0.0;       ///< farthest any sample of a slice of this segment lies from its slice centre
-    std::uint64_t firstSlice = 0;
-    std::uint32_t sliceCount = 0;
-    std::uint32_t yarn = 0;
-    glm::dvec3 centerMin{0.0}, centerMax{0.0}; ///< bounds of this segment's slice centres
+    SegmentPoints points;      ///< P[i-1], P[i], P[i+1], P[i+2]
+    glm::dvec3 knotTangent;    ///< unit tangent at t = 0
+    glm::dvec3 knotUp;         ///< frame "up" at t = 0, perpendicular to knotTangent
+    double arcStart;           ///< arc length of the yarn before this segment
+    double length;             ///< arc length of this segment (sum of its slices' thicknesses)
+    double phaseStart;         ///< twist phase at t = 0, radians in [0, 2 pi)
+    double twistRate;          ///< twist, radians per world unit (closed yarns: adjusted so the loop closes)
+    double reach;              ///< farthest any sample of a slice of this segment lies from its slice centre
+    std::uint64_t firstSlice;
+    std::uint32_t sliceCount;
+    std::uint32_t yarn;
+    glm::dvec3 centerMin, centerMax; ///< bounds of this segment's slice centres
 };
+static_assert(std::is_trivially_default_constructible_v<SegmentRecord>);
 
 struct SlicePlan {
     SliceOptions options;
-    std::vector<SegmentRecord> segments;
+    std::vector<SegmentRecord, DefaultInitAllocator<SegmentRecord>> segments;
     std::uint64_t sliceCount = 0;
     glm::dvec3 centerMin{0.0}, centerMax{0.0}; ///< bounds of all slice centres
     glm::dvec3 curveMin{0.0}, curveMax{0.0};   ///< exact bounds of the curves (see curveBounds)

@@ -135,7 +135,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
                     std::to_string(std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]})));
 
     GlObjects gl;
-    const std::vector<GpuSegment> segments = packSegments(plan, grid);
+    const GpuSegments segments = packSegments(plan, grid);
     gl.segments = uploadBuffer(segments.data(), segments.size() * sizeof(GpuSegment));
     // Draw list: every segment, with its first instance.
     std::vector<std::uint32_t> draw(segments.size() * 2);

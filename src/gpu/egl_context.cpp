@@ -349,6 +349,23 @@ long long GlContext::queryFreeMemoryBytes() const {
     return readFreeMemory();
 }
 
+void GlContext::makeCurrent() const {
+    if (eglGetCurrentContext() != impl_->context && !eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context))
+        fail("cannot make the GL context current on this thread (" + eglErrorName(eglGetError()) + ")");
+}
+
+void GlContext::releaseCurrent() const {
+    if (eglGetCurrentContext() == impl_->context) eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+}
+
+std::future<std::unique_ptr<GlContext>> startGlContext(const GlContextOptions& options) {
+    return std::async(std::launch::async, [options] {
+        auto context = std::make_unique<GlContext>(options);
+        context->releaseCurrent();
+        return context;
+    });
+}
+
 bool GlContext::available() {
     static std::mutex mutex;
     static std::optional<bool> cached;

@@ -96,6 +96,12 @@ std::unique_ptr<GlContext> timedContext(const GlContextOptions& options, double&
     return context;
 }
 
+/// A context made elsewhere, current on this thread.
+std::unique_ptr<GlContext> currentContext(std::unique_ptr<GlContext> context) {
+    context->makeCurrent();
+    return context;
+}
+
 GLuint groupsFor(std::uint64_t items, GLuint maxGroups) {
     const std::uint64_t groups = (items + kWorkGroup - 1) / kWorkGroup;
     return static_cast<GLuint>(std::clamp<std::uint64_t>(groups, 1, maxGroups));
@@ -106,10 +112,12 @@ GLuint groupsFor(std::uint64_t items, GLuint maxGroups) {
 class GlBackend::Impl {
   public:
     Impl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
-                const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters)
+                const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters, std::unique_ptr<GlContext> context)
         : plan_(plan), grid_(grid), settings_(settings), counters_(counters),
-          context_(timedContext(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr, settings.spreadIndex},
-                                counters.contextSeconds)),
+          context_(context ? currentContext(std::move(context))
+                           : timedContext(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr,
+                                                           settings.spreadIndex},
+                                          counters.contextSeconds)),
           reduce_(settings.base.reduce), albedo_(xs.hasAlbedo()), words_(wordsPerVoxel(reduce_, albedo_)) {
         if (albedo_ && reduce_ != Reduce::Mean)
             throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
@@ -259,8 +267,10 @@ class GlBackend::Impl {
     }
 
     void uploadSegments() {
-        const std::vector<GpuSegment> gpu = packSegments(plan_, grid_);
-        segments_.upload(gpu.data(), gpu.size() * sizeof(GpuSegment), &gpuBytes_);
+        const std::size_t n = plan_.segments.size();
+        segments_.fill(n * sizeof(GpuSegment), &gpuBytes_, [&](void* mapped) {
+            packSegments(plan_, grid_, std::span(static_cast<GpuSegment*>(mapped), n));
+        });
         counters_.sliceDataBytes = segments_.size();
     }
 
@@ -547,10 +557,11 @@ class GlBackend::Impl {
 };
 
 GlBackend::GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
-                     const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters) {
+                     const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters,
+                     std::unique_ptr<GlContext> context) {
     if (settings.base.supersample < 1 || settings.base.supersample > 16)
         throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.base.supersample) + ")");
-    impl_ = std::make_unique<Impl>(plan, xs, grid, settings, counters);
+    impl_ = std::make_unique<Impl>(plan, xs, grid, settings, counters, std::move(context));
 }
 GlBackend::~GlBackend() = default;
 std::uint64_t GlBackend::fragmentBudget() const { return impl_->fragmentBudget(); }

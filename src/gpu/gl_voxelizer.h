@@ -7,6 +7,7 @@
 #include "core/packed_bricks.h"
 #include "cpu/cpu_voxelizer.h"
 #include "gpu/cross_section_texture.h"
+#include "gpu/egl_context.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
@@ -58,7 +59,7 @@ struct GlVoxelizeCounters {
     std::uint64_t fragmentCapacity = 0; ///< capacity used
     std::uint64_t sliceDataBytes = 0;   ///< GPU bytes of curve/segment data for the slices
     std::uint64_t peakGpuBytes = 0;     ///< largest sum of yarnvox's GPU buffers
-    double contextSeconds = 0.0;        ///< creating the GL context (EGL display, device, context)
+    double contextSeconds = 0.0;        ///< creating the GL context (EGL display, device, context), or waiting for one started earlier
     double programSeconds = 0.0;        ///< compiling and linking the backend's shader programs
     double rasterSeconds = 0.0;         ///< time of raster + append passes (GPU drained at both ends)
     double brickSeconds = 0.0;          ///< time of the brick passes (likewise)
@@ -73,8 +74,10 @@ struct GlVoxelizeCounters {
 /// dropped and nothing is counted twice.
 class GlBackend : public RegionRasterizer {
   public:
+    /// Runs on `context` where given (made current here; see startGlContext),
+    /// else on a context of its own made from `settings`.
     GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const GlVoxelizeSettings& settings,
-              GlVoxelizeCounters& counters);
+              GlVoxelizeCounters& counters, std::unique_ptr<GlContext> context = nullptr);
     ~GlBackend() override;
     /// Fragments one pass may append (the zoom planner's budget).
     std::uint64_t fragmentBudget() const override;

@@ -1,13 +1,23 @@
 #include "gpu/gpu_layout.h"
 
+#include "core/error.h"
+
+#include <tbb/parallel_for.h>
+
 #include <cstring>
 
 namespace yv {
 
-std::vector<GpuSegment> packSegments(const SlicePlan& plan, const VoxelGrid& grid) {
+GpuSegments packSegments(const SlicePlan& plan, const VoxelGrid& grid) {
+    GpuSegments gpu(plan.segments.size());
+    packSegments(plan, grid, gpu);
+    return gpu;
+}
+
+void packSegments(const SlicePlan& plan, const VoxelGrid& grid, std::span<GpuSegment> gpu) {
+    YV_CHECK(gpu.size() == plan.segments.size());
     const double invH = 1.0 / grid.voxelSize;
-    std::vector<GpuSegment> gpu(plan.segments.size());
-    for (std::size_t i = 0; i < gpu.size(); ++i) {
+    tbb::parallel_for(std::size_t(0), gpu.size(), [&](std::size_t i) {
         const SegmentRecord& s = plan.segments[i];
         GpuSegment& g = gpu[i];
         const glm::dvec3 anchor = glm::floor((s.points[1] - grid.origin) * invH);
@@ -24,8 +34,7 @@ std::vector<GpuSegment> packSegments(const SlicePlan& plan, const VoxelGrid& gri
         g.info[1] = s.sliceCount;
         std::memcpy(&g.info[2], &length, 4);
         g.info[3] = s.yarn;
-    }
-    return gpu;
+    });
 }
 
 } // namespace yv

@@ -1,10 +1,12 @@
 // Buffer layouts shared by C++ and shaders/common.glsl (std430), GL-free.
 #pragma once
 
+#include "core/default_init_allocator.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace yv {
@@ -43,6 +45,11 @@ static_assert(sizeof(GpuAlbedoFragment) == 16, "GpuAlbedoFragment must match sha
 
 /// The plan's segments as the vertex shader reads them: control points and
 /// lengths in voxel units from the grid origin, so floats keep their precision.
-std::vector<GpuSegment> packSegments(const SlicePlan& plan, const VoxelGrid& grid);
+/// Segments as GpuSegment records, packed on every core (a 410k-crossing
+/// garment has 0.8 M of them); the records are left uninitialized until packed.
+using GpuSegments = std::vector<GpuSegment, DefaultInitAllocator<GpuSegment>>;
+GpuSegments packSegments(const SlicePlan& plan, const VoxelGrid& grid);
+/// The same into `out` (one record per segment), e.g. a mapped GPU buffer.
+void packSegments(const SlicePlan& plan, const VoxelGrid& grid, std::span<GpuSegment> out);
 
 } // namespace yv

@@ -32,6 +32,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -195,13 +196,27 @@ StageSeconds workDirStages(const StageTimer& timer, const RegionWriterStats& wri
 
 /// The backend "auto" stands for: the GL backend on a GPU (or for the dense
 /// method, which only it has); else the CPU reference, which on a machine
-/// without a GPU is far faster than GL through a software rasteriser.
-std::string resolveBackend(const VoxelizeRequest& a, const std::function<void(const std::string&)>& note) {
-    if (a.backend != "auto") return a.backend;
+/// without a GPU is far faster than GL through a software rasteriser. The GL
+/// context started with the run (`pending`; none for --backend cpu or the
+/// dense method) tells whether there is a GPU; where the GL backend runs,
+/// `context` gets it, and `waitSeconds` how long the run waited for it.
+std::string resolveBackend(const VoxelizeRequest& a, std::future<std::unique_ptr<GlContext>>& pending,
+                           std::unique_ptr<GlContext>& context, double& waitSeconds,
+                           const std::function<void(const std::string&)>& note) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto take = [&] {
+        std::unique_ptr<GlContext> taken = pending.get();
+        waitSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return taken;
+    };
     if (a.method == "dense") return "gl";
+    if (a.backend == "gl" && pending.valid()) context = take(); // no GL 4.5 context: its error, here
+    if (a.backend != "auto") return a.backend;
     try {
-        const GlContext probe(GlContextOptions{a.device, false});
-        if (probe.info().platform == "device") return "gl";
+        if (std::unique_ptr<GlContext> probe = take(); probe->info().platform == "device") {
+            context = std::move(probe);
+            return "gl";
+        }
     } catch (const Error&) {
     }
     if (a.verbose && !a.quiet) note("backend: no GPU found, using the CPU backend (--backend gl forces the software GL path)");
@@ -253,12 +268,15 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     Cluster* const group = !args.alone && cluster() && cluster()->size() > 1 ? cluster() : nullptr;
     if (group && args.method == "dense") throw Error("--method dense runs in one process, not under mpirun -np 2 or more");
     VoxelizeRequest a = args;
-    a.backend = resolveBackend(args, note);
-    // Every rank must write regions of the same run: rank 0's choice holds.
-    if (group) a.backend = group->broadcast(a.backend == "gl") ? "gl" : "cpu";
-    if (a.method == "dense" && a.backend != "gl") throw Error("--method dense needs --backend gl");
+    if (a.method == "dense" && a.backend == "cpu") throw Error("--method dense needs --backend gl");
     if (a.method == "dense" && (!a.workDir.empty() || a.resume)) throw Error("--work-dir and --resume need the sparse method");
     checkAlbedoRequest(a);
+    // The GL context starts on a thread of its own, so that the driver's
+    // start-up overlaps reading and slicing the garment.
+    std::future<std::unique_ptr<GlContext>> pendingContext;
+    if (a.backend != "cpu" && a.method != "dense")
+        pendingContext = startGlContext(GlContextOptions{a.device, std::getenv("YV_GL_DEBUG") != nullptr,
+                                                         cluster() ? cluster()->localRank() : 0});
     // Under mpirun rank 0 speaks for the run: the others see the same things.
     const auto tell = [&](const std::string& line) {
         if (!a.quiet && (!group || group->rank() == 0)) note(line);
@@ -308,6 +326,11 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         }
     }();
     timer.lap("slices");
+    std::unique_ptr<GlContext> glContext;
+    double glContextWait = 0.0;
+    a.backend = resolveBackend(args, pendingContext, glContext, glContextWait, note);
+    // Every rank must write regions of the same run: rank 0's choice holds.
+    if (group) a.backend = group->broadcast(a.backend == "gl") ? "gl" : "cpu";
     const VoxelGrid grid = makeGrid(plan, a.resolution, a.voxelSize);
     if (explicitSpacing && plan.maxSpacing > 1.05 * grid.voxelSize)
         tell("warning: " +
@@ -399,7 +422,8 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             gl.spreadIndex = cluster() ? cluster()->localRank() : 0; // each rank its own GPU, alone or not
             gl.fragmentCapacity = a.fragmentCapacity;
             gl.verbose = a.verbose && !a.quiet;
-            backend.rasterizer = std::make_unique<GlBackend>(plan, xs, grid, gl, backend.gl);
+            backend.gl.contextSeconds = glContextWait;
+            backend.rasterizer = std::make_unique<GlBackend>(plan, xs, grid, gl, backend.gl, std::move(glContext));
         } else {
             backend.rasterizer = std::make_unique<CpuRegionBackend>(plan, xs, grid, settings, backend.cpu, a.fragmentCapacity);
         }
