@@ -1,6 +1,5 @@
 #include "core/error.h"
 #include "gpu/egl_context.h"
-#include "gpu/gl_buffer.h"
 #include "gpu/gl_program.h"
 #include "test_helpers.h"
 
@@ -209,25 +208,4 @@ TEST_CASE("a context started on a thread of its own is made current on the threa
 TEST_CASE("a context that cannot be made is an Error from the future, not a crash on its thread", "[gl]") {
     auto pending = yv::startGlContext({1000}); // no machine has a thousand GL devices
     CHECK_THROWS_AS(pending.get(), yv::Error);
-}
-
-TEST_CASE("GlBuffer::fill makes the buffer what the writer wrote through the mapping", "[gl]") {
-    YV_REQUIRE_GL();
-    yv::GlContext ctx;
-    std::uint64_t gpuBytes = 0;
-    yv::GlBuffer buffer;
-    const std::size_t words = 300001; // not a multiple of any page or block size
-    buffer.fill(words * 4, &gpuBytes, [&](void* mapped) {
-        auto* w = static_cast<std::uint32_t*>(mapped);
-        for (std::size_t i = 0; i < words; ++i) w[i] = static_cast<std::uint32_t>(i * 2654435761u);
-    });
-    CHECK(gpuBytes == buffer.size());
-    std::vector<std::uint32_t> back(words);
-    glGetNamedBufferSubData(buffer.id(), 0, static_cast<GLsizeiptr>(words * 4), back.data());
-    std::size_t wrong = 0;
-    for (std::size_t i = 0; i < words; ++i) wrong += back[i] != static_cast<std::uint32_t>(i * 2654435761u);
-    CHECK(wrong == 0);
-    // A writer that throws leaves no mapping behind and the error goes on.
-    CHECK_THROWS_WITH(buffer.fill(64, &gpuBytes, [](void*) { throw yv::Error("writer failed"); }), "writer failed");
-    REQUIRE_NOTHROW(yv::checkGlError("after a failed fill"));
 }

@@ -23,35 +23,6 @@ void GlBuffer::upload(const void* data, std::uint64_t bytes, std::uint64_t* gpuB
     glNamedBufferSubData(id_, 0, static_cast<GLsizeiptr>(bytes), data);
 }
 
-void GlBuffer::fill(std::uint64_t bytes, std::uint64_t* gpuBytes, const std::function<void(void*)>& write) {
-    reserve(bytes, gpuBytes);
-    if (bytes == 0) return;
-    // Written through a mapped staging buffer and copied on the GPU: a
-    // buffer that is itself mappable may be placed where shaders read it
-    // more slowly.
-    GLuint staging = 0;
-    glCreateBuffers(1, &staging);
-    glNamedBufferStorage(staging, static_cast<GLsizeiptr>(bytes), nullptr, GL_MAP_WRITE_BIT);
-    checkGlError("allocating a staging buffer");
-    void* mapped = glMapNamedBufferRange(staging, 0, static_cast<GLsizeiptr>(bytes), GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
-    if (!mapped) {
-        glDeleteBuffers(1, &staging);
-        throw Error("cannot map a staging buffer of " + std::to_string(bytes) + " bytes for writing");
-    }
-    try {
-        write(mapped);
-    } catch (...) {
-        glUnmapNamedBuffer(staging);
-        glDeleteBuffers(1, &staging);
-        throw;
-    }
-    const bool intact = glUnmapNamedBuffer(staging) == GL_TRUE;
-    if (intact) glCopyNamedBufferSubData(staging, id_, 0, 0, static_cast<GLsizeiptr>(bytes));
-    glDeleteBuffers(1, &staging); // freed once the copy is done
-    if (!intact) throw Error("a staging buffer's contents were lost while it was written");
-    checkGlError("copying a staging buffer");
-}
-
 void GlBuffer::clear(std::uint64_t bytes) {
     const GLuint zero = 0;
     glClearNamedBufferSubData(id_, GL_R32UI, 0, static_cast<GLsizeiptr>(bytes), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);

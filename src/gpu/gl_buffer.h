@@ -5,7 +5,6 @@
 #include <epoxy/gl.h>
 
 #include <cstdint>
-#include <functional>
 #include <initializer_list>
 
 namespace yv {
@@ -21,10 +20,6 @@ class GlBuffer {
 
     void reserve(std::uint64_t bytes, std::uint64_t* gpuBytes);
     void upload(const void* data, std::uint64_t bytes, std::uint64_t* gpuBytes);
-    /// Makes the first `bytes` what `write` writes into the memory it is
-    /// given: a mapping, so the data is never copied on the host, and
-    /// `write` may use many threads.
-    void fill(std::uint64_t bytes, std::uint64_t* gpuBytes, const std::function<void(void*)>& write);
     /// Zeroes the first `bytes`.
     void clear(std::uint64_t bytes);
     void bindStorage(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }

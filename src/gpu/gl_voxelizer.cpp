@@ -267,10 +267,11 @@ class GlBackend::Impl {
     }
 
     void uploadSegments() {
-        const std::size_t n = plan_.segments.size();
-        segments_.fill(n * sizeof(GpuSegment), &gpuBytes_, [&](void* mapped) {
-            packSegments(plan_, grid_, std::span(static_cast<GpuSegment*>(mapped), n));
-        });
+        // Packed on the host and handed to the driver: writing them through a
+        // mapped staging buffer and a GPU copy took 0.04 s off this step on
+        // the H100, but its raster then ran 3 % slower, every pass.
+        const GpuSegments gpu = packSegments(plan_, grid_);
+        segments_.upload(gpu.data(), gpu.size() * sizeof(GpuSegment), &gpuBytes_);
         counters_.sliceDataBytes = segments_.size();
     }
 

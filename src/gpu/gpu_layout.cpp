@@ -1,7 +1,5 @@
 #include "gpu/gpu_layout.h"
 
-#include "core/error.h"
-
 #include <tbb/parallel_for.h>
 
 #include <cstring>
@@ -9,14 +7,8 @@
 namespace yv {
 
 GpuSegments packSegments(const SlicePlan& plan, const VoxelGrid& grid) {
-    GpuSegments gpu(plan.segments.size());
-    packSegments(plan, grid, gpu);
-    return gpu;
-}
-
-void packSegments(const SlicePlan& plan, const VoxelGrid& grid, std::span<GpuSegment> gpu) {
-    YV_CHECK(gpu.size() == plan.segments.size());
     const double invH = 1.0 / grid.voxelSize;
+    GpuSegments gpu(plan.segments.size());
     tbb::parallel_for(std::size_t(0), gpu.size(), [&](std::size_t i) {
         const SegmentRecord& s = plan.segments[i];
         GpuSegment& g = gpu[i];
@@ -35,6 +27,7 @@ void packSegments(const SlicePlan& plan, const VoxelGrid& grid, std::span<GpuSeg
         std::memcpy(&g.info[2], &length, 4);
         g.info[3] = s.yarn;
     });
+    return gpu;
 }
 
 } // namespace yv

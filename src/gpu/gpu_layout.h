@@ -6,7 +6,6 @@
 #include "plan/grid.h"
 
 #include <cstdint>
-#include <span>
 #include <vector>
 
 namespace yv {
@@ -49,7 +48,5 @@ static_assert(sizeof(GpuAlbedoFragment) == 16, "GpuAlbedoFragment must match sha
 /// garment has 0.8 M of them); the records are left uninitialized until packed.
 using GpuSegments = std::vector<GpuSegment, DefaultInitAllocator<GpuSegment>>;
 GpuSegments packSegments(const SlicePlan& plan, const VoxelGrid& grid);
-/// The same into `out` (one record per segment), e.g. a mapped GPU buffer.
-void packSegments(const SlicePlan& plan, const VoxelGrid& grid, std::span<GpuSegment> out);
 
 } // namespace yv
