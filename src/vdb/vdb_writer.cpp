@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
+#include <thread>
 
 namespace yv {
 namespace {
@@ -531,6 +532,10 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
             copyLeafRecords(m.levels[gridOf[n].first].leaves, GridKind(gridOf[n].second), *m.spill, fd.get(),
                             recordsAt[n], cannotWrite);
         }
+        // The scratch file is let go while the disk takes the output: freeing
+        // its cached pages (as many as the output's) took 0.7 s after an
+        // 8 GB write, on a core that the fsync leaves idle.
+        std::jthread dropSpill([&m] { m.spill.reset(); });
         // Data on disk before the name: a crash never leaves a complete-looking file.
         if (::fsync(fd.get()) != 0) throw Error(path + ": cannot make the OpenVDB file durable: " + errnoText(errno));
         if (::close(fd.release()) != 0) throw Error(path + ": cannot close the OpenVDB file: " + errnoText(errno));
