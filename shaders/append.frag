@@ -28,6 +28,7 @@ uniform float uSupport;       // textureSupport(): beyond it the texture reads 0
 uniform int uSupersample;
 uniform ivec3 uRegionMin;
 uniform ivec3 uRegionBricks;  // region size in bricks
+uniform int uMargin;          // pixels around the region's face in the viewport (slice.vert)
 
 flat in int vAxis;
 flat in ivec3 vAnchor;
@@ -80,7 +81,7 @@ void main() {
     ivec3 regionSize = axisFirst(uRegionBricks * 8, a);
     // Global pixel of this fragment on the (b, c) face, and its centre
     // relative to the slice centre (integers first: exact, then small floats).
-    ivec2 pixel = ivec2(gl_FragCoord.xy) + regionMin.yz * uSupersample;
+    ivec2 pixel = ivec2(gl_FragCoord.xy) - uMargin + regionMin.yz * uSupersample;
     ivec2 fromAnchor = pixel - anchor.yz * uSupersample;
     float db = (float(fromAnchor.x) + 0.5) / S - center.y;
     float dc = (float(fromAnchor.y) + 0.5) / S - center.z;

@@ -1,9 +1,11 @@
 // Places slice gl_InstanceID of the draw's segment list from curve data (no
 // per-slice matrices) and projects it along the dominant axis of its normal
 // onto the region's face, one pixel per (supersampled) voxel column. Each
-// slice is drawn as one triangle around the part of the slice that can hold
-// fibre, or as its square where the fibre may fill the square (a strip of
-// kSliceVertices, src/gpu/gpu_layout.h, with repeated corners). Either covers
+// slice is drawn as one point sprite around its projection (SLICE_POINTS,
+// src/gpu/gl_voxelizer.h: SlicePrimitive), or as one triangle around the part
+// of the slice that can hold fibre, or as its square where the fibre may fill
+// the square (a strip of kSliceVertices, src/gpu/gpu_layout.h, with repeated
+// corners). Any of them covers
 // every pixel whose sample can hold fibre; the fragment shader decides from
 // the pixel alone, so what is written never depends on the shape drawn or on
 // the region.
@@ -19,6 +21,7 @@ uniform float uSupport;        // textureSupport(), units of the radius (1 for t
 uniform int uSupersample;
 uniform ivec3 uRegionMin;      // region box in voxels
 uniform vec2 uViewport;        // viewport size in pixels (covers every axis' face)
+uniform int uMargin;           // pixels around the region's face (SLICE_POINTS: sprites whose centre lies outside it)
 
 flat out int vAxis;
 flat out ivec3 vAnchor;    // integer voxel the slice's coordinates are relative to
@@ -105,11 +108,25 @@ void main() {
         // Strip order of the square's corners: (-1,-1), (1,-1), (-1,1), (1,1).
         local = extent * vec2((vertex & 1) != 0 ? 1.0 : -1.0, (vertex & 2) != 0 ? 1.0 : -1.0);
     }
-    vec3 p = center + local.x * right + local.y * sliceUp;
     ivec3 anchor = ivec3(seg.p[1].w, seg.p[2].w, seg.p[3].w);
+#if SLICE_POINTS
+    // One point sprite a slice: an axis-aligned square on the face around the
+    // projection of the disk of radius `reach` (or of the square's corners),
+    // widened by the same 0.05 pixel as the triangle (SlicePrimitive); the
+    // viewport's margin keeps the sprite's centre in it.
+    float halfSide = reach <= extent
+                     ? reach * max(length(vec2(right[b], sliceUp[b])), length(vec2(right[c], sliceUp[c])))
+                     : extent * max(abs(right[b]) + abs(sliceUp[b]), abs(right[c]) + abs(sliceUp[c]));
+    vec3 fromRegion = vec3(anchor - uRegionMin) + center;
+    vec2 pixel = vec2(fromRegion[b], fromRegion[c]) * S + float(uMargin);
+    gl_Position = vec4(pixel / uViewport * 2.0 - 1.0, 0.0, 1.0);
+    gl_PointSize = 2.0 * (halfSide * S + 0.05);
+#else
+    vec3 p = center + local.x * right + local.y * sliceUp;
     vec3 fromRegion = vec3(anchor - uRegionMin) + p;
     vec2 pixel = vec2(fromRegion[b], fromRegion[c]) * S;
     gl_Position = vec4(pixel / uViewport * 2.0 - 1.0, 0.0, 1.0);
+#endif
 
     vAxis = a;
     vAnchor = anchor;

@@ -160,6 +160,39 @@ TEST_CASE("GL: texels read by one gather, by four fetches or from the quad textu
     CHECK(cmp.densityWithinShare() >= 0.9999);
 }
 
+TEST_CASE("GL: slices drawn as point sprites or as triangles give the same voxels bit for bit", "[gl][agreement]") {
+    YV_REQUIRE_GL();
+    // A twisted cylinder (every tangent direction, so every projection axis
+    // and tilt), once at one sample a voxel and once supersampled, with the
+    // fibre texture and with the disk, whose square fallback differs.
+    for (int supersample : {1, 2}) {
+        const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 64, 1.0, 96 / supersample);
+        for (const CrossSection& xs : {makeFiberCrossSection(64), makeDiskCrossSection()}) {
+            INFO("supersample " << supersample << ", " << xs.name);
+            GlVoxelizeSettings triangles = glSettings(), points = glSettings();
+            triangles.base.supersample = points.base.supersample = supersample;
+            triangles.slicePrimitive = SlicePrimitive::Triangle;
+            points.slicePrimitive = SlicePrimitive::Point;
+            GlVoxelizeCounters drawnAsTriangles, drawnAsPoints;
+            const BrickVolume a = voxelizeGl(run.plan, xs, run.grid, triangles, &drawnAsTriangles);
+            const BrickVolume b = voxelizeGl(run.plan, xs, run.grid, points, &drawnAsPoints);
+            CHECK(drawnAsTriangles.slicePrimitive == "triangle");
+            REQUIRE(drawnAsPoints.slicePrimitive == "point");
+            REQUIRE(a.activeVoxelCount() > 1000);
+            CHECK(drawnAsPoints.fragments == drawnAsTriangles.fragments);
+            CHECK(identical(a, b));
+            // Many small regions: sprites whose centre lies outside a region
+            // still reach into it (the viewport's margin keeps them).
+            GlVoxelizeSettings smallPoints = points;
+            smallPoints.fragmentCapacity = test::smallestFragmentBudget(run.plan) * supersample * supersample + 2000;
+            GlVoxelizeCounters drawnInPieces;
+            const BrickVolume c = voxelizeGl(run.plan, xs, run.grid, smallPoints, &drawnInPieces);
+            CHECK(drawnInPieces.plannedRegions > 8);
+            CHECK(identical(a, c));
+        }
+    }
+}
+
 TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses nothing", "[gl][overflow]") {
     YV_REQUIRE_GL();
     GenerateOptions g;

@@ -130,11 +130,13 @@ class GlBackend::Impl {
         uploadSegments();
         const TexelReads reads = texelReadsFor(settings.texelReads);
         uploadCrossSection(xs, reads);
+        chooseSlicePrimitive(info);
         // --albedo compiles variants of their own (ALBEDO), so runs without it
         // keep the programs, fragments and brick words they always had.
         const auto compileStart = std::chrono::steady_clock::now();
         std::vector<std::string> rasterDefines = crossSectionDefines(xs, reads);
         if (albedo_) rasterDefines.push_back("ALBEDO 1");
+        if (pointMargin_ > 0) rasterDefines.push_back("SLICE_POINTS 1");
         raster_ = GlProgram::graphics("slice.vert", "append.frag", rasterDefines);
         flag_ = GlProgram::compute("brick_flag.comp");
         clear_ = GlProgram::compute("buffer_clear.comp");
@@ -266,6 +268,32 @@ class GlBackend::Impl {
                          static_cast<unsigned long long>(brickBudget_), regionCap_);
     }
 
+    /// Point sprites where asked for (Auto: on a GPU) and where the driver's
+    /// point sizes hold the largest sprite the vertex shader can ask for; a
+    /// margin of pixels around the region's face keeps every sprite's centre
+    /// in the viewport, since a point whose centre is clipped is dropped whole.
+    void chooseSlicePrimitive(const GlInfo& info) {
+        const SlicePrimitive asked = settings_.slicePrimitive;
+        counters_.slicePrimitive = "triangle";
+        if (asked == SlicePrimitive::Triangle || (asked == SlicePrimitive::Auto && info.platform != "device")) return;
+        const double S = settings_.base.supersample, r = plan_.options.radius / grid_.voxelSize;
+        // slice.vert's reach with the footprint's edges at their largest
+        // (1/(|tangent[a]| S) <= sqrt(3)/S), and the square's corners.
+        const double reach = (support_ * r + 1.75 / S) * 1.001 + 0.05 / S, extent = r + 2.0 / S;
+        const double halfPixels = std::max(reach, extent * std::sqrt(2.0)) * S + 0.05;
+        GLfloat sizes[2] = {0, 0};
+        glGetFloatv(GL_POINT_SIZE_RANGE, sizes);
+        if (!(2.0 * halfPixels + 1.0 <= sizes[1])) return;
+        pointMargin_ = static_cast<int>(std::ceil(halfPixels)) + 2;
+        GLint fbMax[2] = {0, 0}, viewportMax[2] = {0, 0};
+        glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &fbMax[0]);
+        glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &fbMax[1]);
+        glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewportMax);
+        const int pixels = std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]}) - 2 * pointMargin_;
+        regionCap_ = std::min(regionCap_, (pixels / settings_.base.supersample) / 8 * 8);
+        counters_.slicePrimitive = "point";
+    }
+
     void uploadSegments() {
         // Packed on the host and handed to the driver: writing them through a
         // mapped staging buffer and a GPU copy took 0.04 s off this step on
@@ -331,7 +359,7 @@ class GlBackend::Impl {
         if (const std::uint32_t start = std::exchange(counterStart_, 0); start != 0)
             glNamedBufferSubData(counter_.id(), 0, 4, &start);
 
-        const int viewport = std::max({size.x, size.y, size.z}) * S;
+        const int viewport = std::max({size.x, size.y, size.z}) * S + 2 * pointMargin_;
         glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_WIDTH, viewport);
         glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_HEIGHT, viewport);
         glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
@@ -349,6 +377,7 @@ class GlBackend::Impl {
         glUniform3i(raster_.uniform("uRegionMin"), item.min.x, item.min.y, item.min.z);
         glUniform3i(raster_.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
         glUniform2f(raster_.uniform("uViewport"), float(viewport), float(viewport));
+        glUniform1i(raster_.uniform("uMargin"), pointMargin_);
         glUniform1ui(raster_.uniform("uCapacity"), static_cast<GLuint>(fragmentSlots_));
         segments_.bindStorage(0);
         drawList_.bindStorage(1);
@@ -363,7 +392,12 @@ class GlBackend::Impl {
         glBindVertexArray(vao_);
 
         rasterTimer_.begin();
-        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances));
+        if (pointMargin_ > 0) {
+            glEnable(GL_PROGRAM_POINT_SIZE);
+            glDrawArraysInstanced(GL_POINTS, 0, 1, static_cast<GLsizei>(instances));
+        } else {
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances));
+        }
         rasterTimer_.end();
         checkGlError("raster pass");
         glFlush();
@@ -531,6 +565,7 @@ class GlBackend::Impl {
     std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
     std::uint32_t counterStart_ = settings_.firstCounterStart;
     int regionCap_ = 1024;
+    int pointMargin_ = 0; ///< pixels around a region's face with point sprites; 0: triangles
     std::uint64_t fragmentSlots_ = 0; ///< fragments the list holds now (grows up to capacity_)
     std::uint32_t uniformSlices_ = 0; ///< slices per segment when all segments agree, else 0
     GLuint maxGroups_ = 65535;

@@ -565,6 +565,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             const GlVoxelizeCounters& counters = backend.gl;
             backendStats.set("renderer", counters.renderer)
                 .set("platform", counters.platform)
+                .set("slice_primitive", counters.slicePrimitive)
                 .set("fragments", counters.fragments)
                 .set("raster_passes", counters.passes)
                 .set("overflow_retries", counters.overflows)
