@@ -91,6 +91,20 @@ void main() {
     // margin covers float rounding and the rasterizer's snapping).
     float footprintEdges = 0.5 * (length(vec2(sliceUp[c], right[c])) + length(vec2(sliceUp[b], right[b]))) / (abs(tangent[a]) * S);
     float reach = (uSupport * uRadius + footprintEdges) * 1.001 + 0.05 / S;
+    ivec3 anchor = ivec3(seg.p[1].w, seg.p[2].w, seg.p[3].w);
+#if SLICE_POINTS
+    // One point sprite a slice: an axis-aligned square on the face around the
+    // projection of the disk of radius `reach` (or of the square's corners),
+    // widened by the same 0.05 pixel as the triangle (SlicePrimitive); the
+    // viewport's margin keeps the sprite's centre in it.
+    float halfSide = reach <= extent
+                     ? reach * max(length(vec2(right[b], sliceUp[b])), length(vec2(right[c], sliceUp[c])))
+                     : extent * max(abs(right[b]) + abs(sliceUp[b]), abs(right[c]) + abs(sliceUp[c]));
+    vec3 fromRegion = vec3(anchor - uRegionMin) + center;
+    vec2 pixel = vec2(fromRegion[b], fromRegion[c]) * S + float(uMargin);
+    gl_Position = vec4(pixel / uViewport * 2.0 - 1.0, 0.0, 1.0);
+    gl_PointSize = 2.0 * (halfSide * S + 0.05);
+#else
     // Why one triangle: fragments run in 2x2 quads, and a quad that an edge
     // between two triangles cuts runs in both, the sampling code twice over.
     // The square's diagonal runs through the middle of the fibre; the
@@ -108,20 +122,6 @@ void main() {
         // Strip order of the square's corners: (-1,-1), (1,-1), (-1,1), (1,1).
         local = extent * vec2((vertex & 1) != 0 ? 1.0 : -1.0, (vertex & 2) != 0 ? 1.0 : -1.0);
     }
-    ivec3 anchor = ivec3(seg.p[1].w, seg.p[2].w, seg.p[3].w);
-#if SLICE_POINTS
-    // One point sprite a slice: an axis-aligned square on the face around the
-    // projection of the disk of radius `reach` (or of the square's corners),
-    // widened by the same 0.05 pixel as the triangle (SlicePrimitive); the
-    // viewport's margin keeps the sprite's centre in it.
-    float halfSide = reach <= extent
-                     ? reach * max(length(vec2(right[b], sliceUp[b])), length(vec2(right[c], sliceUp[c])))
-                     : extent * max(abs(right[b]) + abs(sliceUp[b]), abs(right[c]) + abs(sliceUp[c]));
-    vec3 fromRegion = vec3(anchor - uRegionMin) + center;
-    vec2 pixel = vec2(fromRegion[b], fromRegion[c]) * S + float(uMargin);
-    gl_Position = vec4(pixel / uViewport * 2.0 - 1.0, 0.0, 1.0);
-    gl_PointSize = 2.0 * (halfSide * S + 0.05);
-#else
     vec3 p = center + local.x * right + local.y * sliceUp;
     vec3 fromRegion = vec3(anchor - uRegionMin) + p;
     vec2 pixel = vec2(fromRegion[b], fromRegion[c]) * S;

@@ -126,11 +126,12 @@ class GlBackend::Impl {
                        (settings.brickResolve == BrickResolve::Auto && info.platform == "surfaceless");
         counters_.renderer = info.renderer;
         counters_.platform = info.platform;
+        support_ = textureSupport(xs);
+        chooseSlicePrimitive(info);
         chooseBudgets(info);
         uploadSegments();
         const TexelReads reads = texelReadsFor(settings.texelReads);
         uploadCrossSection(xs, reads);
-        chooseSlicePrimitive(info);
         // --albedo compiles variants of their own (ALBEDO), so runs without it
         // keep the programs, fragments and brick words they always had.
         const auto compileStart = std::chrono::steady_clock::now();
@@ -240,7 +241,8 @@ class GlBackend::Impl {
         glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &fbMax[0]);
         glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &fbMax[1]);
         glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewportMax);
-        const int pixels = std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]});
+        // Point sprites take a margin around the region's face (chooseSlicePrimitive).
+        const int pixels = std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]}) - 2 * pointMargin_;
         // Region keys hold a brick index in 23 bits: at most 2^23 bricks a region.
         regionCap_ = std::min(1024, (pixels / settings_.base.supersample) / 8 * 8);
         maxGroups_ = static_cast<GLuint>(std::min(info.maxComputeWorkGroupCountX, 65535));
@@ -284,13 +286,7 @@ class GlBackend::Impl {
         GLfloat sizes[2] = {0, 0};
         glGetFloatv(GL_POINT_SIZE_RANGE, sizes);
         if (!(2.0 * halfPixels + 1.0 <= sizes[1])) return;
-        pointMargin_ = static_cast<int>(std::ceil(halfPixels)) + 2;
-        GLint fbMax[2] = {0, 0}, viewportMax[2] = {0, 0};
-        glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &fbMax[0]);
-        glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &fbMax[1]);
-        glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewportMax);
-        const int pixels = std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]}) - 2 * pointMargin_;
-        regionCap_ = std::min(regionCap_, (pixels / settings_.base.supersample) / 8 * 8);
+        pointMargin_ = static_cast<int>(std::ceil(halfPixels)) + 2; // chooseBudgets keeps regions within the rest
         counters_.slicePrimitive = "point";
     }
 
@@ -304,7 +300,6 @@ class GlBackend::Impl {
     }
 
     void uploadCrossSection(const CrossSection& xs, TexelReads reads) {
-        support_ = textureSupport(xs);
         texture_ = uploadCrossSectionTexture(xs, reads);
         gpuBytes_ += reads == TexelReads::Quad ? std::uint64_t(xs.size + 1) * (xs.size + 1) * 4 : std::uint64_t(xs.size) * xs.size;
         if (albedo_) {
