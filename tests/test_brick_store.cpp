@@ -647,6 +647,40 @@ TEST_CASE("RegionWriter takes resolved, packed regions and writes what submit() 
         for (std::size_t i = 0; i < got.size(); ++i) mismatches += !sameBits(got[i], expected.bricks[i]);
         CHECK(mismatches == 0);
     }
+    SECTION("to a packed destination, which gets them as they came, unpacked nowhere") {
+        std::mutex mutex;
+        std::vector<VoxelBrick> got;
+        std::size_t unpackedCalls = 0;
+        RegionWriter writer(
+            [&](std::uint64_t, std::vector<VoxelBrick>&&) {
+                std::lock_guard lock(mutex);
+                ++unpackedCalls;
+            },
+            [&](std::uint64_t, const PackedBricks& packed) {
+                const std::vector<VoxelBrick> bricks = unpackBricks(packed);
+                std::lock_guard lock(mutex);
+                got.insert(got.end(), bricks.begin(), bricks.end());
+            },
+            Reduce::Mean, Overlap::Clamp, std::size_t(1) << 20, 2);
+        for (const auto& r : regions) writer.submitResolved(r.id, r.min, r.max, packOnCpu(r.accumulators));
+        std::uint64_t active = 0, bricks = 0;
+        for (const RegionInfo& info : writer.finish()) {
+            active += info.activeVoxels;
+            bricks += info.brickCount;
+        }
+        CHECK(unpackedCalls == 0);
+        CHECK(active == expected.tally.activeVoxels);
+        CHECK(bricks == expected.bricks.size());
+        const RegionWriterStats stats = writer.stats();
+        CHECK(stats.tally.activeVoxels == expected.tally.activeVoxels);
+        CHECK(stats.tally.densitySum == Approx(expected.tally.densitySum).epsilon(1e-12));
+        CHECK(stats.bricksWritten == expected.bricks.size());
+        std::sort(got.begin(), got.end(), [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });
+        REQUIRE(got.size() == expected.bricks.size());
+        std::size_t mismatches = 0;
+        for (std::size_t i = 0; i < got.size(); ++i) mismatches += !sameBits(got[i], expected.bricks[i]);
+        CHECK(mismatches == 0);
+    }
     SECTION("each region packed into storage recycled from earlier ones, as the GL backend does") {
         std::mutex mutex;
         std::vector<VoxelBrick> got;

@@ -56,6 +56,41 @@ TEST_CASE("CLI: gen then voxelize writes a readable .vdb and stats", "[cli]") {
     CHECK(grids->at(0)->activeVoxelCount() > 100);
 }
 
+TEST_CASE("CLI: YV_TRACE writes a timeline of the run's threads, and only when asked", "[cli]") {
+    const fs::path bcc = scratch("trace.bcc"), vdb = scratch("trace.vdb"), trace = scratch("trace.json");
+    REQUIRE(run("gen --pattern plain --crossings 16 -o " + bcc.string()).exitCode == 0);
+    const std::string voxelize = "voxelize " + bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution 48 --quiet";
+    fs::remove(trace);
+    RunResult plain = run(voxelize);
+    INFO(plain.output);
+    REQUIRE(plain.exitCode == 0);
+    CHECK(!fs::exists(trace));
+
+    fs::remove(vdb);
+    RunResult traced = run_shell("YV_TRACE=" + trace.string() + " " + std::string(YV_BINARY_DIR) + "/yarnvox " + voxelize);
+    INFO(traced.output);
+    REQUIRE(traced.exitCode == 0);
+    REQUIRE(fs::exists(vdb));
+    REQUIRE(fs::exists(trace));
+    std::ifstream in(trace);
+    const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    CHECK(json.rfind("{", 0) == 0);
+    CHECK(json.find("\"traceEvents\": [") != std::string::npos);
+    // The stages on the command's thread, a region on a writer thread, the file's chunks.
+    for (const char* name : {"\"read\"", "\"slices\"", "\"voxelize\"", "\"write\"", "\"write a region\"",
+                             "\"encode leaves\"", "\"write the file in chunks\"", "\"fsync\""})
+        CHECK(json.find(std::string("\"name\": ") + name) != std::string::npos);
+    CHECK(json.find("\"tid\": 1") != std::string::npos); // a thread besides the command's
+
+    // A timeline that cannot be written is a warning, never the run's failure.
+    fs::remove(vdb);
+    RunResult unwritable = run_shell("YV_TRACE=" + scratch("no-such-dir/t.json").string() + " " +
+                                     std::string(YV_BINARY_DIR) + "/yarnvox " + voxelize);
+    CHECK(unwritable.exitCode == 0);
+    CHECK(unwritable.output.find("warning: YV_TRACE: cannot write") != std::string::npos);
+    CHECK(fs::exists(vdb));
+}
+
 TEST_CASE("CLI: bad input gives one clear line, a non-zero exit and no output", "[cli]") {
     const fs::path bad = scratch("bad.bcc"), vdb = scratch("bad.vdb");
     fs::remove(vdb);

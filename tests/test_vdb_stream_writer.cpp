@@ -221,22 +221,27 @@ TEST_CASE("The streaming writer gives OpenVDB's own bytes for every compression 
     const BrickVolume volume = treeShapedVolume();
     REQUIRE(volume.bricks.size() > 150);
     const fs::path ours = scratch("ours.vdb"), theirs = scratch("theirs.vdb");
-    for (VdbCompression c : {VdbCompression::ActiveMask, VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::None})
-        for (VdbPrecision p : {VdbPrecision::Float, VdbPrecision::Half}) {
-            INFO(toString(c) << ", " << toString(p));
-            VdbWriteOptions options;
-            options.compression = c;
-            options.precision = p;
-            writeVdb(ours.string(), volume, someMetadata(), options);
-            writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half);
-            const auto a = test::vdbBytesWithoutUuid(ours), b = test::vdbBytesWithoutUuid(theirs);
-            CHECK(a.size() == b.size());
-            const auto mismatch = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
-            INFO("first difference at byte " << (mismatch.first - a.begin()));
-            const bool sameBytes = a == b;
-            CHECK(sameBytes);
-            checkSameGrids(ours, theirs);
-        }
+    // Chunks of the output (vdb/chunked_output.h): one for the whole file,
+    // and a page each, cutting through the topology and the leaf records.
+    for (std::uint64_t chunk : {std::uint64_t(0), std::uint64_t(4096)}) {
+        for (VdbCompression c : {VdbCompression::ActiveMask, VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::None})
+            for (VdbPrecision p : {VdbPrecision::Float, VdbPrecision::Half}) {
+                INFO(toString(c) << ", " << toString(p) << ", chunks of " << chunk << " bytes");
+                VdbWriteOptions options;
+                options.compression = c;
+                options.precision = p;
+                options.outputChunkBytes = chunk;
+                writeVdb(ours.string(), volume, someMetadata(), options);
+                writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half);
+                const auto a = test::vdbBytesWithoutUuid(ours), b = test::vdbBytesWithoutUuid(theirs);
+                CHECK(a.size() == b.size());
+                const auto mismatch = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
+                INFO("first difference at byte " << (mismatch.first - a.begin()));
+                const bool sameBytes = a == b;
+                CHECK(sameBytes);
+                checkSameGrids(ours, theirs);
+            }
+    }
     fs::remove(ours);
     fs::remove(theirs);
 }
@@ -252,6 +257,7 @@ TEST_CASE("With --lod the file is OpenVDB's own for the same grids, for every co
             options.compression = c;
             options.precision = p;
             options.lodLevels = 3;
+            options.outputChunkBytes = 8192; // chunks cut through every level's records
             writeVdb(ours.string(), volume, someMetadata(), options);
             writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half, options.lodLevels);
             const auto a = test::vdbBytesWithoutUuid(ours), b = test::vdbBytesWithoutUuid(theirs);
@@ -321,4 +327,88 @@ TEST_CASE("A brick given twice is refused and leaves no file", "[vdb][stream]") 
     CHECK_FALSE(fs::exists(out));
     for (const auto& e : fs::directory_iterator(out.parent_path()))
         CHECK(e.path().filename().string().rfind("twice.vdb.partial", 0) != 0);
+}
+
+namespace {
+
+/// `bricks` as the GPU's resolve packs them (core/packed_bricks.h): a header
+/// per brick, its active voxels in voxel order, their colours where the
+/// bricks carry them. Tallies are left at zero: the writer does not read them.
+PackedBricks packed(const std::vector<VoxelBrick>& bricks) {
+    PackedBricks out;
+    for (const VoxelBrick& b : bricks) {
+        PackedBrickHeader h{};
+        h.key[0] = static_cast<std::uint32_t>(b.key);
+        h.key[1] = static_cast<std::uint32_t>(b.key >> 32);
+        for (int w = 0; w < kBrickVoxels / 64; ++w) {
+            h.activeMask[2 * w] = static_cast<std::uint32_t>(b.activeMask[w]);
+            h.activeMask[2 * w + 1] = static_cast<std::uint32_t>(b.activeMask[w] >> 32);
+        }
+        h.firstVoxel = static_cast<std::uint32_t>(out.voxels.size());
+        h.activeCount = static_cast<std::uint32_t>(b.activeCount());
+        for (int v = 0; v < kBrickVoxels; ++v) {
+            if (!b.isActive(v)) continue;
+            out.voxels.push_back({b.density[v], {b.orientation[v].x, b.orientation[v].y, b.orientation[v].z}});
+            if (!b.albedo.empty()) out.albedo.push_back({{b.albedo[v].x, b.albedo[v].y, b.albedo[v].z}});
+        }
+        out.headers.push_back(h);
+    }
+    return out;
+}
+
+} // namespace
+
+TEST_CASE("Bricks added packed, as the GPU resolved them, give the file that voxel bricks give", "[vdb][stream]") {
+    openvdb::initialize();
+    BrickVolume volume = treeShapedVolume();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    const fs::path fromBricks = scratch("from-bricks.vdb"), fromPacked = scratch("from-packed.vdb");
+    for (const bool albedo : {false, true}) {
+        if (albedo)
+            for (VoxelBrick& b : volume.bricks) {
+                b.albedo.assign(kBrickVoxels, glm::vec3(0.0f));
+                for (int v = 0; v < kBrickVoxels; ++v)
+                    if (b.isActive(v)) b.albedo[v] = glm::vec3(unit(rng), unit(rng), unit(rng));
+            }
+        // Two batches of each, so the packed one's second batch starts past voxel 0.
+        const std::size_t half = volume.bricks.size() / 2;
+        const std::vector<VoxelBrick> first(volume.bricks.begin(), volume.bricks.begin() + std::ptrdiff_t(half));
+        const std::vector<VoxelBrick> second(volume.bricks.begin() + std::ptrdiff_t(half), volume.bricks.end());
+        for (VdbCompression c : {VdbCompression::ActiveMask, VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::None})
+            for (VdbPrecision p : {VdbPrecision::Float, VdbPrecision::Half})
+                for (int lod : {0, 2}) {
+                    INFO(toString(c) << ", " << toString(p) << ", lod " << lod << ", albedo " << albedo);
+                    VdbWriteOptions options;
+                    options.compression = c;
+                    options.precision = p;
+                    options.lodLevels = lod;
+                    options.albedo = albedo;
+                    {
+                        VdbAssembler assembler(fromBricks.string(), volume.grid, volume.reduce, options);
+                        assembler.add(first);
+                        assembler.add(second);
+                        assembler.write(someMetadata());
+                    }
+                    {
+                        VdbAssembler assembler(fromPacked.string(), volume.grid, volume.reduce, options);
+                        assembler.add(packed(first));
+                        // The second batch's voxels behind others in their
+                        // storage (as a region's passes append them), so its
+                        // headers' firstVoxel is not 0.
+                        const PackedBricks rest = packed(second);
+                        PackedBricks behind = packed(first);
+                        behind.headers.clear();
+                        behind.append(rest.headers.data(), rest.headers.size(), rest.voxels.data(), rest.voxels.size(),
+                                      albedo ? rest.albedo.data() : nullptr);
+                        REQUIRE(behind.headers.front().firstVoxel > 0);
+                        assembler.add(behind);
+                        assembler.write(someMetadata());
+                    }
+                    const bool sameBytes = test::vdbBytesWithoutUuid(fromBricks) == test::vdbBytesWithoutUuid(fromPacked);
+                    CHECK(sameBytes);
+                }
+    }
+    fs::remove(fromBricks);
+    fs::remove(fromPacked);
 }

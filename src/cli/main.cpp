@@ -2,6 +2,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/trace.h"
 #include "pipeline/cluster.h"
 
 #include <CLI/CLI.hpp>
@@ -23,9 +24,11 @@ int runCommand(int argc, char** argv);
 
 int main(int argc, char** argv) {
     yv::recordCommandLine(argc, argv);
+    yv::traceEnabled(); // YV_TRACE's timeline starts here
     try {
         const yv::ClusterScope mpi(argc, argv);
         const int code = runCommand(argc, argv);
+        yv::writeTrace();
         // The other ranks may wait for this one in a collective: end them all.
         if (code != 0 && yv::cluster() && yv::cluster()->size() > 1) yv::cluster()->abort(code);
         return code;

@@ -60,18 +60,25 @@ ResolveTally tallyOf(const PackedBrickHeader& h) {
     return t;
 }
 
+std::array<std::uint64_t, kBrickVoxels / 64> packedBrickMask(const PackedBricks& packed, std::size_t i) {
+    const PackedBrickHeader& h = packed.headers[i];
+    std::array<std::uint64_t, kBrickVoxels / 64> mask;
+    int count = 0;
+    for (int w = 0; w < kBrickVoxels / 64; ++w) {
+        mask[w] = std::uint64_t(h.activeMask[2 * w]) | (std::uint64_t(h.activeMask[2 * w + 1]) << 32);
+        count += std::popcount(mask[w]);
+    }
+    if (count != int(h.activeCount) || count == 0 || std::uint64_t(h.firstVoxel) + count > packed.voxels.size())
+        throw Error("packed brick " + std::to_string(h.brickKey()) + ": " + std::to_string(h.activeCount) +
+                    " active voxels from " + std::to_string(h.firstVoxel) + ", mask has " + std::to_string(count) +
+                    ", " + std::to_string(packed.voxels.size()) + " voxels held");
+    return mask;
+}
+
 void unpackBrick(const PackedBricks& packed, std::size_t i, VoxelBrick& out) {
     const PackedBrickHeader& h = packed.headers[i];
     out.key = h.brickKey();
-    int count = 0;
-    for (int w = 0; w < kBrickVoxels / 64; ++w) {
-        out.activeMask[w] = std::uint64_t(h.activeMask[2 * w]) | (std::uint64_t(h.activeMask[2 * w + 1]) << 32);
-        count += std::popcount(out.activeMask[w]);
-    }
-    if (count != int(h.activeCount) || count == 0 || std::uint64_t(h.firstVoxel) + count > packed.voxels.size())
-        throw Error("packed brick " + std::to_string(out.key) + ": " + std::to_string(h.activeCount) +
-                    " active voxels from " + std::to_string(h.firstVoxel) + ", mask has " + std::to_string(count) +
-                    ", " + std::to_string(packed.voxels.size()) + " voxels held");
+    out.activeMask = packedBrickMask(packed, i);
     out.density.fill(0.0f);
     out.orientation.fill(glm::vec3(0.0f));
     const bool withAlbedo = !packed.albedo.empty();

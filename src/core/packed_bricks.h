@@ -11,6 +11,7 @@
 #include <boost/container/vector.hpp>
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -80,6 +81,11 @@ ResolveTally tallyOf(const PackedBrickHeader& h);
 /// leaves voxels with no density). Throws
 /// yv::Error when the header contradicts itself or the voxels.
 void unpackBrick(const PackedBricks& packed, std::size_t i, VoxelBrick& out);
+
+/// Brick i's active mask as VoxelBrick::activeMask holds it, checked against
+/// its header's count and the voxels held (yv::Error as unpackBrick). Its
+/// active voxels are packed.voxels[firstVoxel...] in voxel order.
+std::array<std::uint64_t, kBrickVoxels / 64> packedBrickMask(const PackedBricks& packed, std::size_t i);
 
 /// Every brick, unpacked in parallel, in header order; adds their tallies to
 /// `tally` in header order (the same bits for the same input).

@@ -1,6 +1,7 @@
 #include "gpu/brick_resolver.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 
 #include <algorithm>
 #include <chrono>
@@ -100,7 +101,10 @@ void GlBrickResolver::startResolve(GLuint words, std::uint32_t count, const Bric
     checkGlError("brick resolve passes");
 
     std::uint32_t totals[2] = {0, 0}; // kept bricks, active voxels
-    std::memcpy(totals, small_.read(totals_.id(), 8, gpuBytes_), 8);
+    {
+        const TraceSpan span("wait for the resolve's totals");
+        std::memcpy(totals, small_.read(totals_.id(), 8, gpuBytes_), 8);
+    }
     YV_CHECK(totals[0] <= count && totals[1] <= std::uint64_t(totals[0]) * kBrickVoxels && totals[1] <= voxelCapacity);
     gpuSeconds_ += secondsSince(start);
 
@@ -126,8 +130,13 @@ void GlBrickResolver::finishResolve(PackedBricks& out) {
     pending_[0] = pending_[1];
     --pendingCount_;
     const auto readStart = Clock::now();
-    const auto* bytes = static_cast<const unsigned char*>(readback_[p.buffer].waitForCopy());
+    const unsigned char* bytes = nullptr;
+    {
+        const TraceSpan span("wait for the packed bricks' copy");
+        bytes = static_cast<const unsigned char*>(readback_[p.buffer].waitForCopy());
+    }
     if (p.bricks > 0) {
+        const TraceSpan span("append the packed bricks");
         const std::uint64_t keptBytes = std::uint64_t(p.bricks) * sizeof(PackedBrickHeader);
         const std::uint64_t voxelBytes = std::uint64_t(p.voxels) * sizeof(PackedVoxel);
         out.append(reinterpret_cast<const PackedBrickHeader*>(bytes), p.bricks,

@@ -1,6 +1,7 @@
 #include "gpu/egl_context.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
@@ -360,6 +361,7 @@ void GlContext::releaseCurrent() const {
 
 std::future<std::unique_ptr<GlContext>> startGlContext(const GlContextOptions& options) {
     return std::async(std::launch::async, [options] {
+        const TraceSpan span("make the GL context");
         auto context = std::make_unique<GlContext>(options);
         context->releaseCurrent();
         return context;

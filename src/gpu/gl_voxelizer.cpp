@@ -1,6 +1,7 @@
 #include "gpu/gl_voxelizer.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 #include "gpu/brick_resolver.h"
 #include "gpu/cross_section_texture.h"
 #include "gpu/egl_context.h"
@@ -335,6 +336,7 @@ class GlBackend::Impl {
 
     /// Rasterises and bricks one work item; false when it did not fit.
     bool process(const WorkItem& item) {
+        const TraceSpan span("raster pass");
         const glm::ivec3 size = item.max - item.min;
         const glm::ivec3 bricks = size / 8;
         const std::uint64_t regionBricks = std::uint64_t(bricks.x) * bricks.y * bricks.z;
@@ -401,7 +403,10 @@ class GlBackend::Impl {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
         GLuint count[2] = {0, 0};
-        std::memcpy(count, small_.read(counter_.id(), 8, &gpuBytes_), 8);
+        {
+            const TraceSpan span("wait for the fragment count");
+            std::memcpy(count, small_.read(counter_.id(), 8, &gpuBytes_), 8);
+        }
         const GLuint fragmentCount = count[0];
         // The 32-bit counter went past 2^31 (and may have wrapped to a small
         // count): far beyond any list, so the pass is redone in pieces.
@@ -443,7 +448,10 @@ class GlBackend::Impl {
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         }
         GLuint activeBricks = 0;
-        std::memcpy(&activeBricks, small_.read(counts_.id(), 4, &gpuBytes_), 4);
+        {
+            const TraceSpan span("wait for the touched bricks");
+            std::memcpy(&activeBricks, small_.read(counts_.id(), 4, &gpuBytes_), 4);
+        }
         if (activeBricks > brickBudget_) {
             brickTimer_.end();
             return false;
@@ -529,11 +537,13 @@ class GlBackend::Impl {
     /// Takes in the packed bricks still on their way (into the region they
     /// belong to), then hands a finished region that waited for them to the sink.
     void finishReadbacks() {
+        const TraceSpan span("take in the pass before");
         if (resolver_->resolvePending()) {
             resolver_->finishResolve(*pendingTarget_);
             pendingTarget_ = nullptr;
         }
         if (awaiting_) {
+            const TraceSpan handOver("hand the region to the writer");
             sink_->consume(awaiting_->region, std::move(awaiting_->packed));
             awaiting_.reset();
         }

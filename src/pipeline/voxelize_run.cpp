@@ -5,6 +5,7 @@
 #include "core/interrupt.h"
 #include "core/output_path.h"
 #include "core/process_memory.h"
+#include "core/trace.h"
 #include "core/world_units.h"
 #include "cpu/cpu_region_backend.h"
 #include "garment/cross_section.h"
@@ -160,6 +161,7 @@ std::size_t writerQueueBytes() {
 class StageTimer {
   public:
     double lap(const std::string& stage) {
+        traceSpanSince(stage, last_);
         const auto now = std::chrono::steady_clock::now();
         const double s = std::chrono::duration<double>(now - last_).count();
         last_ = now;
@@ -459,9 +461,12 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         const unsigned workers = std::max(2u, std::thread::hardware_concurrency() / 2);
         if (inMemory) {
             VdbAssembler assembler(a.output, grid, settings.reduce, writeOptions);
-            RegionWriter writer([&](std::uint64_t id, std::vector<VoxelBrick>&& resolved) {
-                assembler.add(resolved, "region " + std::to_string(id));
-            }, settings.reduce, settings.overlap, writerQueueBytes(), workers);
+            RegionWriter writer(
+                [&](std::uint64_t id, std::vector<VoxelBrick>&& resolved) {
+                    assembler.add(resolved, "region " + std::to_string(id));
+                },
+                [&](std::uint64_t id, const PackedBricks& packed) { assembler.add(packed, "region " + std::to_string(id)); },
+                settings.reduce, settings.overlap, writerQueueBytes(), workers);
             QueueSink sink(writer);
             {
                 const InterruptScope interruptible;

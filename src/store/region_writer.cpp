@@ -1,6 +1,7 @@
 #include "store/region_writer.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 
 #include <tbb/parallel_for.h>
 
@@ -34,7 +35,12 @@ RegionWriter::RegionWriter(BrickStore& store, Reduce reduce, Overlap overlap, st
 
 RegionWriter::RegionWriter(Destination destination, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes,
                            unsigned workers)
-    : destination_(std::move(destination)), reduce_(reduce), overlap_(overlap), maxQueuedBytes_(maxQueuedBytes) {
+    : RegionWriter(std::move(destination), nullptr, reduce, overlap, maxQueuedBytes, workers) {}
+
+RegionWriter::RegionWriter(Destination destination, PackedDestination packedDestination, Reduce reduce,
+                           Overlap overlap, std::size_t maxQueuedBytes, unsigned workers)
+    : destination_(std::move(destination)), packedDestination_(std::move(packedDestination)), reduce_(reduce),
+      overlap_(overlap), maxQueuedBytes_(maxQueuedBytes) {
     YV_CHECK(destination_);
     start(workers);
 }
@@ -90,6 +96,7 @@ void RegionWriter::enqueue(Job job) {
     const std::uint64_t id = job.id;
     std::unique_lock lock(mutex_);
     if (closing_) throw Error("region " + std::to_string(id) + ": submitted after the region writer finished");
+    const TraceSpan span("wait for room in the writer's queue");
     const auto waitStart = Clock::now();
     spaceFree_.wait(lock, [&] {
         return error_ || closing_ || heldBytes_ == 0 || heldBytes_ + job.bytes <= maxQueuedBytes_;
@@ -179,8 +186,30 @@ std::vector<VoxelBrick> RegionWriter::bricksOf(Job& job, ResolveTally& tally) {
 }
 
 void RegionWriter::process(Job& job) {
+    const TraceSpan span("write a region");
     const auto t = Clock::now();
     ResolveTally tally;
+    if (job.isResolved && packedDestination_) {
+        // Straight on, packed; the tally from the headers, in header order as unpackBricks sums it.
+        for (const PackedBrickHeader& h : job.resolved.headers) tally += tallyOf(h);
+        RegionInfo info;
+        info.id = job.id;
+        info.min = job.min;
+        info.max = job.max;
+        info.brickCount = job.resolved.headers.size();
+        info.activeVoxels = tally.activeVoxels;
+        const double tallySeconds = secondsSince(t);
+        packedDestination_(job.id, job.resolved);
+        recycle(std::move(job.resolved));
+        job.resolved = {};
+        std::lock_guard lock(mutex_);
+        results_.push_back(info);
+        stats_.resolveSeconds += tallySeconds;
+        stats_.regionsWritten += 1;
+        stats_.bricksWritten += info.brickCount;
+        regionTallies_.emplace_back(job.id, tally);
+        return;
+    }
     std::vector<VoxelBrick> bricks = bricksOf(job, tally);
     const double resolveSeconds = secondsSince(t);
 

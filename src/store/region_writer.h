@@ -45,6 +45,13 @@ class RegionWriter {
     /// instead of writing it (RegionInfo of such regions has no file).
     RegionWriter(Destination destination, Reduce reduce, Overlap overlap, std::size_t maxQueuedBytes,
                  unsigned workers = 0);
+    /// Where regions the GPU resolved go as they came back, packed (called on
+    /// worker threads, concurrently): no VoxelBrick is filled for them.
+    using PackedDestination = std::function<void(std::uint64_t id, const PackedBricks& bricks)>;
+    /// As above, with the GPU's resolved regions to `packedDestination`;
+    /// regions of accumulators are resolved and go to `destination`.
+    RegionWriter(Destination destination, PackedDestination packedDestination, Reduce reduce, Overlap overlap,
+                 std::size_t maxQueuedBytes, unsigned workers = 0);
     /// Stops the workers after the regions they hold; regions still queued are
     /// dropped (call finish() to write everything).
     ~RegionWriter();
@@ -93,6 +100,7 @@ class RegionWriter {
 
     BrickStore* store_ = nullptr;
     Destination destination_;
+    PackedDestination packedDestination_;
     Reduce reduce_;
     Overlap overlap_;
     std::size_t maxQueuedBytes_;

@@ -8,7 +8,10 @@
 #include <openvdb/tools/Count.h>
 #include <tbb/enumerable_thread_specific.h>
 
+#include <algorithm>
+#include <bit>
 #include <cstring>
+#include <iterator>
 #include <ostream>
 #include <sstream>
 #include <streambuf>
@@ -166,6 +169,43 @@ LeafLoadInfo LeafEncoder::encode(const VoxelBrick& brick, ByteVector& out) const
             const glm::vec3 a = brick.isActive(v) ? source[v] : glm::vec3(0.0f);
             values[v] = openvdb::Vec3s(a.x, a.y, a.z);
         }
+        info = encodeValues(s->os, values, mask, encoding);
+    }
+    if (!s->os) throw Error("encoding a leaf for the .vdb failed");
+    return info;
+}
+
+LeafLoadInfo LeafEncoder::encode(const PackedBricks& packed, std::size_t i,
+                                 const std::array<std::uint64_t, kBrickVoxels / 64>& maskWords, ByteVector& out) const {
+    const GridEncoding& encoding = impl_->encoding;
+    std::unique_ptr<TaggedStream>& s = impl_->streams.local();
+    if (!s) s = std::make_unique<TaggedStream>(encoding.compression, backgroundOf(encoding.kind));
+    s->buffer.target(&out);
+    LeafMask mask;
+    for (int w = 0; w < kBrickVoxels / 64; ++w) mask.getWord<std::uint64_t>(w) = maskWords[w];
+    mask.save(s->os);
+    // The active voxels follow each other in voxel order from firstVoxel.
+    const std::size_t first = packed.headers[i].firstVoxel;
+    LeafLoadInfo info;
+    if (encoding.kind == GridKind::Density) {
+        float values[kBrickVoxels] = {};
+        const PackedVoxel* v = packed.voxels.data() + first;
+        for (int w = 0; w < kBrickVoxels / 64; ++w)
+            for (std::uint64_t bits = maskWords[w]; bits; bits &= bits - 1) values[w * 64 + std::countr_zero(bits)] = (v++)->density;
+        info = encodeValues(s->os, values, mask, encoding);
+    } else {
+        const bool albedo = encoding.kind == GridKind::Albedo;
+        if (albedo && packed.albedo.size() != packed.voxels.size())
+            throw Error("brick " + std::to_string(packed.headers[i].brickKey()) +
+                        " has no albedo for the .vdb's albedo grid");
+        openvdb::Vec3s values[kBrickVoxels];
+        std::fill(std::begin(values), std::end(values), openvdb::Vec3s(0.0f));
+        std::size_t n = first;
+        for (int w = 0; w < kBrickVoxels / 64; ++w)
+            for (std::uint64_t bits = maskWords[w]; bits; bits &= bits - 1, ++n) {
+                const float* a = albedo ? packed.albedo[n].rgb : packed.voxels[n].axis;
+                values[w * 64 + std::countr_zero(bits)] = openvdb::Vec3s(a[0], a[1], a[2]);
+            }
         info = encodeValues(s->os, values, mask, encoding);
     }
     if (!s->os) throw Error("encoding a leaf for the .vdb failed");

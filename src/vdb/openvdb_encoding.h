@@ -7,9 +7,11 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/packed_bricks.h"
 
 #include <openvdb/openvdb.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -60,6 +62,12 @@ class LeafEncoder {
     LeafEncoder& operator=(const LeafEncoder&) = delete;
     /// Appends one leaf's buffer record to `out`. Inactive voxels are written as background.
     LeafLoadInfo encode(const VoxelBrick& brick, ByteVector& out) const;
+    /// The same record for brick i of `packed` with active mask `mask`
+    /// (packedBrickMask), read where the GPU's resolve put its voxels: no
+    /// VoxelBrick is filled on the way. Throws yv::Error for an albedo grid
+    /// when `packed` has no colours.
+    LeafLoadInfo encode(const PackedBricks& packed, std::size_t i, const std::array<std::uint64_t, kBrickVoxels / 64>& mask,
+                        ByteVector& out) const;
 
   private:
     struct Impl;

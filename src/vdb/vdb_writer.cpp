@@ -3,6 +3,8 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "core/trace.h"
+#include "vdb/chunked_output.h"
 #include "vdb/lod_pyramid.h"
 #include "vdb/openvdb_encoding.h"
 #include "vdb/spill_file.h"
@@ -18,9 +20,11 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <thread>
@@ -59,8 +63,8 @@ struct LeafRecord {
 /// Bricks are encoded in pieces of this many, so a large region never holds
 /// all of its encoded bytes at once.
 constexpr std::size_t kEncodePiece = 4096;
-/// Leaves go from the scratch file to the output in pieces of about this size.
-constexpr std::uint64_t kCopyPieceBytes = 32ull << 20;
+/// Leaf records are indexed for the output's chunks in pieces of about this size.
+constexpr std::uint64_t kCopyPieceBytes = 4ull << 20;
 
 template <openvdb::Index Log2Dim> void appendMask(ByteVector& out, const openvdb::util::NodeMask<Log2Dim>& mask) {
     for (openvdb::Index w = 0; w < openvdb::util::NodeMask<Log2Dim>::WORD_COUNT; ++w) {
@@ -116,43 +120,52 @@ ByteVector topologyBytes(const std::vector<LeafRecord>& leaves, const GridEncodi
     return out;
 }
 
-/// Copies each leaf's record for one grid from the scratch file into the
-/// output at `at`, in tree order, in parallel pieces. Records of leaves that
-/// follow each other in the scratch file are read with one call.
-void copyLeafRecords(const std::vector<LeafRecord>& leaves, GridKind kind, const SpillFile& spill, int fd,
-                     std::uint64_t at, const std::string& what) {
-    const auto place = [kind](const LeafRecord& r) { return std::pair{r.at[int(kind)], r.bytes[int(kind)]}; };
-    // Pieces of about kCopyPieceBytes: [first leaf, end leaf) and where they go.
-    struct Piece {
-        std::size_t begin, end;
-        std::uint64_t at, bytes;
-    };
-    std::vector<Piece> pieces;
+/// Consecutive leaf records of one grid, [begin, end) of its level's leaves
+/// in tree order, at `at` in the output: the index that finds which records
+/// a chunk of the output holds.
+struct RecordPiece {
+    const std::vector<LeafRecord>* leaves;
+    int grid;
+    std::size_t begin, end;
+    std::uint64_t at, bytes;
+};
+
+/// Cuts one grid's records, laid out from `at`, into pieces of about kCopyPieceBytes.
+void addRecordPieces(const std::vector<LeafRecord>& leaves, int grid, std::uint64_t at, std::vector<RecordPiece>& out) {
     for (std::size_t i = 0; i < leaves.size();) {
-        Piece p{i, i, at, 0};
-        while (p.end < leaves.size() && (p.bytes == 0 || p.bytes + place(leaves[p.end]).second <= kCopyPieceBytes))
-            p.bytes += place(leaves[p.end++]).second;
+        RecordPiece p{&leaves, grid, i, i, at, 0};
+        while (p.end < leaves.size() && (p.bytes == 0 || p.bytes + leaves[p.end].bytes[grid] <= kCopyPieceBytes))
+            p.bytes += leaves[p.end++].bytes[grid];
         at += p.bytes;
         i = p.end;
-        pieces.push_back(p);
+        out.push_back(p);
     }
-    tbb::enumerable_thread_specific<ByteVector> buffers;
-    tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t n) {
-        const Piece& p = pieces[n];
-        ByteVector& buffer = buffers.local();
-        buffer.resize(p.bytes);
-        std::uint64_t filled = 0;
-        for (std::size_t i = p.begin; i < p.end;) {
-            auto [from, bytes] = place(leaves[i]);
-            std::uint64_t run = bytes;
+}
+
+/// Fills out[0, n) with output bytes [at, at + n) from the records of
+/// `pieces` (in file order) that overlap it: runs of records that follow
+/// each other in the scratch file are read with one call.
+void fillFromRecords(const std::vector<RecordPiece>& pieces, const SpillFile& spill, std::uint64_t at,
+                     std::span<std::uint8_t> out) {
+    const std::uint64_t end = at + out.size();
+    auto piece = std::partition_point(pieces.begin(), pieces.end(),
+                                      [&](const RecordPiece& p) { return p.at + p.bytes <= at; });
+    for (; piece != pieces.end() && piece->at < end; ++piece) {
+        const std::vector<LeafRecord>& leaves = *piece->leaves;
+        const int g = piece->grid;
+        std::uint64_t fileAt = piece->at;
+        for (std::size_t i = piece->begin; i < piece->end && fileAt < end;) {
+            // A run: records contiguous in the scratch file as in the output.
+            const std::uint64_t from = leaves[i].at[g];
+            std::uint64_t run = leaves[i].bytes[g];
             std::size_t j = i + 1;
-            for (; j < p.end && place(leaves[j]).first == from + run; ++j) run += place(leaves[j]).second;
-            spill.read(from, std::span(buffer.data() + filled, run));
-            filled += run;
+            for (; j < piece->end && leaves[j].at[g] == from + run; ++j) run += leaves[j].bytes[g];
+            const std::uint64_t lo = std::max(fileAt, at), hi = std::min(fileAt + run, end);
+            if (lo < hi) spill.read(from + (lo - fileAt), out.subspan(lo - at, hi - lo));
+            fileAt += run;
             i = j;
         }
-        writeAllAt(fd, std::span<const std::uint8_t>(buffer.data(), p.bytes), p.at, what);
-    });
+    }
 }
 
 /// One level of the pyramid (0: the volume itself): its transform, its
@@ -185,14 +198,72 @@ struct EncodedBatch {
     std::uint64_t activeVoxels = 0;
 };
 
+using BrickMask = std::array<std::uint64_t, kBrickVoxels / 64>;
+
+/// The bounds of a brick's active voxels (voxel v = x 64 + y 8 + z: word x
+/// of the mask, byte y of the word, bit z of the byte), from its mask alone.
+openvdb::CoordBBox activeBounds(std::uint64_t key, const BrickMask& mask) {
+    int xMin = -1, xMax = -1;
+    std::uint64_t yz = 0;
+    for (int w = 0; w < kBrickVoxels / 64; ++w)
+        if (mask[w]) {
+            if (xMin < 0) xMin = w;
+            xMax = w;
+            yz |= mask[w];
+        }
+    if (xMin < 0) return {};
+    int yMin = 8, yMax = -1;
+    unsigned z = 0;
+    for (int y = 0; y < 8; ++y)
+        if (const unsigned byte = unsigned(yz >> (8 * y)) & 0xffu) {
+            yMin = std::min(yMin, y);
+            yMax = y;
+            z |= byte;
+        }
+    const glm::ivec3 o = brickCoord(key) * kBrickSize;
+    return {openvdb::Coord(o.x + xMin, o.y + yMin, o.z + std::countr_zero(z)),
+            openvdb::Coord(o.x + xMax, o.y + yMax, o.z + 31 - std::countl_zero(z))};
+}
+
+/// The bricks encodeBatch takes: voxel bricks...
+struct VoxelBrickBatch {
+    std::span<const VoxelBrick> bricks;
+    std::size_t size() const { return bricks.size(); }
+    std::uint64_t key(std::size_t i) const { return bricks[i].key; }
+    BrickMask mask(std::size_t i) const { return bricks[i].activeMask; }
+    LeafLoadInfo encode(const LeafEncoder& encoder, std::size_t i, const BrickMask&, ByteVector& out) const {
+        return encoder.encode(bricks[i], out);
+    }
+    void octant(std::size_t i, ByteVector& out) const { appendOctant(bricks[i], out); }
+};
+
+/// ... or the GPU's resolved bricks as they came back, packed: at 8192 filling
+/// a VoxelBrick (8 KiB) per brick to encode it was 40 % of the writer
+/// threads' time.
+struct PackedBrickBatch {
+    const PackedBricks& packed;
+    std::size_t size() const { return packed.headers.size(); }
+    std::uint64_t key(std::size_t i) const { return packed.headers[i].brickKey(); }
+    BrickMask mask(std::size_t i) const { return packedBrickMask(packed, i); }
+    LeafLoadInfo encode(const LeafEncoder& encoder, std::size_t i, const BrickMask& mask, ByteVector& out) const {
+        return encoder.encode(packed, i, mask, out);
+    }
+    void octant(std::size_t i, ByteVector& out) const {
+        thread_local VoxelBrick brick;
+        unpackBrick(packed, i, brick);
+        appendOctant(brick, out);
+    }
+};
+
 /// Encodes `bricks` into leaf records of `level`'s grids in the scratch
 /// file, in pieces; with `octants`, also puts each brick's octant for the
 /// next level there.
-EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, std::span<const VoxelBrick> bricks,
+template <typename Batch>
+EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batch& bricks,
                          std::vector<OctantRecord>* octants) {
     // In tree order within the batch: the write then reads runs of neighbours with one call.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> order(bricks.size());
-    for (std::size_t i = 0; i < bricks.size(); ++i) order[i] = {treeOrderKey(brickCoord(bricks[i].key)), std::uint32_t(i)};
+    for (std::size_t i = 0; i < bricks.size(); ++i) order[i] = {treeOrderKey(brickCoord(bricks.key(i))), std::uint32_t(i)};
     std::sort(order.begin(), order.end());
 
     EncodedBatch batch;
@@ -204,14 +275,15 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, std::span<
         std::vector<ByteVector> encoded[kMaxGrids + 1];
         for (auto& e : encoded) e.resize(count);
         std::vector<openvdb::CoordBBox> pieceBounds(count);
+        std::vector<std::uint32_t> activeCounts(count);
         tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
-            const VoxelBrick& b = bricks[order[first + i].second];
+            const std::size_t b = order[first + i].second;
             LeafRecord& r = batch.records[first + i];
-            for (int g = 0; g < level.gridCount; ++g) r.load[g] = level.encoders[g]->encode(b, encoded[g][i]);
-            if (octants) appendOctant(b, encoded[kOctants][i]);
-            const glm::ivec3 o = brickCoord(b.key) * kBrickSize;
-            for (int v = 0; v < kBrickVoxels; ++v)
-                if (b.isActive(v)) pieceBounds[i].expand(openvdb::Coord(o.x + (v >> 6), o.y + ((v >> 3) & 7), o.z + (v & 7)));
+            r.mask = bricks.mask(b);
+            for (int g = 0; g < level.gridCount; ++g) r.load[g] = bricks.encode(*level.encoders[g], b, r.mask, encoded[g][i]);
+            if (octants) bricks.octant(b, encoded[kOctants][i]);
+            pieceBounds[i] = activeBounds(bricks.key(b), r.mask);
+            for (std::uint64_t word : r.mask) activeCounts[i] += std::uint32_t(std::popcount(word));
         });
         // One write per grid (and for the octants) and piece into the scratch file.
         for (int g = 0; g <= kOctants; ++g) {
@@ -226,7 +298,7 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, std::span<
                 LeafRecord& r = batch.records[first + i];
                 if (g == kOctants) {
                     YV_CHECK(encoded[g][i].size() < 0x10000);
-                    octants->push_back({bricks[order[first + i].second].key, at << 16 | encoded[g][i].size()});
+                    octants->push_back({bricks.key(order[first + i].second), at << 16 | encoded[g][i].size()});
                 } else {
                     r.at[g] = at;
                     r.bytes[g] = std::uint32_t(encoded[g][i].size());
@@ -235,11 +307,8 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, std::span<
             }
         }
         for (std::size_t i = 0; i < count; ++i) {
-            const VoxelBrick& b = bricks[order[first + i].second];
-            LeafRecord& r = batch.records[first + i];
-            r.order = order[first + i].first;
-            std::copy(b.activeMask.begin(), b.activeMask.end(), r.mask.begin());
-            batch.activeVoxels += std::uint64_t(b.activeCount());
+            batch.records[first + i].order = order[first + i].first;
+            batch.activeVoxels += activeCounts[i];
             if (!pieceBounds[i].empty()) batch.bounds.expand(pieceBounds[i]);
         }
     }
@@ -314,7 +383,7 @@ void buildLevel(PyramidLevel& level, SpillFile& spill, std::vector<OctantRecord>
                 if (kept != i) bricks[kept] = bricks[i];
                 ++kept;
             }
-        addBatch(level, encodeBatch(level, spill, std::span(bricks.data(), kept), nullptr), 0);
+        addBatch(level, encodeBatch(level, spill, VoxelBrickBatch{std::span(bricks.data(), kept)}, nullptr), 0);
     }
 }
 
@@ -392,6 +461,15 @@ VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduc
 VdbAssembler::~VdbAssembler() = default;
 
 void VdbAssembler::add(std::span<const VoxelBrick> bricks, const std::string& source) {
+    addBatchOf(VoxelBrickBatch{bricks}, source);
+}
+
+void VdbAssembler::add(const PackedBricks& bricks, const std::string& source) {
+    addBatchOf(PackedBrickBatch{bricks}, source);
+}
+
+template <typename Batch> void VdbAssembler::addBatchOf(const Batch& bricks, const std::string& source) {
+    const TraceSpan span("encode leaves");
     Impl& m = *impl_;
     const auto start = std::chrono::steady_clock::now();
     std::vector<OctantRecord> octants;
@@ -515,29 +593,48 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
         }
     }
     const auto laidOut = std::chrono::steady_clock::now();
+    traceSpanSince("sort and lay out the leaves", start);
 
     // A name of this process's own: two runs writing the same output never
     // share a temporary file.
     static std::atomic<unsigned> counter{0};
     const std::string tmp = path + ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
     const std::string cannotWrite = path + ": cannot write the OpenVDB file " + tmp;
-    Fd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644));
-    if (fd.get() < 0) throw Error(path + ": cannot create " + tmp + ": " + errnoText(errno));
+    // What goes where: the header, each grid's prefix and topology from
+    // memory, its leaf records from the scratch file.
+    struct MemoryPart {
+        std::uint64_t at;
+        const ByteVector* bytes;
+    };
+    std::vector<MemoryPart> memoryParts{{0, &header}};
+    std::vector<RecordPiece> pieces;
+    for (std::size_t n = 0; n < gridCount; ++n) {
+        memoryParts.push_back({gridStart[n], &prefix[n]});
+        memoryParts.push_back({gridStart[n] + prefix[n].size(), &topology[n]});
+        addRecordPieces(m.levels[gridOf[n].first].leaves, gridOf[n].second, recordsAt[n], pieces);
+    }
+    const std::uint64_t fileBytes = at;
+    ChunkedOutput output(tmp, cannotWrite, m.options.outputChunkBytes);
     try {
-        writeAllAt(fd.get(), header, 0, cannotWrite);
-        for (std::size_t n = 0; n < gridCount; ++n) {
-            writeAllAt(fd.get(), prefix[n], gridStart[n], cannotWrite);
-            writeAllAt(fd.get(), topology[n], gridStart[n] + prefix[n].size(), cannotWrite);
-            ByteVector().swap(topology[n]);
-            copyLeafRecords(m.levels[gridOf[n].first].leaves, GridKind(gridOf[n].second), *m.spill, fd.get(),
-                            recordsAt[n], cannotWrite);
-        }
+        const auto recordsStart = std::chrono::steady_clock::now();
+        output.write(fileBytes, [&](std::uint64_t chunkAt, std::span<std::uint8_t> out) {
+            const std::uint64_t chunkEnd = chunkAt + out.size();
+            for (const MemoryPart& part : memoryParts) {
+                const std::uint64_t lo = std::max(part.at, chunkAt), hi = std::min(part.at + part.bytes->size(), chunkEnd);
+                if (lo < hi) std::memcpy(out.data() + (lo - chunkAt), part.bytes->data() + (lo - part.at), hi - lo);
+            }
+            fillFromRecords(pieces, *m.spill, chunkAt, out);
+        });
+        traceSpanSince("write the file in chunks", recordsStart);
+        Fd fd(output.release());
         // The scratch file is let go while the disk takes the output: freeing
         // its cached pages (as many as the output's) took 0.7 s after an
         // 8 GB write, on a core that the fsync leaves idle.
         std::jthread dropSpill([&m] { m.spill.reset(); });
         // Data on disk before the name: a crash never leaves a complete-looking file.
+        const auto syncStart = std::chrono::steady_clock::now();
         if (::fsync(fd.get()) != 0) throw Error(path + ": cannot make the OpenVDB file durable: " + errnoText(errno));
+        traceSpanSince("fsync", syncStart);
         if (::close(fd.release()) != 0) throw Error(path + ": cannot close the OpenVDB file: " + errnoText(errno));
         std::error_code ec;
         std::filesystem::rename(tmp, path, ec);

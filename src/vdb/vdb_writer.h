@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/packed_bricks.h"
 #include "vdb/region_metadata.h"
 
 #include <cstddef>
@@ -75,6 +76,9 @@ struct VdbWriteOptions {
     /// brick must then have (and albedo_lodL with lodLevels).
     bool albedo = false;
     VdbWriteTimings* timings = nullptr; ///< added to when given
+    /// Bytes per chunk of the output (vdb/chunked_output.h; 0: its default).
+    /// Tests make it small, so that chunks cut through leaf records.
+    std::uint64_t outputChunkBytes = 0;
 };
 
 /// Writes `volume` to `path` through a temporary file and a rename, so a
@@ -100,6 +104,9 @@ class VdbAssembler {
 
     /// Encodes `bricks`. Thread-safe; `source` names the batch in errors.
     void add(std::span<const VoxelBrick> bricks, const std::string& source = "");
+    /// The same for bricks the GPU resolved, read where they came back
+    /// packed (same records, without unpacking them first).
+    void add(const PackedBricks& bricks, const std::string& source = "");
     /// Bricks added so far.
     std::size_t brickCount() const;
     /// Builds the level-of-detail grids (options.lodLevels) from the bricks'
@@ -108,6 +115,8 @@ class VdbAssembler {
     void write(const VolumeMetadata& metadata);
 
   private:
+    template <typename Batch> void addBatchOf(const Batch& bricks, const std::string& source);
+
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
