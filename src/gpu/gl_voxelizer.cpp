@@ -130,9 +130,13 @@ class GlBackend::Impl {
         support_ = textureSupport(xs);
         chooseSlicePrimitive(info);
         chooseBudgets(info);
-        uploadSegments();
+        {
+            const TraceSpan span("upload the slices");
+            uploadSegments();
+        }
         const TexelReads reads = texelReadsFor(settings.texelReads);
         uploadCrossSection(xs, reads);
+        const TraceSpan compileSpan("compile the programs");
         // --albedo compiles variants of their own (ALBEDO), so runs without it
         // keep the programs, fragments and brick words they always had.
         const auto compileStart = std::chrono::steady_clock::now();

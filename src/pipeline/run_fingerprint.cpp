@@ -1,5 +1,6 @@
 #include "pipeline/run_fingerprint.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/sampling.h"
 #include "gpu/gl_program.h"
@@ -7,9 +8,10 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
+#include <optional>
 #include <sstream>
 #include <string_view>
+#include <vector>
 
 namespace yv {
 namespace {
@@ -53,10 +55,9 @@ std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& s
     f.add(samplingCodeHash());
     // The backends agree to float precision, not bit for bit: one volume is made by one.
     f.add(backend.data(), backend.size());
-    std::ifstream in(inputPath, std::ios::binary);
-    if (!in) throw Error(inputPath + ": cannot read the garment to fingerprint the run");
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    f.add(bytes.data(), bytes.size());
+    const std::optional<std::vector<std::uint8_t>> bytes = readWholeFile(inputPath);
+    if (!bytes) throw Error(inputPath + ": cannot read the garment to fingerprint the run: it is gone");
+    f.add(bytes->data(), bytes->size());
     f.add(slices.slicesPerSegment), f.add(slices.spacing), f.add(slices.twist), f.add(slices.radius);
     f.add(xs.size);
     f.add(xs.density.data(), xs.density.size());

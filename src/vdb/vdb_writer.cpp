@@ -500,6 +500,7 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
         return a.order != b.order ? a.order < b.order : a.source < b.source;
     };
     tbb::parallel_sort(m.levels[0].leaves.begin(), m.levels[0].leaves.end(), treeOrder);
+    traceSpanSince("sort the leaves", start);
     for (std::size_t i = 1; i < m.levels[0].leaves.size(); ++i) {
         const std::vector<LeafRecord>& leaves = m.levels[0].leaves;
         if (leaves[i].order == leaves[i - 1].order) {
