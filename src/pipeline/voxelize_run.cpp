@@ -313,6 +313,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         const std::string outputDir = std::filesystem::path(a.output).parent_path().string();
         const bool store = !a.workDir.empty() || a.keepWorkDir || a.resume || group;
         const RunPlace place{outputDir, store ? (a.workDir.empty() ? outputDir : a.workDir) : ""};
+        const TraceSpan span("estimate what the run needs");
         const std::string problem = checkNeeds(estimateNeeds(garment, radius.radius, voxelSize, a.precision == "half"),
                                                place, scale.voxelSource);
         if (!problem.empty()) throw Error(a.input + ": " + problem);
@@ -321,6 +322,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     sliceOptions.slicesPerSegment = a.slicesPerSegment;
     sliceOptions.spacing = explicitSpacing ? a.spacing : defaultSliceSpacing(voxelSize, a.supersample);
     const SlicePlan plan = [&] {
+        const TraceSpan span("plan the slices");
         try {
             return planSlices(garment, sliceOptions);
         } catch (const Error& e) {

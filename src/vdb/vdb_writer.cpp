@@ -66,57 +66,76 @@ constexpr std::size_t kEncodePiece = 4096;
 /// Leaf records are indexed for the output's chunks in pieces of about this size.
 constexpr std::uint64_t kCopyPieceBytes = 4ull << 20;
 
-template <openvdb::Index Log2Dim> void appendMask(ByteVector& out, const openvdb::util::NodeMask<Log2Dim>& mask) {
+template <openvdb::Index Log2Dim> std::uint8_t* putMask(std::uint8_t* out, const openvdb::util::NodeMask<Log2Dim>& mask) {
     for (openvdb::Index w = 0; w < openvdb::util::NodeMask<Log2Dim>::WORD_COUNT; ++w) {
         const std::uint64_t word = mask.template getWord<std::uint64_t>(w);
-        const auto* p = reinterpret_cast<const std::uint8_t*>(&word);
-        out.insert(out.end(), p, p + sizeof word);
+        std::memcpy(out, &word, sizeof word);
+        out += sizeof word;
     }
+    return out;
 }
 
-void appendBytes(ByteVector& out, const void* p, std::size_t n) {
-    out.insert(out.end(), static_cast<const std::uint8_t*>(p), static_cast<const std::uint8_t*>(p) + n);
+std::uint8_t* putBytes(std::uint8_t* out, const void* p, std::size_t n) {
+    std::memcpy(out, p, n);
+    return out + n;
 }
 
 /// One grid's topology (formats/vdb-subset.md) from records in tree order:
 /// root children, their 32^3 and 16^3 internal nodes (child mask, an empty
-/// value mask, the tile values), and each leaf's value mask.
-ByteVector topologyBytes(const std::vector<LeafRecord>& leaves, const GridEncoding& encoding, const GridStatistics& stats) {
+/// value mask, the tile values), and each leaf's value mask. Where each node
+/// goes is found in one pass over the leaves; the nodes are then written side
+/// by side (at 8192 a grid's topology is about 1 GB).
+ByteVector topologyBytes(const std::vector<LeafRecord>& leaves, const GridEncoding& encoding) {
     const ByteVector upperValues = internalNodeValues(encoding, 5);
     const ByteVector lowerValues = internalNodeValues(encoding, 4);
-    ByteVector out;
-    out.reserve(64 + stats.upperNodes * (8192 + upperValues.size() + 12) +
-                stats.lowerNodes * (1024 + lowerValues.size()) + stats.leaves * 64);
-    const ByteVector header = treeTopologyHeader(encoding, std::uint32_t(stats.upperNodes));
-    appendBytes(out, header.data(), header.size());
-    const openvdb::util::NodeMask<5> noUpperValues;
-    const openvdb::util::NodeMask<4> noLowerValues;
+    constexpr std::size_t kUpperMaskBytes = openvdb::util::NodeMask<5>::WORD_COUNT * 8;
+    constexpr std::size_t kLowerMaskBytes = openvdb::util::NodeMask<4>::WORD_COUNT * 8;
+    // [begin, end) of the leaves under each root child and each 16^3 node, and where its bytes start.
+    struct Node {
+        std::size_t begin, end;
+        std::uint64_t at;
+    };
+    std::vector<Node> upper, lower;
+    std::uint64_t at = 0;
     for (std::size_t i = 0; i < leaves.size();) {
         const std::uint64_t root = rootChildOfOrder(leaves[i].order);
-        std::size_t rootEnd = i;
-        openvdb::util::NodeMask<5> upperChildren;
-        for (; rootEnd < leaves.size() && rootChildOfOrder(leaves[rootEnd].order) == root; ++rootEnd)
-            upperChildren.setOn(upperIndexOfOrder(leaves[rootEnd].order));
-        const glm::ivec3 b = treeOrderCoord(leaves[i].order);
-        const std::int32_t origin[3] = {(b.x >> 9) << 12, (b.y >> 9) << 12, (b.z >> 9) << 12};
-        appendBytes(out, origin, sizeof origin);
-        appendMask(out, upperChildren);
-        appendMask(out, noUpperValues);
-        appendBytes(out, upperValues.data(), upperValues.size());
-        for (std::size_t j = i; j < rootEnd;) {
-            const std::uint64_t lower = lowerNodeOfOrder(leaves[j].order);
-            std::size_t lowerEnd = j;
-            openvdb::util::NodeMask<4> lowerChildren;
-            for (; lowerEnd < rootEnd && lowerNodeOfOrder(leaves[lowerEnd].order) == lower; ++lowerEnd)
-                lowerChildren.setOn(lowerIndexOfOrder(leaves[lowerEnd].order));
-            appendMask(out, lowerChildren);
-            appendMask(out, noLowerValues);
-            appendBytes(out, lowerValues.data(), lowerValues.size());
-            for (std::size_t k = j; k < lowerEnd; ++k) appendBytes(out, leaves[k].mask.data(), sizeof leaves[k].mask);
-            j = lowerEnd;
+        Node u{i, i, at};
+        at += 12 + 2 * kUpperMaskBytes + upperValues.size();
+        while (u.end < leaves.size() && rootChildOfOrder(leaves[u.end].order) == root) {
+            const std::uint64_t node = lowerNodeOfOrder(leaves[u.end].order);
+            Node l{u.end, u.end, at};
+            while (l.end < leaves.size() && lowerNodeOfOrder(leaves[l.end].order) == node) ++l.end;
+            at += 2 * kLowerMaskBytes + lowerValues.size() + (l.end - l.begin) * sizeof(LeafRecord::mask);
+            lower.push_back(l);
+            u.end = l.end;
         }
-        i = rootEnd;
+        upper.push_back(u);
+        i = u.end;
     }
+    const ByteVector header = treeTopologyHeader(encoding, std::uint32_t(upper.size()));
+    ByteVector out(header.size() + at);
+    std::memcpy(out.data(), header.data(), header.size());
+    std::uint8_t* const body = out.data() + header.size();
+    tbb::parallel_for(std::size_t(0), upper.size(), [&](std::size_t n) {
+        const Node& u = upper[n];
+        openvdb::util::NodeMask<5> upperChildren;
+        for (std::size_t i = u.begin; i < u.end; ++i) upperChildren.setOn(upperIndexOfOrder(leaves[i].order));
+        const glm::ivec3 b = treeOrderCoord(leaves[u.begin].order);
+        const std::int32_t origin[3] = {(b.x >> 9) << 12, (b.y >> 9) << 12, (b.z >> 9) << 12};
+        std::uint8_t* p = putBytes(body + u.at, origin, sizeof origin);
+        p = putMask(p, upperChildren);
+        p = putMask(p, openvdb::util::NodeMask<5>());
+        putBytes(p, upperValues.data(), upperValues.size());
+    });
+    tbb::parallel_for(std::size_t(0), lower.size(), [&](std::size_t n) {
+        const Node& l = lower[n];
+        openvdb::util::NodeMask<4> lowerChildren;
+        for (std::size_t k = l.begin; k < l.end; ++k) lowerChildren.setOn(lowerIndexOfOrder(leaves[k].order));
+        std::uint8_t* p = putMask(body + l.at, lowerChildren);
+        p = putMask(p, openvdb::util::NodeMask<4>());
+        p = putBytes(p, lowerValues.data(), lowerValues.size());
+        for (std::size_t k = l.begin; k < l.end; ++k) p = putBytes(p, leaves[k].mask.data(), sizeof leaves[k].mask);
+    });
     return out;
 }
 
@@ -560,38 +579,45 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     const std::size_t gridCount = gridOf.size();
     const ByteVector header = fileHeaderBytes(fileMeta, std::int32_t(gridCount));
     std::vector<ByteVector> prefix(gridCount), topology(gridCount);
-    std::vector<std::uint64_t> gridStart(gridCount), recordsAt(gridCount);
-    std::uint64_t at = header.size();
+    std::vector<std::size_t> positionsAt(gridCount);
+    std::vector<std::uint64_t> gridStart(gridCount), recordsAt(gridCount), recordBytes(gridCount);
+    std::vector<GridStatistics> levelStats(m.levels.size());
     for (std::size_t l = 0; l < m.levels.size(); ++l) {
         const PyramidLevel& level = m.levels[l];
         const std::vector<LeafRecord>& leaves = level.leaves;
-        GridStatistics stats;
+        GridStatistics& stats = levelStats[l];
         stats.activeBounds = level.activeBounds;
         stats.activeVoxels = level.activeVoxels;
         stats.leaves = leaves.size();
-        std::uint64_t recordBytes[kMaxGrids] = {};
+        std::uint64_t bytes[kMaxGrids] = {};
         for (std::size_t i = 0; i < leaves.size(); ++i) {
             YV_CHECK(i == 0 || leaves[i].order != leaves[i - 1].order);
             stats.upperNodes += i == 0 || rootChildOfOrder(leaves[i].order) != rootChildOfOrder(leaves[i - 1].order);
             stats.lowerNodes += i == 0 || lowerNodeOfOrder(leaves[i].order) != lowerNodeOfOrder(leaves[i - 1].order);
-            for (int g = 0; g < level.gridCount; ++g) recordBytes[g] += leaves[i].bytes[g];
+            for (int g = 0; g < level.gridCount; ++g) bytes[g] += leaves[i].bytes[g];
         }
-        const std::size_t levelStart =
-            std::size_t(std::find(gridOf.begin(), gridOf.end(), std::pair<std::size_t, int>(l, 0)) - gridOf.begin());
-        for (int g = 0; g < level.gridCount; ++g) {
-            const std::size_t n = levelStart + std::size_t(g);
-            std::vector<LeafLoadInfo> load(leaves.size());
-            for (std::size_t i = 0; i < leaves.size(); ++i) load[i] = leaves[i].load[g];
-            std::size_t positionsAt = 0;
-            prefix[n] = gridPrefixBytes(*level.skeleton[g], level.encoding[g], stats, load, positionsAt);
-            topology[n] = topologyBytes(leaves, level.encoding[g], stats);
-            gridStart[n] = at;
-            recordsAt[n] = at + prefix[n].size() + topology[n].size();
-            at = recordsAt[n] + recordBytes[g];
-            patchStreamPositions(prefix[n], positionsAt, *level.skeleton[g], level.encoding[g].half,
-                                 std::int64_t(gridStart[n] + positionsAt + 24), std::int64_t(recordsAt[n]),
-                                 std::int64_t(at));
-        }
+        for (std::size_t n = 0; n < gridCount; ++n)
+            if (gridOf[n].first == l) recordBytes[n] = bytes[gridOf[n].second];
+    }
+    // Each grid's prefix and topology, side by side: neither depends on where the grid lands.
+    tbb::parallel_for(std::size_t(0), gridCount, [&](std::size_t n) {
+        const auto [l, g] = gridOf[n];
+        const PyramidLevel& level = m.levels[l];
+        std::vector<LeafLoadInfo> load(level.leaves.size());
+        for (std::size_t i = 0; i < level.leaves.size(); ++i) load[i] = level.leaves[i].load[g];
+        prefix[n] = gridPrefixBytes(*level.skeleton[g], level.encoding[g], levelStats[l], load, positionsAt[n]);
+        topology[n] = topologyBytes(level.leaves, level.encoding[g]);
+    });
+    std::uint64_t at = header.size();
+    for (std::size_t n = 0; n < gridCount; ++n) {
+        const auto [l, g] = gridOf[n];
+        const PyramidLevel& level = m.levels[l];
+        gridStart[n] = at;
+        recordsAt[n] = at + prefix[n].size() + topology[n].size();
+        at = recordsAt[n] + recordBytes[n];
+        patchStreamPositions(prefix[n], positionsAt[n], *level.skeleton[g], level.encoding[g].half,
+                             std::int64_t(gridStart[n] + positionsAt[n] + 24), std::int64_t(recordsAt[n]),
+                             std::int64_t(at));
     }
     const auto laidOut = std::chrono::steady_clock::now();
     traceSpanSince("sort and lay out the leaves", start);
