@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The whole-run benchmark on the GPU machine at the session's last commit
+# (the direct, chunked .vdb write, the packed encode, the topology side by
+# side): the disk's write speed (dd with fsync), yarnvox against OpenVDB's
+# tools on the sweater and the draped garment at 2048 and 4096, and the bare
+# append rate.
+set -u
+export YV_BUILD_DIR=build-dev YV_SCRATCH=/tmp/yvb YV_COMMIT=937728b
+mkdir -p /tmp/yvb
+dd if=/dev/zero of=/tmp/yvb/dd.bin bs=64M count=64 conv=fsync 2> $OUT/disk-sweater-draped.txt; rm -f /tmp/yvb/dd.bin
+bench/baseline_compare.sh .data/sweater_flame_ribbing.bcc 0.1 "2048 4096" > $OUT/sweater.jsonl 2> $OUT/sweater.err
+bench/baseline_compare.sh gen:twill:cylinder:410000 0.3 "2048 4096" > $OUT/draped.jsonl 2> $OUT/draped.err
+build-dev/bench/yv_bench_append --fragments 268435456 --sides 1,2,4,8 > $OUT/append.jsonl 2>&1
+tail -n +1 $OUT/disk-sweater-draped.txt; cut -c1-300 $OUT/*.jsonl
