@@ -189,6 +189,18 @@ void checkSameGrids(const fs::path& a, const fs::path& b, int lodLevels = 0) {
     }
 }
 
+/// Both files hold the same bytes (but OpenVDB's random UUID) and read back
+/// as the same grids.
+void checkSameFile(const fs::path& ours, const fs::path& theirs, int lodLevels = 0) {
+    const auto a = test::vdbBytesWithoutUuid(ours), b = test::vdbBytesWithoutUuid(theirs);
+    CHECK(a.size() == b.size());
+    const auto mismatch = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
+    INFO("first difference at byte " << (mismatch.first - a.begin()));
+    const bool sameBytes = a == b;
+    CHECK(sameBytes);
+    checkSameGrids(ours, theirs, lodLevels);
+}
+
 VolumeMetadata someMetadata() {
     VolumeMetadata meta;
     meta.input = "tree-shaped test volume";
@@ -233,13 +245,7 @@ TEST_CASE("The streaming writer gives OpenVDB's own bytes for every compression 
                 options.outputChunkBytes = chunk;
                 writeVdb(ours.string(), volume, someMetadata(), options);
                 writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half);
-                const auto a = test::vdbBytesWithoutUuid(ours), b = test::vdbBytesWithoutUuid(theirs);
-                CHECK(a.size() == b.size());
-                const auto mismatch = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
-                INFO("first difference at byte " << (mismatch.first - a.begin()));
-                const bool sameBytes = a == b;
-                CHECK(sameBytes);
-                checkSameGrids(ours, theirs);
+                checkSameFile(ours, theirs);
             }
     }
     fs::remove(ours);
@@ -260,13 +266,7 @@ TEST_CASE("With --lod the file is OpenVDB's own for the same grids, for every co
             options.outputChunkBytes = 8192; // chunks cut through every level's records
             writeVdb(ours.string(), volume, someMetadata(), options);
             writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half, options.lodLevels);
-            const auto a = test::vdbBytesWithoutUuid(ours), b = test::vdbBytesWithoutUuid(theirs);
-            CHECK(a.size() == b.size());
-            const auto mismatch = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
-            INFO("first difference at byte " << (mismatch.first - a.begin()));
-            const bool sameBytes = a == b;
-            CHECK(sameBytes);
-            checkSameGrids(ours, theirs, options.lodLevels);
+            checkSameFile(ours, theirs, options.lodLevels);
         }
     fs::remove(ours);
     fs::remove(theirs);

@@ -22,7 +22,7 @@
 namespace yv {
 
 struct RegionWriterStats {
-    double resolveSeconds = 0.0;    ///< resolving accumulators or unpacking resolved bricks; summed over workers
+    double resolveSeconds = 0.0;    ///< resolving accumulators, unpacking resolved bricks, or (packed destination) their tallies; summed over workers
     double encodeSeconds = 0.0;     ///< serialise, compress, checksum; summed over workers
     double writeSeconds = 0.0;      ///< write, fsync, rename; summed over workers
     double submitWaitSeconds = 0.0; ///< time submit() blocked on a full queue (the producer stalled on disk)
