@@ -1,16 +1,21 @@
 // The output written in aligned chunks side by side (vdb/chunked_output.h):
 // every byte where the caller put it, the file exactly its size, whether the
-// chunks went past the page cache or not.
+// chunks went past the page cache or fell back to it.
 #include "core/error.h"
 #include "vdb/chunked_output.h"
 #include "test_helpers.h"
 
 #include <catch2/catch.hpp>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <stdexcept>
 #include <vector>
 
 using namespace yv;
@@ -28,6 +33,53 @@ std::vector<std::uint8_t> fileBytes(const fs::path& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+/// Fills with the pattern, and counts each chunk's calls in its own slot
+/// (the fill runs on several threads; Catch2's checks wait until after).
+struct PatternFill {
+    std::uint64_t chunk;
+    std::vector<std::atomic<int>> calls;
+    std::vector<std::uint64_t> sizes;
+    PatternFill(std::uint64_t size, std::uint64_t chunkBytes)
+        : chunk(chunkBytes), calls((size + chunkBytes - 1) / chunkBytes), sizes(calls.size()) {}
+    void operator()(std::uint64_t at, std::span<std::uint8_t> bytes) {
+        const std::size_t c = std::size_t(at / chunk);
+        if (at % chunk != 0 || c >= calls.size()) return; // counted as a missing call below
+        ++calls[c];
+        sizes[c] = bytes.size();
+        for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = patternByte(at + i);
+    }
+};
+
+/// The file holds the pattern, exactly `size` bytes of it, every chunk filled once.
+void checkPatternFile(const fs::path& path, std::uint64_t size, const PatternFill& fill) {
+    for (std::size_t c = 0; c < fill.calls.size(); ++c) {
+        INFO("chunk " << c);
+        CHECK(fill.calls[c].load() == 1);
+        CHECK(fill.sizes[c] == std::min(fill.chunk, size - c * fill.chunk));
+    }
+    REQUIRE(fs::file_size(path) == size);
+    const std::vector<std::uint8_t> bytes = fileBytes(path);
+    std::size_t wrong = 0;
+    for (std::uint64_t i = 0; i < size; ++i) wrong += bytes[std::size_t(i)] != patternByte(i);
+    CHECK(wrong == 0);
+}
+
+bool directFlagOn(int fd) { return (::fcntl(fd, F_GETFL) & O_DIRECT) != 0; }
+
+/// A file system whose direct writes fail with EINVAL (a block larger than the alignment).
+ssize_t refuseDirect(int fd, const void* bytes, std::size_t count, off_t offset) {
+    if (directFlagOn(fd)) {
+        errno = EINVAL;
+        return -1;
+    }
+    return ::pwrite(fd, bytes, count, offset);
+}
+
+/// Writes cut short: at most 1000 bytes a call, so direct ones end mid-block.
+ssize_t shortWrites(int fd, const void* bytes, std::size_t count, off_t offset) {
+    return ::pwrite(fd, bytes, std::min<std::size_t>(count, 1000), offset);
+}
+
 } // namespace
 
 TEST_CASE("A chunked output holds every byte where the fill put it, and no more", "[vdb][chunked]") {
@@ -38,25 +90,45 @@ TEST_CASE("A chunked output holds every byte where the fill put it, and no more"
         INFO("size " << size);
         const fs::path path = scratch("pattern.bin");
         fs::remove(path);
-        std::vector<int> filled(std::size_t((size + chunk - 1) / chunk), 0);
+        PatternFill fill(size, chunk);
         {
             ChunkedOutput out(path.string(), "test output", chunk);
-            out.write(size, [&](std::uint64_t at, std::span<std::uint8_t> bytes) {
-                CHECK(at % chunk == 0);
-                CHECK(bytes.size() == std::min(chunk, size - at));
-                ++filled[std::size_t(at / chunk)];
-                for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = patternByte(at + i);
-            });
-            INFO("direct writes: " << out.direct());
+            out.write(size, std::ref(fill));
         }
-        for (int n : filled) CHECK(n == 1);
-        REQUIRE(fs::file_size(path) == size);
-        const std::vector<std::uint8_t> bytes = fileBytes(path);
-        std::size_t wrong = 0;
-        for (std::uint64_t i = 0; i < size; ++i) wrong += bytes[std::size_t(i)] != patternByte(i);
-        CHECK(wrong == 0);
+        checkPatternFile(path, size, fill);
         fs::remove(path);
     }
+}
+
+TEST_CASE("A chunked output falls back to the page cache where direct writes fail", "[vdb][chunked]") {
+    const std::uint64_t chunk = ChunkedOutput::kAlignment, size = 9 * chunk + 77;
+    const fs::path path = scratch("fallback.bin");
+    SECTION("EINVAL from every direct write, on several threads at once") {
+        // Repeated: the threads meet the failure together, and each must retry.
+        for (int run = 0; run < 20; ++run) {
+            fs::remove(path);
+            PatternFill fill(size, chunk);
+            ChunkedOutput out(path.string(), "test output", chunk, refuseDirect);
+            // The scratch directory's file system takes O_DIRECT (ext4 on the
+            // machines the tests run on): else this section would not test the fallback.
+            REQUIRE(out.direct());
+            out.write(size, std::ref(fill));
+            CHECK(!out.direct());
+            Fd fd(out.release());
+            checkPatternFile(path, size, fill);
+        }
+    }
+    SECTION("direct writes cut short mid-block") {
+        fs::remove(path);
+        PatternFill fill(size, chunk);
+        ChunkedOutput out(path.string(), "test output", chunk, shortWrites);
+        REQUIRE(out.direct());
+        out.write(size, std::ref(fill));
+        CHECK(!out.direct());
+        Fd fd(out.release());
+        checkPatternFile(path, size, fill);
+    }
+    fs::remove(path);
 }
 
 TEST_CASE("A chunked output refuses a name that exists, and a failing fill fails the write", "[vdb][chunked]") {

@@ -10,8 +10,8 @@
 
 #include <boost/container/vector.hpp>
 
-#include <cstddef>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 

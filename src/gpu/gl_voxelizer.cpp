@@ -136,7 +136,6 @@ class GlBackend::Impl {
         }
         const TexelReads reads = texelReadsFor(settings.texelReads);
         uploadCrossSection(xs, reads);
-        const TraceSpan compileSpan("compile the programs");
         // --albedo compiles variants of their own (ALBEDO), so runs without it
         // keep the programs, fragments and brick words they always had.
         const auto compileStart = std::chrono::steady_clock::now();
@@ -154,6 +153,7 @@ class GlBackend::Impl {
         if (reduce_ == Reduce::Max) maxOrient_ = GlProgram::compute("brick_max_orient.comp");
         resolver_ = std::make_unique<GlBrickResolver>(reduce_, settings.base.overlap, &gpuBytes_, albedo_);
         counters_.programSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - compileStart).count();
+        traceSpanSince("compile the programs", compileStart);
         glCreateVertexArrays(1, &vao_);
         glCreateFramebuffers(1, &fbo_);
         // The list starts small and grows to what passes need, up to the budget,

@@ -96,12 +96,12 @@ void RegionWriter::enqueue(Job job) {
     const std::uint64_t id = job.id;
     std::unique_lock lock(mutex_);
     if (closing_) throw Error("region " + std::to_string(id) + ": submitted after the region writer finished");
-    const TraceSpan span("wait for room in the writer's queue");
     const auto waitStart = Clock::now();
     spaceFree_.wait(lock, [&] {
         return error_ || closing_ || heldBytes_ == 0 || heldBytes_ + job.bytes <= maxQueuedBytes_;
     });
     stats_.submitWaitSeconds += secondsSince(waitStart);
+    traceSpanSince("wait for room in the writer's queue", waitStart);
     if (error_) std::rethrow_exception(error_);
     if (closing_) throw Error("region " + std::to_string(id) + ": submitted after the region writer finished");
     heldBytes_ += job.bytes;

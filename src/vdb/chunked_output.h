@@ -10,7 +10,10 @@
 
 #include "core/atomic_file.h"
 
+#include <sys/types.h>
+
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -26,11 +29,18 @@ class ChunkedOutput {
     /// Alignment of direct writes (offsets, lengths, memory): 4096 covers
     /// disks of 512- and 4096-byte blocks.
     static constexpr std::uint64_t kAlignment = 4096;
+    /// Chunks filled and written at once, at most: a few keep the disk busy,
+    /// and each holds a buffer.
+    static constexpr int kMaxWriters = 16;
+
+    /// pwrite's signature: tests put a function in its place that fails the
+    /// way file systems do.
+    using WriteCall = ssize_t (*)(int fd, const void* bytes, std::size_t count, off_t offset);
 
     /// Creates `path` (which must not exist). `what` starts every error
     /// message. `chunkBytes` (a multiple of kAlignment; 0: the default) is
     /// smaller in tests, so that chunks cut through what the caller writes.
-    ChunkedOutput(const std::string& path, std::string what, std::uint64_t chunkBytes = 0);
+    ChunkedOutput(const std::string& path, std::string what, std::uint64_t chunkBytes = 0, WriteCall write = nullptr);
     ChunkedOutput(const ChunkedOutput&) = delete;
     ChunkedOutput& operator=(const ChunkedOutput&) = delete;
 
@@ -38,24 +48,26 @@ class ChunkedOutput {
     /// threads at once, for disjoint ranges; throws to fail the write.
     using Fill = std::function<void(std::uint64_t at, std::span<std::uint8_t> out)>;
 
-    /// Writes the whole file of `size` bytes, chunk by chunk on every core.
-    /// Where the file system refuses direct writes, the same chunks go
-    /// through the page cache. Throws yv::Error "WHAT: reason" on failure.
+    /// Writes the whole file of `size` bytes, chunk by chunk on up to
+    /// kMaxWriters threads. Where the file system refuses direct writes (at
+    /// the start, or a write with EINVAL or cut short), the chunks go through
+    /// the page cache. Throws yv::Error "WHAT: reason" on failure.
     void write(std::uint64_t size, const Fill& fill);
 
-    /// Whether the chunks went past the page cache.
+    /// Whether the chunks go past the page cache.
     bool direct() const { return direct_.load(); }
-    int fd() const { return fd_.get(); }
     /// Hands the descriptor back (to fsync and close it).
     int release() { return fd_.release(); }
 
   private:
+    void writeChunk(const std::uint8_t* bytes, std::uint64_t count, std::uint64_t at);
     void dropDirect();
 
     std::string what_;
-    std::atomic<bool> direct_{false}; ///< before fd_, which sets it when it opens
-    Fd fd_;
     std::uint64_t chunkBytes_;
+    WriteCall write_;
+    Fd fd_;
+    std::atomic<bool> direct_{false};
 };
 
 } // namespace yv

@@ -1,6 +1,7 @@
 #include "vdb/vdb_writer.h"
 
 #include "core/atomic_file.h"
+#include "core/default_init_allocator.h"
 #include "core/error.h"
 #include "core/text.h"
 #include "core/trace.h"
@@ -20,8 +21,8 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -64,7 +65,7 @@ struct LeafRecord {
 /// all of its encoded bytes at once.
 constexpr std::size_t kEncodePiece = 4096;
 /// Leaf records are indexed for the output's chunks in pieces of about this size.
-constexpr std::uint64_t kCopyPieceBytes = 4ull << 20;
+constexpr std::uint64_t kRecordPieceBytes = 4ull << 20;
 
 template <openvdb::Index Log2Dim> std::uint8_t* putMask(std::uint8_t* out, const openvdb::util::NodeMask<Log2Dim>& mask) {
     for (openvdb::Index w = 0; w < openvdb::util::NodeMask<Log2Dim>::WORD_COUNT; ++w) {
@@ -85,7 +86,10 @@ std::uint8_t* putBytes(std::uint8_t* out, const void* p, std::size_t n) {
 /// value mask, the tile values), and each leaf's value mask. Where each node
 /// goes is found in one pass over the leaves; the nodes are then written side
 /// by side (at 8192 a grid's topology is about 1 GB).
-ByteVector topologyBytes(const std::vector<LeafRecord>& leaves, const GridEncoding& encoding) {
+/// Bytes left uninitialized when sized: the topology is written whole, side by side.
+using TopologyBytes = std::vector<std::uint8_t, DefaultInitAllocator<std::uint8_t>>;
+
+TopologyBytes topologyBytes(const std::vector<LeafRecord>& leaves, const GridEncoding& encoding) {
     const ByteVector upperValues = internalNodeValues(encoding, 5);
     const ByteVector lowerValues = internalNodeValues(encoding, 4);
     constexpr std::size_t kUpperMaskBytes = openvdb::util::NodeMask<5>::WORD_COUNT * 8;
@@ -113,7 +117,7 @@ ByteVector topologyBytes(const std::vector<LeafRecord>& leaves, const GridEncodi
         i = u.end;
     }
     const ByteVector header = treeTopologyHeader(encoding, std::uint32_t(upper.size()));
-    ByteVector out(header.size() + at);
+    TopologyBytes out(header.size() + at);
     std::memcpy(out.data(), header.data(), header.size());
     std::uint8_t* const body = out.data() + header.size();
     tbb::parallel_for(std::size_t(0), upper.size(), [&](std::size_t n) {
@@ -149,11 +153,11 @@ struct RecordPiece {
     std::uint64_t at, bytes;
 };
 
-/// Cuts one grid's records, laid out from `at`, into pieces of about kCopyPieceBytes.
+/// Cuts one grid's records, laid out from `at`, into pieces of about kRecordPieceBytes.
 void addRecordPieces(const std::vector<LeafRecord>& leaves, int grid, std::uint64_t at, std::vector<RecordPiece>& out) {
     for (std::size_t i = 0; i < leaves.size();) {
         RecordPiece p{&leaves, grid, i, i, at, 0};
-        while (p.end < leaves.size() && (p.bytes == 0 || p.bytes + leaves[p.end].bytes[grid] <= kCopyPieceBytes))
+        while (p.end < leaves.size() && (p.bytes == 0 || p.bytes + leaves[p.end].bytes[grid] <= kRecordPieceBytes))
             p.bytes += leaves[p.end++].bytes[grid];
         at += p.bytes;
         i = p.end;
@@ -578,7 +582,8 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
         for (int g = 0; g < m.levels[l].gridCount; ++g) gridOf.emplace_back(l, g);
     const std::size_t gridCount = gridOf.size();
     const ByteVector header = fileHeaderBytes(fileMeta, std::int32_t(gridCount));
-    std::vector<ByteVector> prefix(gridCount), topology(gridCount);
+    std::vector<ByteVector> prefix(gridCount);
+    std::vector<TopologyBytes> topology(gridCount);
     std::vector<std::size_t> positionsAt(gridCount);
     std::vector<std::uint64_t> gridStart(gridCount), recordsAt(gridCount), recordBytes(gridCount);
     std::vector<GridStatistics> levelStats(m.levels.size());
@@ -631,13 +636,13 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     // memory, its leaf records from the scratch file.
     struct MemoryPart {
         std::uint64_t at;
-        const ByteVector* bytes;
+        std::span<const std::uint8_t> bytes;
     };
-    std::vector<MemoryPart> memoryParts{{0, &header}};
+    std::vector<MemoryPart> memoryParts{{0, header}};
     std::vector<RecordPiece> pieces;
     for (std::size_t n = 0; n < gridCount; ++n) {
-        memoryParts.push_back({gridStart[n], &prefix[n]});
-        memoryParts.push_back({gridStart[n] + prefix[n].size(), &topology[n]});
+        memoryParts.push_back({gridStart[n], prefix[n]});
+        memoryParts.push_back({gridStart[n] + prefix[n].size(), topology[n]});
         addRecordPieces(m.levels[gridOf[n].first].leaves, gridOf[n].second, recordsAt[n], pieces);
     }
     const std::uint64_t fileBytes = at;
@@ -647,8 +652,8 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
         output.write(fileBytes, [&](std::uint64_t chunkAt, std::span<std::uint8_t> out) {
             const std::uint64_t chunkEnd = chunkAt + out.size();
             for (const MemoryPart& part : memoryParts) {
-                const std::uint64_t lo = std::max(part.at, chunkAt), hi = std::min(part.at + part.bytes->size(), chunkEnd);
-                if (lo < hi) std::memcpy(out.data() + (lo - chunkAt), part.bytes->data() + (lo - part.at), hi - lo);
+                const std::uint64_t lo = std::max(part.at, chunkAt), hi = std::min(part.at + part.bytes.size(), chunkEnd);
+                if (lo < hi) std::memcpy(out.data() + (lo - chunkAt), part.bytes.data() + (lo - part.at), hi - lo);
             }
             fillFromRecords(pieces, *m.spill, chunkAt, out);
         });
