@@ -100,34 +100,33 @@ TEST_CASE("A chunked output holds every byte where the fill put it, and no more"
     }
 }
 
+namespace {
+
+/// Writes the pattern through `call`, which fails direct writes: the file
+/// must start direct, end buffered, and hold every byte.
+void checkFallback(const fs::path& path, std::uint64_t size, std::uint64_t chunk, ChunkedOutput::WriteCall call) {
+    fs::remove(path);
+    PatternFill fill(size, chunk);
+    ChunkedOutput out(path.string(), "test output", chunk, call);
+    // The scratch directory's file system takes O_DIRECT (ext4 on the
+    // machines the tests run on): else this would not test the fallback.
+    REQUIRE(out.direct());
+    out.write(size, std::ref(fill));
+    CHECK(!out.direct());
+    Fd fd(out.release());
+    checkPatternFile(path, size, fill);
+}
+
+} // namespace
+
 TEST_CASE("A chunked output falls back to the page cache where direct writes fail", "[vdb][chunked]") {
     const std::uint64_t chunk = ChunkedOutput::kAlignment, size = 9 * chunk + 77;
     const fs::path path = scratch("fallback.bin");
     SECTION("EINVAL from every direct write, on several threads at once") {
         // Repeated: the threads meet the failure together, and each must retry.
-        for (int run = 0; run < 20; ++run) {
-            fs::remove(path);
-            PatternFill fill(size, chunk);
-            ChunkedOutput out(path.string(), "test output", chunk, refuseDirect);
-            // The scratch directory's file system takes O_DIRECT (ext4 on the
-            // machines the tests run on): else this section would not test the fallback.
-            REQUIRE(out.direct());
-            out.write(size, std::ref(fill));
-            CHECK(!out.direct());
-            Fd fd(out.release());
-            checkPatternFile(path, size, fill);
-        }
+        for (int run = 0; run < 20; ++run) checkFallback(path, size, chunk, refuseDirect);
     }
-    SECTION("direct writes cut short mid-block") {
-        fs::remove(path);
-        PatternFill fill(size, chunk);
-        ChunkedOutput out(path.string(), "test output", chunk, shortWrites);
-        REQUIRE(out.direct());
-        out.write(size, std::ref(fill));
-        CHECK(!out.direct());
-        Fd fd(out.release());
-        checkPatternFile(path, size, fill);
-    }
+    SECTION("direct writes cut short mid-block") { checkFallback(path, size, chunk, shortWrites); }
     fs::remove(path);
 }
 
