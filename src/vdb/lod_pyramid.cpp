@@ -115,6 +115,35 @@ void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out) {
         out);
 }
 
+void appendOctant(const PackedBricks& packed, std::size_t i, const std::array<std::uint64_t, kBrickVoxels / 64>& active,
+                  std::vector<std::uint8_t>& out) {
+    // Voxel v's place among the packed voxels: firstVoxel plus the active voxels before it.
+    std::array<std::uint32_t, kBrickVoxels> at{};
+    std::uint32_t n = packed.headers[i].firstVoxel;
+    for (int w = 0; w < kBrickVoxels / 64; ++w)
+        for (std::uint64_t bits = active[w]; bits; bits &= bits - 1) at[w * 64 + std::countr_zero(bits)] = n++;
+    const bool withAlbedo = !packed.albedo.empty();
+    appendOctantSums(
+        active, [&](int v) { return double(packed.voxels[at[v]].density); },
+        [&](int v, double t[6]) {
+            const PackedVoxel& p = packed.voxels[at[v]];
+            const double d = p.density;
+            // As the VoxelBrick overload: the float axis widened, then the products.
+            const glm::dvec3 a(glm::vec3(p.axis[0], p.axis[1], p.axis[2]));
+            t[0] = d * a.x * a.x;
+            t[1] = d * a.y * a.y;
+            t[2] = d * a.z * a.z;
+            t[3] = d * a.x * a.y;
+            t[4] = d * a.x * a.z;
+            t[5] = d * a.y * a.z;
+        },
+        withAlbedo,
+        [&](int v, double c[3]) {
+            for (int k = 0; k < 3; ++k) c[k] = double(packed.voxels[at[v]].density) * packed.albedo[at[v]].rgb[k];
+        },
+        out);
+}
+
 void appendOctant(const CoarseBrick& sums, const VoxelBrick& resolved, std::vector<std::uint8_t>& out) {
     appendOctantSums(
         resolved.activeMask, [&](int v) { return double(resolved.density[v]); },

@@ -16,8 +16,10 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/packed_bricks.h"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -53,6 +55,10 @@ struct CoarseBrick {
 /// for those voxels the density sums (double), the tensor sums (6 floats) and,
 /// when the brick has an albedo, the density-weighted colour sums (3 floats).
 void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out);
+/// The same for brick i of `packed` with active mask `active`
+/// (packedBrickMask), read where the GPU's resolve put its voxels.
+void appendOctant(const PackedBricks& packed, std::size_t i, const std::array<std::uint64_t, kBrickVoxels / 64>& active,
+                  std::vector<std::uint8_t>& out);
 /// The same for a brick of a coarse level: `resolved` holds its densities as
 /// written (so the next level keeps the written mass), `sums` its tensors.
 void appendOctant(const CoarseBrick& sums, const VoxelBrick& resolved, std::vector<std::uint8_t>& out);

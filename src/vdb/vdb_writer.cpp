@@ -257,7 +257,7 @@ struct VoxelBrickBatch {
     LeafLoadInfo encode(const LeafEncoder& encoder, std::size_t i, const BrickMask&, ByteVector& out) const {
         return encoder.encode(bricks[i], out);
     }
-    void octant(std::size_t i, ByteVector& out) const { appendOctant(bricks[i], out); }
+    void octant(std::size_t i, const BrickMask&, ByteVector& out) const { appendOctant(bricks[i], out); }
 };
 
 /// ... or the GPU's resolved bricks as they came back, packed: at 8192 filling
@@ -271,11 +271,7 @@ struct PackedBrickBatch {
     LeafLoadInfo encode(const LeafEncoder& encoder, std::size_t i, const BrickMask& mask, ByteVector& out) const {
         return encoder.encode(packed, i, mask, out);
     }
-    void octant(std::size_t i, ByteVector& out) const {
-        thread_local VoxelBrick brick;
-        unpackBrick(packed, i, brick);
-        appendOctant(brick, out);
-    }
+    void octant(std::size_t i, const BrickMask& mask, ByteVector& out) const { appendOctant(packed, i, mask, out); }
 };
 
 /// Encodes `bricks` into leaf records of `level`'s grids in the scratch
@@ -304,7 +300,7 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batc
             LeafRecord& r = batch.records[first + i];
             r.mask = bricks.mask(b);
             for (int g = 0; g < level.gridCount; ++g) r.load[g] = bricks.encode(*level.encoders[g], b, r.mask, encoded[g][i]);
-            if (octants) bricks.octant(b, encoded[kOctants][i]);
+            if (octants) bricks.octant(b, r.mask, encoded[kOctants][i]);
             pieceBounds[i] = activeBounds(bricks.key(b), r.mask);
             for (std::uint64_t word : r.mask) activeCounts[i] += std::uint32_t(std::popcount(word));
         });
