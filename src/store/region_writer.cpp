@@ -189,41 +189,34 @@ void RegionWriter::process(Job& job) {
     const TraceSpan span("write a region");
     const auto t = Clock::now();
     ResolveTally tally;
+    double resolveSeconds = 0.0;
+    RegionWriteTimings timings;
+    RegionInfo info;
+    // Without a store the destination's region: its id, bounds and counts.
+    const auto handedOver = [&](std::uint64_t brickCount) {
+        info.id = job.id;
+        info.min = job.min;
+        info.max = job.max;
+        info.brickCount = brickCount;
+        info.activeVoxels = tally.activeVoxels;
+    };
     if (job.isResolved && packedDestination_) {
         // Straight on, packed; the tally from the headers, in header order as unpackBricks sums it.
         for (const PackedBrickHeader& h : job.resolved.headers) tally += tallyOf(h);
-        RegionInfo info;
-        info.id = job.id;
-        info.min = job.min;
-        info.max = job.max;
-        info.brickCount = job.resolved.headers.size();
-        info.activeVoxels = tally.activeVoxels;
-        const double tallySeconds = secondsSince(t);
+        resolveSeconds = secondsSince(t);
+        handedOver(job.resolved.headers.size());
         packedDestination_(job.id, job.resolved);
         recycle(std::move(job.resolved));
         job.resolved = {};
-        std::lock_guard lock(mutex_);
-        results_.push_back(info);
-        stats_.resolveSeconds += tallySeconds;
-        stats_.regionsWritten += 1;
-        stats_.bricksWritten += info.brickCount;
-        regionTallies_.emplace_back(job.id, tally);
-        return;
-    }
-    std::vector<VoxelBrick> bricks = bricksOf(job, tally);
-    const double resolveSeconds = secondsSince(t);
-
-    RegionWriteTimings timings;
-    RegionInfo info;
-    if (store_) {
-        info = store_->writeRegion(job.id, job.min, job.max, std::move(bricks), &timings);
     } else {
-        info.id = job.id;
-        info.min = job.min;
-        info.max = job.max;
-        info.brickCount = bricks.size();
-        info.activeVoxels = tally.activeVoxels;
-        destination_(job.id, std::move(bricks));
+        std::vector<VoxelBrick> bricks = bricksOf(job, tally);
+        resolveSeconds = secondsSince(t);
+        if (store_) {
+            info = store_->writeRegion(job.id, job.min, job.max, std::move(bricks), &timings);
+        } else {
+            handedOver(bricks.size());
+            destination_(job.id, std::move(bricks));
+        }
     }
 
     std::lock_guard lock(mutex_);

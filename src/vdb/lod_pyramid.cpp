@@ -65,6 +65,19 @@ void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active
     if (withAlbedo) std::memcpy(p, colours, n * 3 * sizeof(float));
 }
 
+/// A voxel's structure tensor weighted by its density, d a a^T (xx, yy, zz,
+/// xy, xz, yz), in double from the float axis.
+void densityTensor(float density, glm::vec3 axis, double t[6]) {
+    const double d = density;
+    const glm::dvec3 a(axis);
+    t[0] = d * a.x * a.x;
+    t[1] = d * a.y * a.y;
+    t[2] = d * a.z * a.z;
+    t[3] = d * a.x * a.y;
+    t[4] = d * a.x * a.z;
+    t[5] = d * a.y * a.z;
+}
+
 } // namespace
 
 int maxLodLevels(const VoxelGrid& grid) {
@@ -98,16 +111,7 @@ void CoarseBrick::clear(std::uint64_t k, bool withAlbedo) {
 void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out) {
     appendOctantSums(
         brick.activeMask, [&](int v) { return double(brick.density[v]); },
-        [&](int v, double t[6]) {
-            const double d = brick.density[v];
-            const glm::dvec3 a(brick.orientation[v]);
-            t[0] = d * a.x * a.x;
-            t[1] = d * a.y * a.y;
-            t[2] = d * a.z * a.z;
-            t[3] = d * a.x * a.y;
-            t[4] = d * a.x * a.z;
-            t[5] = d * a.y * a.z;
-        },
+        [&](int v, double t[6]) { densityTensor(brick.density[v], brick.orientation[v], t); },
         !brick.albedo.empty(),
         [&](int v, double c[3]) {
             for (int i = 0; i < 3; ++i) c[i] = double(brick.density[v]) * brick.albedo[v][i];
@@ -127,15 +131,7 @@ void appendOctant(const PackedBricks& packed, std::size_t i, const std::array<st
         active, [&](int v) { return double(packed.voxels[at[v]].density); },
         [&](int v, double t[6]) {
             const PackedVoxel& p = packed.voxels[at[v]];
-            const double d = p.density;
-            // As the VoxelBrick overload: the float axis widened, then the products.
-            const glm::dvec3 a(glm::vec3(p.axis[0], p.axis[1], p.axis[2]));
-            t[0] = d * a.x * a.x;
-            t[1] = d * a.y * a.y;
-            t[2] = d * a.z * a.z;
-            t[3] = d * a.x * a.y;
-            t[4] = d * a.x * a.z;
-            t[5] = d * a.y * a.z;
+            densityTensor(p.density, glm::vec3(p.axis[0], p.axis[1], p.axis[2]), t);
         },
         withAlbedo,
         [&](int v, double c[3]) {

@@ -145,71 +145,66 @@ LeafLoadInfo encodeValues(std::ostream& os, ValueT* values, const LeafMask& mask
     return info;
 }
 
+/// One leaf's buffer record, as LeafNode::writeBuffers writes it: the value
+/// mask `words`, then the values, which active voxel v (the n-th active one,
+/// from 0) takes from `density(v, n)` or `vector(v, n)`, and the others the
+/// background. `stream` is the calling thread's, made on first use.
+template <class DensityAt, class VectorAt>
+LeafLoadInfo encodeLeaf(std::unique_ptr<TaggedStream>& stream, const GridEncoding& encoding,
+                        const std::array<std::uint64_t, kBrickVoxels / 64>& words, ByteVector& out, DensityAt density,
+                        VectorAt vector) {
+    if (!stream) stream = std::make_unique<TaggedStream>(encoding.compression, backgroundOf(encoding.kind));
+    stream->buffer.target(&out);
+    LeafMask mask;
+    for (int w = 0; w < kBrickVoxels / 64; ++w) mask.getWord<std::uint64_t>(w) = words[w];
+    mask.save(stream->os);
+    const auto eachActive = [&](auto&& put) {
+        std::size_t n = 0;
+        for (int w = 0; w < kBrickVoxels / 64; ++w)
+            for (std::uint64_t bits = words[w]; bits; bits &= bits - 1, ++n) put(w * 64 + std::countr_zero(bits), n);
+    };
+    LeafLoadInfo info;
+    if (encoding.kind == GridKind::Density) {
+        float values[kBrickVoxels] = {};
+        eachActive([&](int v, std::size_t n) { values[v] = density(v, n); });
+        info = encodeValues(stream->os, values, mask, encoding);
+    } else {
+        openvdb::Vec3s values[kBrickVoxels];
+        std::fill(std::begin(values), std::end(values), openvdb::Vec3s(0.0f));
+        eachActive([&](int v, std::size_t n) { values[v] = vector(v, n); });
+        info = encodeValues(stream->os, values, mask, encoding);
+    }
+    if (!stream->os) throw Error("encoding a leaf for the .vdb failed");
+    return info;
+}
+
 } // namespace
 
 LeafLoadInfo LeafEncoder::encode(const VoxelBrick& brick, ByteVector& out) const {
     const GridEncoding& encoding = impl_->encoding;
-    std::unique_ptr<TaggedStream>& s = impl_->streams.local();
-    if (!s) s = std::make_unique<TaggedStream>(encoding.compression, backgroundOf(encoding.kind));
-    s->buffer.target(&out);
-    LeafMask mask;
-    for (int w = 0; w < kBrickVoxels / 64; ++w) mask.getWord<std::uint64_t>(w) = brick.activeMask[w];
-    mask.save(s->os);
-    LeafLoadInfo info;
-    if (encoding.kind == GridKind::Density) {
-        float values[kBrickVoxels];
-        for (int v = 0; v < kBrickVoxels; ++v) values[v] = brick.isActive(v) ? brick.density[v] : 0.0f;
-        info = encodeValues(s->os, values, mask, encoding);
-    } else {
-        if (encoding.kind == GridKind::Albedo && brick.albedo.size() != std::size_t(kBrickVoxels))
-            throw Error("brick " + std::to_string(brick.key) + " has no albedo for the .vdb's albedo grid");
-        const glm::vec3* source = encoding.kind == GridKind::Albedo ? brick.albedo.data() : brick.orientation.data();
-        openvdb::Vec3s values[kBrickVoxels];
-        for (int v = 0; v < kBrickVoxels; ++v) {
-            const glm::vec3 a = brick.isActive(v) ? source[v] : glm::vec3(0.0f);
-            values[v] = openvdb::Vec3s(a.x, a.y, a.z);
-        }
-        info = encodeValues(s->os, values, mask, encoding);
-    }
-    if (!s->os) throw Error("encoding a leaf for the .vdb failed");
-    return info;
+    if (encoding.kind == GridKind::Albedo && brick.albedo.size() != std::size_t(kBrickVoxels))
+        throw Error("brick " + std::to_string(brick.key) + " has no albedo for the .vdb's albedo grid");
+    const glm::vec3* source = encoding.kind == GridKind::Albedo ? brick.albedo.data() : brick.orientation.data();
+    return encodeLeaf(
+        impl_->streams.local(), encoding, brick.activeMask, out, [&](int v, std::size_t) { return brick.density[v]; },
+        [&](int v, std::size_t) { return openvdb::Vec3s(source[v].x, source[v].y, source[v].z); });
 }
 
 LeafLoadInfo LeafEncoder::encode(const PackedBricks& packed, std::size_t i,
                                  const std::array<std::uint64_t, kBrickVoxels / 64>& maskWords, ByteVector& out) const {
     const GridEncoding& encoding = impl_->encoding;
-    std::unique_ptr<TaggedStream>& s = impl_->streams.local();
-    if (!s) s = std::make_unique<TaggedStream>(encoding.compression, backgroundOf(encoding.kind));
-    s->buffer.target(&out);
-    LeafMask mask;
-    for (int w = 0; w < kBrickVoxels / 64; ++w) mask.getWord<std::uint64_t>(w) = maskWords[w];
-    mask.save(s->os);
+    const bool albedo = encoding.kind == GridKind::Albedo;
+    if (albedo && packed.albedo.size() != packed.voxels.size())
+        throw Error("brick " + std::to_string(packed.headers[i].brickKey()) + " has no albedo for the .vdb's albedo grid");
     // The active voxels follow each other in voxel order from firstVoxel.
     const std::size_t first = packed.headers[i].firstVoxel;
-    LeafLoadInfo info;
-    if (encoding.kind == GridKind::Density) {
-        float values[kBrickVoxels] = {};
-        const PackedVoxel* v = packed.voxels.data() + first;
-        for (int w = 0; w < kBrickVoxels / 64; ++w)
-            for (std::uint64_t bits = maskWords[w]; bits; bits &= bits - 1) values[w * 64 + std::countr_zero(bits)] = (v++)->density;
-        info = encodeValues(s->os, values, mask, encoding);
-    } else {
-        const bool albedo = encoding.kind == GridKind::Albedo;
-        if (albedo && packed.albedo.size() != packed.voxels.size())
-            throw Error("brick " + std::to_string(packed.headers[i].brickKey()) +
-                        " has no albedo for the .vdb's albedo grid");
-        openvdb::Vec3s values[kBrickVoxels];
-        std::fill(std::begin(values), std::end(values), openvdb::Vec3s(0.0f));
-        std::size_t n = first;
-        for (int w = 0; w < kBrickVoxels / 64; ++w)
-            for (std::uint64_t bits = maskWords[w]; bits; bits &= bits - 1, ++n) {
-                const float* a = albedo ? packed.albedo[n].rgb : packed.voxels[n].axis;
-                values[w * 64 + std::countr_zero(bits)] = openvdb::Vec3s(a[0], a[1], a[2]);
-            }
-        info = encodeValues(s->os, values, mask, encoding);
-    }
-    if (!s->os) throw Error("encoding a leaf for the .vdb failed");
-    return info;
+    return encodeLeaf(
+        impl_->streams.local(), encoding, maskWords, out,
+        [&](int, std::size_t n) { return packed.voxels[first + n].density; },
+        [&](int, std::size_t n) {
+            const float* a = albedo ? packed.albedo[first + n].rgb : packed.voxels[first + n].axis;
+            return openvdb::Vec3s(a[0], a[1], a[2]);
+        });
 }
 
 std::string gridName(GridKind kind, int lodLevel) {

@@ -81,14 +81,14 @@ std::uint8_t* putBytes(std::uint8_t* out, const void* p, std::size_t n) {
     return out + n;
 }
 
+/// Bytes left uninitialized when sized: the topology is written whole, side by side.
+using TopologyBytes = std::vector<std::uint8_t, DefaultInitAllocator<std::uint8_t>>;
+
 /// One grid's topology (formats/vdb-subset.md) from records in tree order:
 /// root children, their 32^3 and 16^3 internal nodes (child mask, an empty
 /// value mask, the tile values), and each leaf's value mask. Where each node
 /// goes is found in one pass over the leaves; the nodes are then written side
 /// by side (at 8192 a grid's topology is about 1 GB).
-/// Bytes left uninitialized when sized: the topology is written whole, side by side.
-using TopologyBytes = std::vector<std::uint8_t, DefaultInitAllocator<std::uint8_t>>;
-
 TopologyBytes topologyBytes(const std::vector<LeafRecord>& leaves, const GridEncoding& encoding) {
     const ByteVector upperValues = internalNodeValues(encoding, 5);
     const ByteVector lowerValues = internalNodeValues(encoding, 4);
