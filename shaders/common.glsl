@@ -28,6 +28,17 @@ struct Fragment {
     uint density;
 };
 
+// One slice placed from its segment (slice_setup.comp), 96 bytes: what the
+// sprite's vertex shader and the sampling pass read of it.
+struct SliceRecord {
+    vec4 center;    // xyz: voxel units from `anchor`; w: projection axis (int bits)
+    ivec4 anchor;   // xyz: the integer voxel the slice's coordinates are relative to
+    vec4 right;     // xyz: the cross-section's right; w: thickness, voxel units
+    vec4 up;        // xyz: the cross-section's up (tangent x right); w: radians it turns by at the next slice
+    vec4 tangent;   // xyz; w: slab depth along the projection axis before the bend's scale, voxel units
+    vec4 curvature; // xyz: curvature vector, 1 / voxel units; w: unused
+};
+
 vec3 catmullRom(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t) {
     float t2 = t * t, t3 = t2 * t;
     return 0.5 * ((-t + 2.0 * t2 - t3) * p0 + (2.0 - 5.0 * t2 + 3.0 * t3) * p1 +
@@ -61,6 +72,50 @@ int dominantAxis(vec3 n) {
     vec3 a = abs(n);
     float floorValue = max(a.x, max(a.y, a.z)) * (1.0 - 1.0 / 1024.0);
     return a.x >= floorValue ? 0 : (a.y >= floorValue ? 1 : 2);
+}
+
+vec3 rotateMinimal(vec3 v, vec3 from, vec3 to) {
+    float c = dot(from, to);
+    vec3 k = cross(from, to);
+    if (c < -0.999999) {
+        vec3 a = abs(from);
+        vec3 e = (a.x <= a.y && a.x <= a.z) ? vec3(1, 0, 0) : (a.y <= a.z ? vec3(0, 1, 0) : vec3(0, 0, 1));
+        vec3 axis = normalize(cross(from, e));
+        return 2.0 * dot(axis, v) * axis - v;
+    }
+    return v + cross(k, v) + cross(k, cross(k, v)) / (1.0 + c);
+}
+
+// Slice k of segment `seg` (src/garment/slices.h: the same frame, twist and
+// slab as the CPU reference places it).
+SliceRecord placeSlice(GpuSegment seg, uint k) {
+    float K = float(seg.info.y);
+    vec3 p0 = seg.p[0].xyz, p1 = seg.p[1].xyz, p2 = seg.p[2].xyz, p3 = seg.p[3].xyz;
+
+    float t = (float(k) + 0.5) / K;
+    vec3 center = catmullRom(p0, p1, p2, p3, t);
+    vec3 d1 = catmullRomDerivative(p0, p1, p2, p3, t);
+    vec3 d2 = catmullRomSecondDerivative(p0, p1, p2, p3, t);
+    vec3 tangent = normalize(d1);
+    float thickness = catmullRomArcLength(p0, p1, p2, p3, float(k) / K, float(k + 1u) / K);
+
+    vec3 t0 = normalize(catmullRomDerivative(p0, p1, p2, p3, 0.0));
+    vec3 up = rotateMinimal(seg.up.xyz, t0, tangent);
+    up = normalize(up - dot(up, tangent) * tangent);
+    float twistRate = seg.p[0].w;
+    float phase = seg.up.w + twistRate * t * uintBitsToFloat(seg.info.z);
+    vec3 right = cos(phase) * up + sin(phase) * cross(tangent, up);
+    vec3 sliceUp = cross(tangent, right);
+    int a = dominantAxis(tangent);
+
+    SliceRecord s;
+    s.center = vec4(center, intBitsToFloat(a));
+    s.anchor = ivec4(int(seg.p[1].w), int(seg.p[2].w), int(seg.p[3].w), 0);
+    s.right = vec4(right, thickness);
+    s.up = vec4(sliceUp, twistRate * thickness);
+    s.tangent = vec4(tangent, thickness / abs(tangent[a]));
+    s.curvature = vec4((d2 - dot(d2, tangent) * tangent) / dot(d1, d1), 0.0);
+    return s;
 }
 
 // Axis folded onto the upper hemisphere (v and -v are the same fibre).
@@ -200,6 +255,35 @@ ivec3 axisFirst(ivec3 v, int a) { return a == 0 ? v : (a == 1 ? v.yzx : v.zxy); 
 // The inverse: (a, b, c) components back to (x, y, z).
 ivec3 axisBack(ivec3 v, int a) { return a == 0 ? v : (a == 1 ? v.zxy : v.yzx); }
 
+// Where the column through the centre of `pixel` (global, on the face's
+// axes b and c, supersampled by S) meets the slice: slice-local (x, y) in
+// voxel units along right and up. Vectors axis first (axisFirst); right x up
+// = tangent, so the 2x2 system has determinant det = tangent[a]. Integers
+// first (exact), then small floats.
+vec2 columnCrossing(ivec2 pixel, int S, ivec3 anchor, vec3 center, vec3 right, vec3 up, float det) {
+    ivec2 fromAnchor = pixel - anchor.yz * S;
+    float db = (float(fromAnchor.x) + 0.5) / float(S) - center.y;
+    float dc = (float(fromAnchor.y) + 0.5) / float(S) - center.z;
+    return vec2((db * up.z - dc * up.y) / det, (right.y * dc - right.z * db) / det);
+}
+
+// The edges of a sample's footprint (its pixel seen on the slice plane), in
+// units of the radius: one pixel along the face's axis b, and along c.
+// Vectors axis first; det = tangent[a].
+vec2 footprintEdgeB(vec3 right, vec3 up, float det, float S, float radius) {
+    return vec2(up.z, -right.z) / (det * S * radius);
+}
+vec2 footprintEdgeC(vec3 right, vec3 up, float det, float S, float radius) {
+    return vec2(-up.y, right.y) / (det * S * radius);
+}
+
+// The least distance from the slice's centre, units of the radius, that the
+// footprint about (x, y) (voxel units) can reach: its centre's distance less
+// half its edges.
+float footprintNearest(vec2 xy, vec2 edgeB, vec2 edgeC, float radius) {
+    return length(xy / radius) - 0.5 * (length(edgeB) + length(edgeC));
+}
+
 // Where the centre of footprint cell (p, q) lies on the slice, in units of
 // the radius: first + p stepP + q stepQ (the pixel's sub-squares seen on the
 // slice plane, about the column's crossing (x, y), voxel units; det =
@@ -230,15 +314,14 @@ float footprintCells(usampler2D crossSection, bool disk, float support, float S,
                      out float cellDensity[kCells], out float cellZ0[kCells], out float cellZ1[kCells],
                      out float zMin, out float zMax) {
     float det = tangent.x;
-    vec2 edgeB = vec2(up.z, -right.z) / (det * S * radius);
-    vec2 edgeC = vec2(-up.y, right.y) / (det * S * radius);
+    vec2 edgeB = footprintEdgeB(right, up, det, S, radius), edgeC = footprintEdgeC(right, up, det, S, radius);
     zMin = 1e30;
     zMax = -1e30;
     float coverage = 0.0;
     if (disk) {
         coverage = footprintDensity(crossSection, 0, true, vec2(x, y) / radius, edgeB, edgeC);
         if (!(coverage > 0.0)) return 0.0;
-    } else if (length(vec2(x, y) / radius) - 0.5 * (length(edgeB) + length(edgeC)) > support) {
+    } else if (footprintNearest(vec2(x, y), edgeB, edgeC, radius) > support) {
         return 0.0;
     }
 #if CROSS_SECTION_QUAD

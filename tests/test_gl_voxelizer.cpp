@@ -116,12 +116,14 @@ TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreem
         const BrickVolume ref = voxelizeCpu(plan, xs, grid, cpu);
         GlVoxelizeCounters counters;
         const BrickVolume gl = voxelizeGl(plan, xs, grid, glSettings(c.reduce), &counters);
-        // What comes back from the GPU: packed bricks, and a few counts per pass.
+        // What comes back from the GPU: packed bricks, and a few counts per
+        // pass (the fragments and the sample items with their wrap flags, the
+        // touched bricks, the resolve's totals: 28 bytes).
         const std::uint64_t packed =
             gl.bricks.size() * sizeof(PackedBrickHeader) + gl.activeVoxelCount() * sizeof(PackedVoxel);
         CHECK(counters.readbackBytes >= packed);
         CHECK(counters.readbackBytes - packed <=
-              16 * (counters.passes + counters.listGrowths + 2 * counters.overflows + counters.plannedRegions));
+              28 * (counters.passes + counters.listGrowths + 2 * counters.overflows + counters.plannedRegions));
         const test::VolumeComparison cmp = test::compareVolumes(ref, gl);
         INFO(toString(c.pattern) << " " << toString(c.shape) << " twist " << c.twist << " " << toString(c.reduce)
                                  << ": IoU " << cmp.iou << " mass ratio " << cmp.massRatio << " angle "
@@ -305,6 +307,24 @@ TEST_CASE("GL agrees with the CPU when slice counts vary per segment (--slice-sp
     CHECK(cmp.meanAngleDeg < 2.0);
 }
 
+TEST_CASE("GL: fragment and item lists that start small grow and the pass is redone, losing nothing", "[gl][overflow]") {
+    YV_REQUIRE_GL();
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 64, 1.0, 64);
+    const CrossSection xs = makeFiberCrossSection();
+    GlVoxelizeCounters plain, grown;
+    const BrickVolume reference = voxelizeGl(run.plan, xs, run.grid, glSettings(), &plain);
+    GlVoxelizeSettings small = glSettings();
+    small.initialListSlots = 64;
+    const BrickVolume volume = voxelizeGl(run.plan, xs, run.grid, small, &grown);
+    REQUIRE(plain.sampleItems > 1000);
+    CHECK(plain.listGrowths == 0);
+    CHECK(grown.listGrowths >= 1);
+    CHECK(grown.overflows == 0);
+    CHECK(grown.fragments == plain.fragments);
+    CHECK(grown.sampleItems == plain.sampleItems);
+    CHECK(identical(reference, volume));
+}
+
 TEST_CASE("GL: an append counter that wraps past 2^32 is caught and the pass redone, losing nothing", "[gl][overflow]") {
     YV_REQUIRE_GL();
     SliceOptions opt;
@@ -312,16 +332,23 @@ TEST_CASE("GL: an append counter that wraps past 2^32 is caught and the pass red
     const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {1, 0.2, 0.1}, 3), opt);
     const VoxelGrid grid = makeGrid(plan, 32, 0.0);
     const CrossSection xs = makeDiskCrossSection();
-    GlVoxelizeCounters plain, wrapped;
+    GlVoxelizeCounters plain;
     const BrickVolume reference = voxelizeGl(plan, xs, grid, glSettings(), &plain);
-    GlVoxelizeSettings nearWrap = glSettings();
-    nearWrap.firstCounterStart = 0xffffff00u; // 256 slots before the 32-bit counter wraps
-    const BrickVolume volume = voxelizeGl(plan, xs, grid, nearWrap, &wrapped);
     REQUIRE(plain.fragments > 1000); // the first pass goes past the wrap
+    REQUIRE(plain.sampleItems > 1000);
     CHECK(plain.overflows == 0);
-    CHECK(wrapped.overflows >= 1);
-    const test::VolumeComparison cmp = test::compareVolumes(reference, volume);
-    CHECK(cmp.iou == 1.0);
-    CHECK(cmp.massRatio == 1.0);
-    CHECK(volume.activeVoxelCount() == reference.activeVoxelCount());
+    // 256 slots before the 32-bit counter wraps: the fragments' counter (the
+    // sampling pass), or the sample items' (the raster).
+    for (bool items : {false, true}) {
+        INFO((items ? "sample item counter" : "fragment counter"));
+        GlVoxelizeSettings nearWrap = glSettings();
+        (items ? nearWrap.firstItemCounterStart : nearWrap.firstCounterStart) = 0xffffff00u;
+        GlVoxelizeCounters wrapped;
+        const BrickVolume volume = voxelizeGl(plan, xs, grid, nearWrap, &wrapped);
+        CHECK(wrapped.overflows >= 1);
+        const test::VolumeComparison cmp = test::compareVolumes(reference, volume);
+        CHECK(cmp.iou == 1.0);
+        CHECK(cmp.massRatio == 1.0);
+        CHECK(volume.activeVoxelCount() == reference.activeVoxelCount());
+    }
 }

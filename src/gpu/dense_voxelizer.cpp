@@ -5,6 +5,7 @@
 #include "gpu/egl_context.h"
 #include "gpu/gl_program.h"
 #include "gpu/gpu_layout.h"
+#include "gpu/slice_placer.h"
 
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>
@@ -168,7 +169,17 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     });
     checkGlError("clearing the 3D textures");
 
+    // The slices placed once, then drawn (slice_setup.comp, as the sparse backend does).
+    std::uint32_t minSlices = ~0u, maxSlices = 0;
+    for (const SegmentRecord& s : plan.segments) {
+        minSlices = std::min(minSlices, s.sliceCount);
+        maxSlices = std::max(maxSlices, s.sliceCount);
+    }
+    const SliceDraw sliceDraw{gl.segments, gl.drawList, static_cast<int>(plan.segments.size()),
+                              minSlices == maxSlices ? maxSlices : 0u, instances};
+    GlBuffer records;
     GlProgram program = GlProgram::graphics("slice.vert", "dense.frag", crossSectionDefines(xs, reads));
+    const SlicePlacer placer;
     glCreateVertexArrays(1, &gl.vao);
     glCreateFramebuffers(1, &gl.fbo);
     glNamedFramebufferParameteri(gl.fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, GLint(viewport));
@@ -180,28 +191,22 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
 
     program.use();
-    glUniform1i(program.uniform("uDrawCount"), static_cast<GLint>(plan.segments.size()));
-    // slice.vert's shortcut when every segment has the same slice count (0:
-    // search the draw list); a location of -1 is ignored by GL.
-    std::uint32_t minSlices = ~0u, maxSlices = 0;
-    for (const SegmentRecord& s : plan.segments) {
-        minSlices = std::min(minSlices, s.sliceCount);
-        maxSlices = std::max(maxSlices, s.sliceCount);
-    }
-    glUniform1ui(program.uniform("uUniformSlices"), minSlices == maxSlices ? maxSlices : 0u);
     glUniform1f(program.uniform("uRadius"), float(plan.options.radius / grid.voxelSize));
     glUniform1i(program.uniform("uSupersample"), S);
     glUniform1f(program.uniform("uSupport"), float(textureSupport(xs)));
     glUniform3i(program.uniform("uRegionMin"), 0, 0, 0);
     glUniform3i(program.uniform("uDims"), dims.x, dims.y, dims.z);
     glUniform2f(program.uniform("uViewport"), float(viewport), float(viewport));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, gl.segments);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, gl.drawList);
     glBindTextureUnit(0, gl.crossSection);
     for (GLuint i = 0; i < 3; ++i) glBindImageTexture(i, gl.textures[i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_R8);
     glBindVertexArray(gl.vao);
     if (instances > 0)
-        c.rasterSeconds = timedGpu([&] { glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances)); });
+        c.rasterSeconds = timedGpu([&] {
+            placer.place(sliceDraw, records, nullptr);
+            program.use();
+            records.bindStorage(5);
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances));
+        });
     checkGlError("dense raster pass");
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
 

@@ -8,6 +8,7 @@
 #include "gpu/gl_buffer.h"
 #include "gpu/gl_program.h"
 #include "gpu/gpu_layout.h"
+#include "gpu/slice_placer.h"
 
 #include <epoxy/gl.h>
 #include <glm/common.hpp>
@@ -26,7 +27,8 @@ namespace yv {
 namespace {
 
 constexpr GLuint kWorkGroup = 256;
-constexpr std::uint64_t kInitialFragmentSlots = 1 << 20; // 16 MiB of fragments
+constexpr GLuint kSampleGroup = 128; // sample.comp's local_size_x
+constexpr std::uint64_t kInitialFragmentSlots = 1 << 20; // 16 MiB of fragments, 8 MiB of sample items
 
 /// Time of the GL commands between begin() and end(), summed. On a GPU
 /// (EGL's device platform) by timer queries, read at the end of the run, so
@@ -139,10 +141,13 @@ class GlBackend::Impl {
         // --albedo compiles variants of their own (ALBEDO), so runs without it
         // keep the programs, fragments and brick words they always had.
         const auto compileStart = std::chrono::steady_clock::now();
-        std::vector<std::string> rasterDefines = crossSectionDefines(xs, reads);
-        if (albedo_) rasterDefines.push_back("ALBEDO 1");
-        if (pointMargin_ > 0) rasterDefines.push_back("SLICE_POINTS 1");
-        raster_ = GlProgram::graphics("slice.vert", "append.frag", rasterDefines);
+        std::vector<std::string> sampleDefines = crossSectionDefines(xs, reads);
+        if (albedo_) sampleDefines.push_back("ALBEDO 1");
+        placer_ = std::make_unique<SlicePlacer>();
+        raster_ = GlProgram::graphics("slice.vert", "append.frag", pointMargin_ > 0 ? std::vector<std::string>{"SLICE_POINTS 1"}
+                                                                                   : std::vector<std::string>{});
+        sample_ = GlProgram::compute("sample.comp", sampleDefines);
+        sampleDispatch_ = GlProgram::compute("sample_dispatch.comp");
         flag_ = GlProgram::compute("brick_flag.comp");
         clear_ = GlProgram::compute("buffer_clear.comp");
         scan_ = GlProgram::compute("brick_scan.comp");
@@ -158,9 +163,13 @@ class GlBackend::Impl {
         glCreateFramebuffers(1, &fbo_);
         // The list starts small and grows to what passes need, up to the budget,
         // so a small garment does not hold the whole budget on the GPU.
-        fragmentSlots_ = std::min<std::uint64_t>(capacity_, kInitialFragmentSlots);
+        const std::uint64_t initialSlots = settings.initialListSlots ? settings.initialListSlots : kInitialFragmentSlots;
+        fragmentSlots_ = std::min<std::uint64_t>(capacity_, initialSlots);
+        itemSlots_ = std::min<std::uint64_t>(capacity_, initialSlots);
         reserveFragments();
+        items_.reserve(itemSlots_ * sizeof(GpuSampleItem), &gpuBytes_);
         counter_.reserve(8, &gpuBytes_); // the append counter, then the flag of a counter that wrapped
+        itemCounter_.reserve(32, &gpuBytes_); // likewise for the items, then the sampling pass's dispatch size
         counts_.reserve(16, &gpuBytes_);
         notePeak();
     }
@@ -213,6 +222,7 @@ class GlBackend::Impl {
         });
         finishReadbacks();
         counters_.rasterSeconds = rasterTimer_.seconds();
+        counters_.sampleSeconds = sampleTimer_.seconds();
         counters_.brickSeconds = brickTimer_.seconds();
         noteResolver();
         counters_.fragmentCapacity = capacity_;
@@ -230,10 +240,13 @@ class GlBackend::Impl {
         const std::uint64_t block = static_cast<std::uint64_t>(std::max<long long>(info.maxSsboBlockSize, 1 << 20));
         const long long freeBytes = context_->queryFreeMemoryBytes();
         const std::uint64_t memory = freeBytes > 0 ? static_cast<std::uint64_t>(freeBytes) / 2 : (std::uint64_t(1) << 30);
-        // With albedo every fragment has a second record as large (GpuAlbedoFragment).
-        const std::uint64_t fragmentBytes = std::min(block, memory / 2) / (albedo_ ? 2 : 1);
-        capacity_ = settings_.fragmentCapacity ? settings_.fragmentCapacity : fragmentBytes / sizeof(GpuFragment);
+        // A unit of the budget is a fragment (with albedo a second record as
+        // large, GpuAlbedoFragment) and a sample item: the item list holds
+        // as many items as the fragment list holds fragments.
+        const std::uint64_t unitBytes = sizeof(GpuFragment) * (albedo_ ? 2 : 1) + sizeof(GpuSampleItem);
+        capacity_ = settings_.fragmentCapacity ? settings_.fragmentCapacity : memory / 2 / unitBytes;
         capacity_ = std::min<std::uint64_t>(capacity_, block / sizeof(GpuFragment));
+        maxBlock_ = block;
         // Slots at 2^31 and beyond flag the pass as overflowed (append.frag).
         capacity_ = std::min<std::uint64_t>(capacity_, 0x7fffffffu);
         // A brick slot holds its words, and the resolve's output for it in the worst case.
@@ -354,12 +367,20 @@ class GlBackend::Impl {
             draw[2 * i + 1] = static_cast<std::uint32_t>(instances);
             instances += plan_.segments[item.segments[i]].sliceCount;
         }
-        if (instances > 0x7fffffff) return false;
+        if (instances > 0x7fffffff || instances * sizeof(GpuSliceRecord) > maxBlock_) return false;
         drawList_.upload(draw.data(), draw.size() * 4, &gpuBytes_);
         counter_.clear(8);
+        itemCounter_.clear(32);
         if (const std::uint32_t start = std::exchange(counterStart_, 0); start != 0)
             glNamedBufferSubData(counter_.id(), 0, 4, &start);
+        if (const std::uint32_t start = std::exchange(itemCounterStart_, 0); start != 0)
+            glNamedBufferSubData(itemCounter_.id(), 0, 4, &start);
 
+        // The raster: the slices placed on every compute unit, then drawn, one
+        // sample item appended per pixel that can hold fibre.
+        rasterTimer_.begin();
+        placer_->place(SliceDraw{segments_.id(), drawList_.id(), static_cast<int>(item.segments.size()), uniformSlices_, instances},
+                       slices_, &gpuBytes_);
         const int viewport = std::max({size.x, size.y, size.z}) * S + 2 * pointMargin_;
         glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_WIDTH, viewport);
         glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_HEIGHT, viewport);
@@ -370,29 +391,15 @@ class GlBackend::Impl {
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
 
         raster_.use();
-        glUniform1i(raster_.uniform("uDrawCount"), static_cast<GLint>(item.segments.size()));
-        glUniform1ui(raster_.uniform("uUniformSlices"), uniformSlices_);
-        glUniform1f(raster_.uniform("uRadius"), float(plan_.options.radius / grid_.voxelSize));
-        glUniform1i(raster_.uniform("uSupersample"), S);
-        glUniform1f(raster_.uniform("uSupport"), float(support_));
-        glUniform3i(raster_.uniform("uRegionMin"), item.min.x, item.min.y, item.min.z);
-        glUniform3i(raster_.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
+        setRegionUniforms(raster_, item.min, bricks);
         glUniform2f(raster_.uniform("uViewport"), float(viewport), float(viewport));
         glUniform1i(raster_.uniform("uMargin"), pointMargin_);
-        glUniform1ui(raster_.uniform("uCapacity"), static_cast<GLuint>(fragmentSlots_));
-        segments_.bindStorage(0);
-        drawList_.bindStorage(1);
-        fragments_.bindStorage(2);
-        glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
-        counter_.bindStorage(3); // the wrap flag (the brick passes bind their own buffer there later)
-        glBindTextureUnit(0, texture_);
-        if (albedo_) {
-            albedoFragments_.bindStorage(4);
-            glBindTextureUnit(1, albedoTexture_);
-        }
+        glUniform1ui(raster_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
+        slices_.bindStorage(5);
+        items_.bindStorage(6);
+        itemCounter_.bindStorage(7); // the wrap flag
+        glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, itemCounter_.id());
         glBindVertexArray(vao_);
-
-        rasterTimer_.begin();
         if (pointMargin_ > 0) {
             glEnable(GL_PROGRAM_POINT_SIZE);
             glDrawArraysInstanced(GL_POINTS, 0, 1, static_cast<GLsizei>(instances));
@@ -401,29 +408,66 @@ class GlBackend::Impl {
         }
         rasterTimer_.end();
         checkGlError("raster pass");
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
+
+        // The sampling: one thread per item, sized on the GPU from the item count.
+        sampleTimer_.begin();
+        sampleDispatch_.use();
+        glUniform1ui(sampleDispatch_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
+        glUniform1ui(sampleDispatch_.uniform("uGroupSize"), kSampleGroup);
+        glUniform1ui(sampleDispatch_.uniform("uMaxGroups"), maxGroups_);
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        sample_.use();
+        setRegionUniforms(sample_, item.min, bricks);
+        glUniform1ui(sample_.uniform("uCapacity"), static_cast<GLuint>(fragmentSlots_));
+        glUniform1ui(sample_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
+        fragments_.bindStorage(2);
+        glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
+        counter_.bindStorage(3); // the wrap flag (the brick passes bind their own buffer there later)
+        glBindTextureUnit(0, texture_);
+        if (albedo_) {
+            albedoFragments_.bindStorage(4);
+            glBindTextureUnit(1, albedoTexture_);
+        }
+        slices_.bindStorage(5);
+        items_.bindStorage(6);
+        itemCounter_.bindStorage(7);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, itemCounter_.id());
+        glDispatchComputeIndirect(16);
+        sampleTimer_.end();
+        checkGlError("sampling pass");
         glFlush();
         // While the GPU rasterizes, the host takes in the pass before's bricks.
         finishReadbacks();
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
-        GLuint count[2] = {0, 0};
+        // Each counter, then its wrap flag: the 32-bit counter went past 2^31
+        // (and may have wrapped to a small count), far beyond any list, so the
+        // pass is redone in pieces.
+        GLuint count[4] = {0, 0, 0, 0};
         {
             const TraceSpan span("wait for the fragment count");
-            std::memcpy(count, small_.read(counter_.id(), 8, &gpuBytes_), 8);
+            std::memcpy(count, small_.read({{counter_.id(), 0, 8}, {itemCounter_.id(), 0, 8}}, &gpuBytes_), 16);
         }
-        const GLuint fragmentCount = count[0];
-        // The 32-bit counter went past 2^31 (and may have wrapped to a small
-        // count): far beyond any list, so the pass is redone in pieces.
-        if (count[1] != 0) return false;
-        if (fragmentCount > capacity_) return false;
-        if (fragmentCount > fragmentSlots_) {
-            // Within the budget but beyond the list as allocated: grow it and
-            // redo the same pass (the counter told us exactly how much is needed).
-            fragmentSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(fragmentCount) + fragmentCount / 4);
-            reserveFragments();
+        const GLuint fragmentCount = count[0], itemCount = count[2];
+        if (count[1] != 0 || count[3] != 0 || fragmentCount > capacity_ || itemCount > capacity_) return false;
+        if (fragmentCount > fragmentSlots_ || itemCount > itemSlots_) {
+            // Within the budget but beyond the lists as allocated: grow them
+            // and redo the same pass (the counters told us how much is needed;
+            // with items cut short the fragments may need a second growth).
+            if (itemCount > itemSlots_) {
+                itemSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(itemCount) + itemCount / 4);
+                items_.reserve(itemSlots_ * sizeof(GpuSampleItem), &gpuBytes_);
+            }
+            if (fragmentCount > fragmentSlots_) {
+                fragmentSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(fragmentCount) + fragmentCount / 4);
+                reserveFragments();
+            }
             ++counters_.listGrowths;
             return process(item);
         }
+        counters_.sampleItems += itemCount;
         if (fragmentCount == 0) return true;
 
         // Brick passes: flag, scan, then scatter into the touched bricks only.
@@ -494,6 +538,16 @@ class GlBackend::Impl {
         counters_.fragments += fragmentCount;
         ++counters_.passes;
         return true;
+    }
+
+    /// The uniforms the raster and the sampling programs share: the yarn, the
+    /// sampling and the region.
+    void setRegionUniforms(const GlProgram& program, glm::ivec3 regionMin, glm::ivec3 bricks) const {
+        glUniform1f(program.uniform("uRadius"), float(plan_.options.radius / grid_.voxelSize));
+        glUniform1i(program.uniform("uSupersample"), settings_.base.supersample);
+        glUniform1f(program.uniform("uSupport"), float(support_));
+        glUniform3i(program.uniform("uRegionMin"), regionMin.x, regionMin.y, regionMin.z);
+        glUniform3i(program.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
     }
 
     /// Sizes the fragment list (and with albedo its colour list) for fragmentSlots_.
@@ -573,16 +627,21 @@ class GlBackend::Impl {
     int words_;
     std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
     std::uint32_t counterStart_ = settings_.firstCounterStart;
+    std::uint32_t itemCounterStart_ = settings_.firstItemCounterStart;
+    std::uint64_t maxBlock_ = 0; ///< GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes
     int regionCap_ = 1024;
     int pointMargin_ = 0; ///< pixels around a region's face with point sprites; 0: triangles
     std::uint64_t fragmentSlots_ = 0; ///< fragments the list holds now (grows up to capacity_)
+    std::uint64_t itemSlots_ = 0;     ///< sample items the item list holds now (likewise)
     std::uint32_t uniformSlices_ = 0; ///< slices per segment when all segments agree, else 0
     GLuint maxGroups_ = 65535;
     ReadbackBuffer small_, readback_;
     GlBuffer segments_, drawList_, fragments_, albedoFragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
+    GlBuffer slices_, items_, itemCounter_; ///< the placed slices, the sample items and their counter
     GLuint texture_ = 0, albedoTexture_ = 0, vao_ = 0, fbo_ = 0;
     double support_ = 0.0; ///< textureSupport() of the cross-section
-    GlProgram raster_, clear_, flag_, scan_, scatter_, maxOrient_;
+    std::unique_ptr<SlicePlacer> placer_;
+    GlProgram raster_, sample_, sampleDispatch_, clear_, flag_, scan_, scatter_, maxOrient_;
     std::unique_ptr<GlBrickResolver> resolver_;
     /// A region being rasterized, or done and waiting for its last packed bricks.
     struct RegionInFlight {
@@ -593,7 +652,8 @@ class GlBackend::Impl {
     std::unique_ptr<RegionInFlight> current_;  ///< the region being rasterized
     std::unique_ptr<RegionInFlight> awaiting_; ///< the region before, until its last bricks are in
     PackedBricks* pendingTarget_ = nullptr;    ///< where the resolve in flight appends
-    GpuTimer rasterTimer_{context_->info().platform == "device"}, brickTimer_{context_->info().platform == "device"};
+    GpuTimer rasterTimer_{context_->info().platform == "device"}, sampleTimer_{context_->info().platform == "device"},
+        brickTimer_{context_->info().platform == "device"};
     /// The current region's raw bricks: those drawn in several passes (their
     /// words summed on the host), or all of them with the host resolve.
     std::vector<BrickAccumulator> partials_;

@@ -47,21 +47,27 @@ struct GlVoxelizeSettings {
     /// Fragment-list capacity in fragments (0: from queried limits and free
     /// GPU memory). Tests force it small to exercise overflow and retry.
     std::uint64_t fragmentCapacity = 0;
+    /// Slots the fragment and item lists start with (0: 2^20); they grow to
+    /// what a pass needs, up to the capacity. Tests start them small.
+    std::uint64_t initialListSlots = 0;
     bool verbose = false;
     /// How the sampling shader reads the cross-section's texels: as suits the
     /// platform (Auto), or forced (tests compare the two).
     TexelReads texelReads = TexelReads::Auto;
     BrickResolve brickResolve = BrickResolve::Auto;
     SlicePrimitive slicePrimitive = SlicePrimitive::Auto;
-    /// Where the first raster pass's 32-bit append counter starts (tests set
-    /// it near 2^32 to make it wrap; runs leave it at 0).
+    /// Where the first pass's 32-bit fragment counter, and its sample item
+    /// counter, start (tests set them near 2^32 to make them wrap; runs leave
+    /// them at 0).
     std::uint32_t firstCounterStart = 0;
+    std::uint32_t firstItemCounterStart = 0;
 };
 
 struct GlVoxelizeCounters {
     std::string renderer, platform;
     std::string slicePrimitive; ///< "point" or "triangle", as drawn
     std::uint64_t fragments = 0;        ///< fragments appended, summed over passes that fit
+    std::uint64_t sampleItems = 0;      ///< sample items (slice and pixel) the raster appended, likewise
     std::uint64_t passes = 0;           ///< raster passes that fit
     std::uint64_t overflows = 0;        ///< passes redone in smaller pieces
     std::uint64_t listGrowths = 0;      ///< passes redone after growing the fragment list within the budget
@@ -74,7 +80,8 @@ struct GlVoxelizeCounters {
     std::uint64_t peakGpuBytes = 0;     ///< largest sum of yarnvox's GPU buffers
     double contextSeconds = 0.0;        ///< creating the GL context (EGL display, device, context), or waiting for one started earlier
     double programSeconds = 0.0;        ///< compiling and linking the backend's shader programs
-    double rasterSeconds = 0.0;         ///< time of raster + append passes (GPU drained at both ends)
+    double rasterSeconds = 0.0;         ///< time of the raster passes: slices placed, drawn, items appended (GPU drained at both ends)
+    double sampleSeconds = 0.0;         ///< time of the sampling passes: items sampled, fragments appended (likewise)
     double brickSeconds = 0.0;          ///< time of the brick passes (likewise)
     double resolveSeconds = 0.0;        ///< time of the resolve passes, until their totals are on the host
     double readbackSeconds = 0.0;       ///< wall time of reading back bricks (packed, and raw ones split by segments)

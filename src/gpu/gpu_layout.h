@@ -25,6 +25,26 @@ struct GpuSegment {
 };
 static_assert(sizeof(GpuSegment) == 96, "GpuSegment must match shaders/common.glsl");
 
+/// shaders/common.glsl: SliceRecord, one placed slice (shaders/slice_setup.comp
+/// writes them; the host only sizes their buffer).
+struct GpuSliceRecord {
+    float center[4];    ///< voxel units from the anchor; w: projection axis (int bits)
+    std::int32_t anchor[4];
+    float right[4];     ///< w: thickness
+    float up[4];        ///< w: twist step
+    float tangent[4];   ///< w: slab depth along the projection axis
+    float curvature[4];
+};
+static_assert(sizeof(GpuSliceRecord) == 96, "GpuSliceRecord must match shaders/common.glsl");
+
+/// shaders/append.frag and sample.comp: one sample item, a slice's instance
+/// and a pixel of the region's face (x | y << 16).
+struct GpuSampleItem {
+    std::uint32_t instance;
+    std::uint32_t pixel;
+};
+static_assert(sizeof(GpuSampleItem) == 8, "GpuSampleItem must match shaders/append.frag");
+
 /// shaders/common.glsl: Fragment.
 struct GpuFragment {
     std::uint32_t key;     ///< region brick index << 9 | voxel offset in the brick

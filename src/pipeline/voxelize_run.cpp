@@ -186,6 +186,7 @@ StageSeconds workDirStages(const StageTimer& timer, const RegionWriterStats& wri
     StageSeconds out = timer.laps();
     if (gl)
         out.insert(out.end(), {{"voxelize.gpu_raster", gl->rasterSeconds},
+                               {"voxelize.gpu_sample", gl->sampleSeconds},
                                {"voxelize.gpu_bricks", gl->brickSeconds},
                                {"voxelize.gpu_resolve", gl->resolveSeconds},
                                {"voxelize.readback", gl->readbackSeconds}});
@@ -591,6 +592,8 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 .set("gl_context_seconds", counters.contextSeconds)
                 .set("gl_program_seconds", counters.programSeconds)
                 .set("gpu_raster_seconds", counters.rasterSeconds)
+                .set("sample_items", counters.sampleItems)
+                .set("gpu_sample_seconds", counters.sampleSeconds)
                 .set("gpu_brick_seconds", counters.brickSeconds)
                 .set("gpu_resolve_seconds", counters.resolveSeconds)
                 .set("readback_seconds", counters.readbackSeconds)
