@@ -49,9 +49,15 @@ print(json.dumps({"tool": "yarnvox", "garment": garment, "resolution": res, "wal
                   "backend_stats": s["backend_stats"]}))
 PY
     rm -f "$scratch/yv-$res.vdb"
+    # Each baseline line gains its process's wall time, measured as yarnvox's
+    # is (its own "total" leaves out the process's start and exit).
     for orientation in "" --orientation; do
-        "$build/bench/yv_openvdb_baseline" --input "$input" --yarn-radius "$radius" --resolution "$res" $orientation \
-            -o "$scratch/base-$res.vdb"
+        start=$(date +%s.%N)
+        line=$("$build/bench/yv_openvdb_baseline" --input "$input" --yarn-radius "$radius" --resolution "$res" $orientation \
+            -o "$scratch/base-$res.vdb")
+        end=$(date +%s.%N)
+        python3 -c 'import json, sys; d = json.loads(sys.argv[1]); d["wall_seconds"] = round(float(sys.argv[3]) - float(sys.argv[2]), 3); print(json.dumps(d))' \
+            "$line" "$start" "$end"
         rm -f "$scratch/base-$res.vdb"
     done
 done

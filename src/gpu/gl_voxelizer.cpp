@@ -29,6 +29,7 @@ namespace {
 constexpr GLuint kWorkGroup = 256;
 constexpr GLuint kSampleGroup = 128; // sample.comp's local_size_x
 constexpr std::uint64_t kInitialFragmentSlots = 1 << 20; // 16 MiB of fragments, 8 MiB of sample items
+constexpr double kListsPerEstimate = 8.0; // list slots per fragment the zoom plan expects (sizeListsFor)
 
 /// Time of the GL commands between begin() and end(), summed. On a GPU
 /// (EGL's device platform) by timer queries, read at the end of the run, so
@@ -116,7 +117,7 @@ class GlBackend::Impl {
   public:
     Impl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                 const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters, std::unique_ptr<GlContext> context)
-        : plan_(plan), grid_(grid), settings_(settings), counters_(counters),
+        : plan_(plan), xs_(xs), grid_(grid), settings_(settings), counters_(counters),
           context_(context ? currentContext(std::move(context))
                            : timedContext(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr,
                                                            settings.spreadIndex},
@@ -132,6 +133,15 @@ class GlBackend::Impl {
         support_ = textureSupport(xs);
         chooseSlicePrimitive(info);
         chooseBudgets(info);
+    }
+
+    /// The work before the first region that the zoom plan does not need:
+    /// the slices' upload, the cross-section, the programs and the lists.
+    void prepare() {
+        if (prepared_) return;
+        prepared_ = true;
+        const GlVoxelizeSettings& settings = settings_;
+        const CrossSection& xs = xs_;
         {
             const TraceSpan span("upload the slices");
             uploadSegments();
@@ -175,6 +185,13 @@ class GlBackend::Impl {
     }
 
     ~Impl() {
+        // Where releaseThread() let another thread destroy the backend. A
+        // context that cannot be made current is past saving; the process
+        // goes on without freeing it here.
+        try {
+            context_->makeCurrent();
+        } catch (const Error&) {
+        }
         glDeleteTextures(1, &texture_);
         if (albedoTexture_) glDeleteTextures(1, &albedoTexture_);
         glDeleteVertexArrays(1, &vao_);
@@ -182,6 +199,8 @@ class GlBackend::Impl {
     }
 
     void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) {
+        prepare();
+        sizeListsFor(regions);
         sink_ = &sink;
         forEachRegionToDo(regions, sink, settings_.base.quiet, counters_.resumedRegions, [&](const ZoomRegion& region) {
             // With the host resolve the region's bricks stay raw (partials_).
@@ -228,6 +247,29 @@ class GlBackend::Impl {
         counters_.fragmentCapacity = capacity_;
         sink_ = nullptr;
     }
+
+    /// The lists at what the largest region is expected to need: a list that
+    /// grows during the run redoes the pass (or the sampling) that found it
+    /// short. The zoom plan estimates the pixels that hold fibre; the items
+    /// are every pixel the footprints' reach covers, the fragments every
+    /// voxel layer a sample crosses: 4 to 7 times the estimate, measured.
+    void sizeListsFor(const std::vector<ZoomRegion>& regions) {
+        if (settings_.initialListSlots) return;
+        double most = 0.0;
+        for (const ZoomRegion& r : regions) most = std::max(most, r.estimatedFragments);
+        const std::uint64_t slots = std::min<std::uint64_t>(capacity_, static_cast<std::uint64_t>(kListsPerEstimate * most));
+        if (slots > fragmentSlots_) {
+            fragmentSlots_ = slots;
+            reserveFragments();
+        }
+        if (slots > itemSlots_) {
+            itemSlots_ = slots;
+            items_.reserve(itemSlots_ * sizeof(GpuSampleItem), &gpuBytes_);
+        }
+        notePeak();
+    }
+
+    void releaseThread() const { context_->releaseCurrent(); }
 
     std::uint64_t fragmentBudget() const { return capacity_; }
     int maxRegionSize() const { return regionCap_; }
@@ -410,62 +452,38 @@ class GlBackend::Impl {
         checkGlError("raster pass");
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
 
-        // The sampling: one thread per item, sized on the GPU from the item count.
-        sampleTimer_.begin();
-        sampleDispatch_.use();
-        glUniform1ui(sampleDispatch_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
-        glUniform1ui(sampleDispatch_.uniform("uGroupSize"), kSampleGroup);
-        glUniform1ui(sampleDispatch_.uniform("uMaxGroups"), maxGroups_);
-        glDispatchCompute(1, 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-        sample_.use();
-        setRegionUniforms(sample_, item.min, bricks);
-        glUniform1ui(sample_.uniform("uCapacity"), static_cast<GLuint>(fragmentSlots_));
-        glUniform1ui(sample_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
-        fragments_.bindStorage(2);
-        glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
-        counter_.bindStorage(3); // the wrap flag (the brick passes bind their own buffer there later)
-        glBindTextureUnit(0, texture_);
-        if (albedo_) {
-            albedoFragments_.bindStorage(4);
-            glBindTextureUnit(1, albedoTexture_);
-        }
-        slices_.bindStorage(5);
-        items_.bindStorage(6);
-        itemCounter_.bindStorage(7);
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, itemCounter_.id());
-        glDispatchComputeIndirect(16);
-        sampleTimer_.end();
-        checkGlError("sampling pass");
+        runSampling(item, bricks);
         glFlush();
         // While the GPU rasterizes, the host takes in the pass before's bricks.
         finishReadbacks();
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
         // Each counter, then its wrap flag: the 32-bit counter went past 2^31
         // (and may have wrapped to a small count), far beyond any list, so the
         // pass is redone in pieces.
         GLuint count[4] = {0, 0, 0, 0};
-        {
-            const TraceSpan span("wait for the fragment count");
-            std::memcpy(count, small_.read({{counter_.id(), 0, 8}, {itemCounter_.id(), 0, 8}}, &gpuBytes_), 16);
-        }
-        const GLuint fragmentCount = count[0], itemCount = count[2];
+        readCounts(count);
+        GLuint fragmentCount = count[0];
+        const GLuint itemCount = count[2];
         if (count[1] != 0 || count[3] != 0 || fragmentCount > capacity_ || itemCount > capacity_) return false;
-        if (fragmentCount > fragmentSlots_ || itemCount > itemSlots_) {
-            // Within the budget but beyond the lists as allocated: grow them
-            // and redo the same pass (the counters told us how much is needed;
-            // with items cut short the fragments may need a second growth).
-            if (itemCount > itemSlots_) {
-                itemSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(itemCount) + itemCount / 4);
-                items_.reserve(itemSlots_ * sizeof(GpuSampleItem), &gpuBytes_);
-            }
-            if (fragmentCount > fragmentSlots_) {
-                fragmentSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(fragmentCount) + fragmentCount / 4);
-                reserveFragments();
-            }
+        if (itemCount > itemSlots_) {
+            // Within the budget but beyond the item list as allocated: grow it
+            // (the counter told us how much is needed) and redo the pass.
+            itemSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(itemCount) + itemCount / 4);
+            items_.reserve(itemSlots_ * sizeof(GpuSampleItem), &gpuBytes_);
             ++counters_.listGrowths;
             return process(item);
+        }
+        if (fragmentCount > fragmentSlots_) {
+            // Likewise for the fragment list; the items are whole, so only
+            // the sampling is redone.
+            fragmentSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(fragmentCount) + fragmentCount / 4);
+            reserveFragments();
+            ++counters_.listGrowths;
+            counter_.clear(8);
+            runSampling(item, bricks);
+            readCounts(count);
+            fragmentCount = count[0];
+            YV_CHECK(count[1] == 0 && fragmentCount <= fragmentSlots_); // the same items give the same fragments
         }
         counters_.sampleItems += itemCount;
         if (fragmentCount == 0) return true;
@@ -538,6 +556,46 @@ class GlBackend::Impl {
         counters_.fragments += fragmentCount;
         ++counters_.passes;
         return true;
+    }
+
+    /// The sampling pass over the items the raster appended: one thread per
+    /// item, sized on the GPU from the item count.
+    void runSampling(const WorkItem& item, glm::ivec3 bricks) {
+        sampleTimer_.begin();
+        sampleDispatch_.use();
+        glUniform1ui(sampleDispatch_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
+        glUniform1ui(sampleDispatch_.uniform("uGroupSize"), kSampleGroup);
+        glUniform1ui(sampleDispatch_.uniform("uMaxGroups"), maxGroups_);
+        itemCounter_.bindStorage(7);
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        sample_.use();
+        setRegionUniforms(sample_, item.min, bricks);
+        glUniform1ui(sample_.uniform("uCapacity"), static_cast<GLuint>(fragmentSlots_));
+        glUniform1ui(sample_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
+        fragments_.bindStorage(2);
+        glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
+        counter_.bindStorage(3); // the wrap flag (the brick passes bind their own buffer there later)
+        glBindTextureUnit(0, texture_);
+        if (albedo_) {
+            albedoFragments_.bindStorage(4);
+            glBindTextureUnit(1, albedoTexture_);
+        }
+        slices_.bindStorage(5);
+        items_.bindStorage(6);
+        itemCounter_.bindStorage(7);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, itemCounter_.id());
+        glDispatchComputeIndirect(16);
+        sampleTimer_.end();
+        checkGlError("sampling pass");
+    }
+
+    /// The fragment counter and its wrap flag, then the item counter and its
+    /// flag, once the passes before are done.
+    void readCounts(GLuint (&count)[4]) {
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        const TraceSpan span("wait for the fragment count");
+        std::memcpy(count, small_.read({{counter_.id(), 0, 8}, {itemCounter_.id(), 0, 8}}, &gpuBytes_), 16);
     }
 
     /// The uniforms the raster and the sampling programs share: the yarn, the
@@ -617,6 +675,7 @@ class GlBackend::Impl {
     void notePeak() { counters_.peakGpuBytes = std::max(counters_.peakGpuBytes, gpuBytes_); }
 
     const SlicePlan& plan_;
+    const CrossSection& xs_;
     const VoxelGrid& grid_;
     const GlVoxelizeSettings& settings_;
     GlVoxelizeCounters& counters_;
@@ -624,6 +683,7 @@ class GlBackend::Impl {
     Reduce reduce_;
     bool albedo_; ///< --albedo: the ALBEDO program variants, a colour list and three more words a voxel
     bool hostResolve_ = false; ///< BrickResolve::Host (settled from Auto by the platform)
+    bool prepared_ = false;    ///< prepare() done
     int words_;
     std::uint64_t capacity_ = 0, brickBudget_ = 0, gpuBytes_ = 0;
     std::uint32_t counterStart_ = settings_.firstCounterStart;
@@ -671,7 +731,9 @@ GlBackend::GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelG
 GlBackend::~GlBackend() = default;
 std::uint64_t GlBackend::fragmentBudget() const { return impl_->fragmentBudget(); }
 int GlBackend::maxRegionSize() const { return impl_->maxRegionSize(); }
+void GlBackend::prepare() { impl_->prepare(); }
 void GlBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& sink) { impl_->run(regions, sink); }
+void GlBackend::releaseThread() { impl_->releaseThread(); }
 
 namespace {
 

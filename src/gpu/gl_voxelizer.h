@@ -103,7 +103,12 @@ class GlBackend : public RegionRasterizer {
     std::uint64_t fragmentBudget() const override;
     /// Largest region edge in voxels (viewport and key limits).
     int maxRegionSize() const override;
+    /// Uploads the slices and the cross-section and compiles the programs.
+    void prepare() override;
     void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) override;
+    /// Releases the GL context from this thread; the destructor, on any
+    /// thread, makes it current there.
+    void releaseThread() override;
 
   private:
     class Impl;

@@ -242,6 +242,17 @@ std::string shortNumber(double v) {
 }
 
 /// The zoom regions' rasterizer, whichever backend, and what it counted.
+/// Destroys the GL backend on a thread of its own (its GPU buffers and context
+/// take tens of ms to free) while the caller goes on to write the output; the
+/// thread is joined where the returned handle goes.
+std::jthread freeInBackground(std::unique_ptr<RegionRasterizer> rasterizer) {
+    rasterizer->releaseThread();
+    return std::jthread([r = std::move(rasterizer)]() mutable {
+        const TraceSpan span("free the GPU's buffers and context");
+        r.reset();
+    });
+}
+
 struct Backend {
     GlVoxelizeSettings glSettings; ///< the GL backend keeps a reference to it
     GlVoxelizeCounters gl;
@@ -437,10 +448,18 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         // The ranks' budgets differ (each sees what the others left free):
         // all plan with rank 0's, so they plan the same regions.
         const std::uint64_t budget = group ? group->broadcast(rasterizer.fragmentBudget()) : rasterizer.fragmentBudget();
-        const auto zoomStart = std::chrono::steady_clock::now();
-        const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {budget, rasterizer.maxRegionSize(), a.supersample});
-        traceSpanSince("plan the zoom regions", zoomStart);
-        const double zoomPlanSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - zoomStart).count();
+        // The zoom plan (on the host's cores) while the backend uploads the
+        // slices and builds its programs (the driver, on this thread).
+        double zoomPlanSeconds = 0.0;
+        std::future<ZoomPlan> pendingZoom = std::async(std::launch::async, [&] {
+            const auto zoomStart = std::chrono::steady_clock::now();
+            ZoomPlan planned = planZoomRegions(plan, grid, xs, {budget, rasterizer.maxRegionSize(), a.supersample});
+            traceSpanSince("plan the zoom regions", zoomStart);
+            zoomPlanSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - zoomStart).count();
+            return planned;
+        });
+        rasterizer.prepare();
+        const ZoomPlan zoom = pendingZoom.get();
         backend.gl.plannedRegions = zoom.regions.size();
         timer.lap("plan");
         if (a.verbose)
@@ -452,6 +471,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         // backend moves on, and the merge then writes the .vdb from the files.
         const bool ownWorkDir = a.workDir.empty();
         const bool inMemory = ownWorkDir && !a.keepWorkDir && !group;
+        std::jthread freeing; // the GL backend, freed while the output is written
         const std::string workDir = ownWorkDir ? a.output + ".work" : a.workDir;
         RegionWriterStats writerStats;
         std::uint64_t recomputed = 0, storeBytes = 0;
@@ -470,6 +490,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 const InterruptScope interruptible;
                 rasterizer.run(zoom.regions, sink);
             }
+            if (backend.isGl) freeing = freeInBackground(std::move(backend.rasterizer));
             const std::vector<RegionInfo> regions = writer.finish();
             for (const RegionInfo& r : regions) {
                 report.activeVoxels += r.activeVoxels;
@@ -517,6 +538,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 const InterruptScope interruptible;
                 rasterizer.run(group ? order : zoom.regions, sink);
             }
+            if (backend.isGl) freeing = freeInBackground(std::move(backend.rasterizer));
             writer.finish(); // every region handed over is on disk before the run stops
             writerStats = writer.stats();
             recomputed = sink.recomputed;

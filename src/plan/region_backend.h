@@ -64,8 +64,15 @@ class RegionRasterizer {
     virtual std::uint64_t fragmentBudget() const = 0;
     /// Largest region edge in voxels.
     virtual int maxRegionSize() const = 0;
+    /// The backend's work before the first region that needs no zoom plan
+    /// (the GL backend's upload and programs): the pipeline plans the zoom
+    /// regions meanwhile. run() does it where it was not asked for.
+    virtual void prepare() {}
     /// Rasterizes `regions` in order, each handed to `sink` once finished.
     virtual void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) = 0;
+    /// Lets another thread destroy the backend (the pipeline frees the GPU's
+    /// buffers and context while it writes the .vdb).
+    virtual void releaseThread() {}
 };
 
 } // namespace yv

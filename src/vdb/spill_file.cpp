@@ -52,6 +52,11 @@ std::uint64_t SpillFile::append(std::span<const std::uint8_t> bytes) {
     return at;
 }
 
+void SpillFile::writeAt(std::uint64_t offset, std::span<const std::uint8_t> bytes) {
+    YV_CHECK(offset + bytes.size() <= end_.load());
+    writeAllAt(fd_.get(), bytes, offset, "cannot write " + where_);
+}
+
 void SpillFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
     std::size_t done = 0;
     while (done < out.size()) {

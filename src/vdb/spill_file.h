@@ -26,6 +26,11 @@ class SpillFile {
     /// Appends `bytes` and returns where they start. Thread-safe: each call
     /// reserves its own range, then writes without a lock.
     std::uint64_t append(std::span<const std::uint8_t> bytes);
+    /// Reserves `bytes` at the end and returns where they start; writeAt
+    /// then fills them, in pieces from several threads if need be.
+    std::uint64_t reserve(std::uint64_t bytes) { return end_.fetch_add(bytes); }
+    /// Writes `bytes` at `offset` (within a range from reserve). Thread-safe.
+    void writeAt(std::uint64_t offset, std::span<const std::uint8_t> bytes);
     /// Reads `out.size()` bytes at `offset`. Thread-safe.
     void read(std::uint64_t offset, std::span<std::uint8_t> out) const;
     std::uint64_t size() const { return end_.load(); }
