@@ -27,7 +27,11 @@ int main(int argc, char** argv) {
     yv::traceEnabled(); // YV_TRACE's timeline starts here
     try {
         const yv::ClusterScope mpi(argc, argv);
-        const int code = runCommand(argc, argv);
+        int code = 0;
+        {
+            const yv::TraceSpan span("run the command"); // its end: after the command's data is freed
+            code = runCommand(argc, argv);
+        }
         yv::writeTrace();
         // The other ranks may wait for this one in a collective: end them all.
         if (code != 0 && yv::cluster() && yv::cluster()->size() > 1) yv::cluster()->abort(code);

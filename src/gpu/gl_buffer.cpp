@@ -18,6 +18,14 @@ void GlBuffer::reserve(std::uint64_t bytes, std::uint64_t* gpuBytes) {
     if (gpuBytes) *gpuBytes += size_;
 }
 
+void GlBuffer::reserveMappable(std::uint64_t bytes) {
+    release();
+    size_ = std::max<std::uint64_t>(bytes, 16);
+    glCreateBuffers(1, &id_);
+    glNamedBufferStorage(id_, static_cast<GLsizeiptr>(size_), nullptr, GL_MAP_WRITE_BIT);
+    checkGlError("allocating a GPU staging buffer");
+}
+
 void GlBuffer::upload(const void* data, std::uint64_t bytes, std::uint64_t* gpuBytes) {
     reserve(bytes, gpuBytes);
     glNamedBufferSubData(id_, 0, static_cast<GLsizeiptr>(bytes), data);

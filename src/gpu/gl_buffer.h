@@ -20,6 +20,9 @@ class GlBuffer {
 
     void reserve(std::uint64_t bytes, std::uint64_t* gpuBytes);
     void upload(const void* data, std::uint64_t bytes, std::uint64_t* gpuBytes);
+    /// Storage of `bytes` the host can map for writing (a staging buffer;
+    /// not counted in the GPU's bytes).
+    void reserveMappable(std::uint64_t bytes);
     /// Zeroes the first `bytes`.
     void clear(std::uint64_t bytes);
     void bindStorage(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }

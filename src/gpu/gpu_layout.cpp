@@ -7,11 +7,17 @@
 namespace yv {
 
 GpuSegments packSegments(const SlicePlan& plan, const VoxelGrid& grid) {
-    const double invH = 1.0 / grid.voxelSize;
     GpuSegments gpu(plan.segments.size());
-    tbb::parallel_for(std::size_t(0), gpu.size(), [&](std::size_t i) {
+    packSegments(plan, grid, gpu.data());
+    return gpu;
+}
+
+void packSegments(const SlicePlan& plan, const VoxelGrid& grid, GpuSegment* out) {
+    const double invH = 1.0 / grid.voxelSize;
+    tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t i) {
         const SegmentRecord& s = plan.segments[i];
-        GpuSegment& g = gpu[i];
+        // Made here and stored whole: `out` may be write-combined memory.
+        GpuSegment g;
         const glm::dvec3 anchor = glm::floor((s.points[1] - grid.origin) * invH);
         for (int j = 0; j < 4; ++j) {
             const glm::dvec3 p = (s.points[j] - grid.origin) * invH - anchor;
@@ -26,8 +32,8 @@ GpuSegments packSegments(const SlicePlan& plan, const VoxelGrid& grid) {
         g.info[1] = s.sliceCount;
         std::memcpy(&g.info[2], &length, 4);
         g.info[3] = s.yarn;
+        out[i] = g;
     });
-    return gpu;
 }
 
 } // namespace yv

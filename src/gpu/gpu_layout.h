@@ -68,5 +68,7 @@ static_assert(sizeof(GpuAlbedoFragment) == 16, "GpuAlbedoFragment must match sha
 /// garment has 0.8 M of them); the records are left uninitialized until packed.
 using GpuSegments = std::vector<GpuSegment, DefaultInitAllocator<GpuSegment>>;
 GpuSegments packSegments(const SlicePlan& plan, const VoxelGrid& grid);
+/// The same into `out` (plan.segments.size() records), e.g. a mapped buffer.
+void packSegments(const SlicePlan& plan, const VoxelGrid& grid, GpuSegment* out);
 
 } // namespace yv

@@ -681,7 +681,10 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                                 .set("write", writeTimings.writeSeconds))
         .set("seconds", timer.json())
         .set("backend_stats", backendStats);
-    if (!a.statsPath.empty()) writeTextFileAtomically(a.statsPath, report.stats.dump() + "\n");
+    if (!a.statsPath.empty()) {
+        const TraceSpan span("write the stats");
+        writeTextFileAtomically(a.statsPath, report.stats.dump() + "\n");
+    }
     return report;
 }
 

@@ -21,7 +21,7 @@ ev = [e for e in json.load(open(sys.argv[1]))["traceEvents"] if e.get("ph") == "
 t0 = min(e["ts"] for e in ev)
 main = sorted((e for e in ev if e["tid"] == min(x["tid"] for x in ev)), key=lambda e: e["ts"])
 for e in main:
-    if e["dur"] >= 5000:
+    if e["dur"] >= 5000 or e["name"] in ("finish", "write the stats", "run the command"):
         print(f'  {(e["ts"]-t0)/1000:8.1f} {e["dur"]/1000:8.1f}  {e["name"]}')
 print('  end', round((max(e["ts"] + e["dur"] for e in ev) - t0) / 1000, 1))
 PY
