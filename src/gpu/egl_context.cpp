@@ -1,7 +1,6 @@
 #include "gpu/egl_context.h"
 
 #include "core/error.h"
-#include "core/trace.h"
 
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
@@ -357,15 +356,6 @@ void GlContext::makeCurrent() const {
 
 void GlContext::releaseCurrent() const {
     if (eglGetCurrentContext() == impl_->context) eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-}
-
-std::future<std::unique_ptr<GlContext>> startGlContext(const GlContextOptions& options) {
-    return std::async(std::launch::async, [options] {
-        const TraceSpan span("make the GL context");
-        auto context = std::make_unique<GlContext>(options);
-        context->releaseCurrent();
-        return context;
-    });
 }
 
 bool GlContext::available() {

@@ -2,7 +2,6 @@
 // GPUs, the surfaceless platform (Mesa llvmpipe) where there is none.
 #pragma once
 
-#include <future>
 #include <memory>
 #include <string>
 
@@ -47,8 +46,8 @@ class GlContext {
     /// Re-reads free GPU memory (-1 when the driver cannot tell).
     long long queryFreeMemoryBytes() const;
 
-    /// Makes the context current on the calling thread (one made by
-    /// startGlContext on a thread of its own).
+    /// Makes the context current on the calling thread (one made, or
+    /// released, on another).
     void makeCurrent() const;
     /// Leaves the calling thread without a current context, so that another
     /// thread may make this one current.
@@ -61,11 +60,5 @@ class GlContext {
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
-
-/// Starts creating a context on a thread of its own, so that the driver's
-/// start-up (0.06 s on an H100 machine) overlaps the caller's work. The
-/// future gives the context current on no thread (call makeCurrent), or
-/// rethrows the yv::Error that creating it threw.
-std::future<std::unique_ptr<GlContext>> startGlContext(const GlContextOptions& options);
 
 } // namespace yv

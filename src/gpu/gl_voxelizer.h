@@ -78,7 +78,7 @@ struct GlVoxelizeCounters {
     std::uint64_t fragmentCapacity = 0; ///< capacity used
     std::uint64_t sliceDataBytes = 0;   ///< GPU bytes of curve/segment data for the slices
     std::uint64_t peakGpuBytes = 0;     ///< largest sum of yarnvox's GPU buffers
-    double contextSeconds = 0.0;        ///< creating the GL context (EGL display, device, context), or waiting for one started earlier
+    double contextSeconds = 0.0;        ///< creating the GL context (EGL display, device, context), here or by the caller
     double programSeconds = 0.0;        ///< compiling and linking the backend's shader programs
     double rasterSeconds = 0.0;         ///< time of the raster passes: slices placed, drawn, items appended (GPU drained at both ends)
     double sampleSeconds = 0.0;         ///< time of the sampling passes: items sampled, fragments appended (likewise)
@@ -94,7 +94,7 @@ struct GlVoxelizeCounters {
 /// dropped and nothing is counted twice.
 class GlBackend : public RegionRasterizer {
   public:
-    /// Runs on `context` where given (made current here; see startGlContext),
+    /// Runs on `context` where given (made current on this thread),
     /// else on a context of its own made from `settings`.
     GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const GlVoxelizeSettings& settings,
               GlVoxelizeCounters& counters, std::unique_ptr<GlContext> context = nullptr);

@@ -200,18 +200,12 @@ StageSeconds workDirStages(const StageTimer& timer, const RegionWriterStats& wri
 /// The backend "auto" stands for: the GL backend on a GPU (or for the dense
 /// method, which only it has); else the CPU reference, which on a machine
 /// without a GPU is far faster than GL through a software rasteriser. The GL
-/// context started with the run (`pending`; none for --backend cpu or the
-/// dense method) tells whether there is a GPU; where the GL backend runs,
-/// `context` gets it, and `waitSeconds` how long the run waited for it.
+/// context made with the run (`pending`, or the error making it threw; none
+/// for --backend cpu or the dense method) tells whether there is a GPU; where
+/// the GL backend runs, `context` gets it.
 std::string resolveBackend(const VoxelizeRequest& a, std::future<std::unique_ptr<GlContext>>& pending,
-                           std::unique_ptr<GlContext>& context, double& waitSeconds,
-                           const std::function<void(const std::string&)>& note) {
-    const auto start = std::chrono::steady_clock::now();
-    const auto take = [&] {
-        std::unique_ptr<GlContext> taken = pending.get();
-        waitSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        return taken;
-    };
+                           std::unique_ptr<GlContext>& context, const std::function<void(const std::string&)>& note) {
+    const auto take = [&] { return pending.get(); };
     if (a.method == "dense") return "gl";
     if (a.backend == "gl" && pending.valid()) context = take(); // no GL 4.5 context: its error, here
     if (a.backend != "auto") return a.backend;
@@ -271,6 +265,31 @@ struct Backend {
 
 } // namespace
 
+/// What reading and slicing the garment gives the rest of the run.
+struct Sliced {
+    Garment garment;
+    CrossSection xs;
+    YarnRadiusChoice radius;
+    SliceOptions sliceOptions;
+    bool explicitSpacing = false;
+    SlicePlan plan;
+};
+
+/// A GL context made on this thread (and current on it), or the error that
+/// making it threw, as resolveBackend takes it; `seconds`: how long it took.
+std::future<std::unique_ptr<GlContext>> makeGlContextHere(const GlContextOptions& options, double& seconds) {
+    const auto start = std::chrono::steady_clock::now();
+    std::promise<std::unique_ptr<GlContext>> made;
+    try {
+        const TraceSpan span("make the GL context");
+        made.set_value(std::make_unique<GlContext>(options));
+    } catch (...) {
+        made.set_exception(std::current_exception());
+    }
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return made.get_future();
+}
+
 VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void(const std::string&)>& note) {
     // Where the results go is checked before minutes of work, not after.
     checkOutputPath(args.output, "-o", {args.input});
@@ -285,66 +304,84 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
     if (a.method == "dense" && a.backend == "cpu") throw Error("--method dense needs --backend gl");
     if (a.method == "dense" && (!a.workDir.empty() || a.resume)) throw Error("--work-dir and --resume need the sparse method");
     checkAlbedoRequest(a);
-    // The GL context starts on a thread of its own, so that the driver's
-    // start-up overlaps reading and slicing the garment.
-    std::future<std::unique_ptr<GlContext>> pendingContext;
-    if (a.backend != "cpu" && a.method != "dense")
-        pendingContext = startGlContext(GlContextOptions{a.device, std::getenv("YV_GL_DEBUG") != nullptr,
-                                                         cluster() ? cluster()->localRank() : 0});
     // Under mpirun rank 0 speaks for the run: the others see the same things.
     const auto tell = [&](const std::string& line) {
         if (!a.quiet && (!group || group->rank() == 0)) note(line);
     };
+    // The garment is read and sliced on a thread of its own while this thread
+    // makes the GL context: the driver's start-up overlaps the slicing, and
+    // the context is current where the GL backend runs (binding a context
+    // made on another thread took about 0.03 s on the H100).
     StageTimer timer;
-    Garment garment = readBcc(a.input);
-    // Real files repeat points and mislabel loops: tidied here, said once.
-    const CurveCheckReport curveReport = checkCurves(garment, a.input);
-    if (const std::string dropped = curveReport.droppedText(a.input); !dropped.empty()) tell(dropped);
-    for (const std::string& w : curveReport.warnings) tell("warning: " + w);
-    timer.lap("read");
+    std::future<Sliced> pendingSlices = std::async(std::launch::async, [&] {
+        Sliced s;
+        Garment& garment = s.garment;
+        garment = readBcc(a.input);
+        // Real files repeat points and mislabel loops: tidied here, said once.
+        const CurveCheckReport curveReport = checkCurves(garment, a.input);
+        if (const std::string dropped = curveReport.droppedText(a.input); !dropped.empty()) tell(dropped);
+        for (const std::string& w : curveReport.warnings) tell("warning: " + w);
+        timer.lap("read");
 
-    CrossSection xs = makeCrossSection(a.crossSection, a.albedo);
-    SliceOptions sliceOptions;
-    sliceOptions.twist = a.twist;
-    const YarnRadiusChoice radius = chooseYarnRadius(a.yarnRadius, xs, garment, a.input);
-    if (!radius.note.empty()) tell(radius.note);
-    sliceOptions.radius = radius.radius;
-    if (a.resolution == 0 && a.voxelSize == 0.0)
-        throw Error("give --resolution N (voxels on the longest axis) or --voxel-size H");
-    // Slices follow the voxel size, not the garment's control points: one
-    // slice per (supersampled) voxel along the yarn, unless asked otherwise.
-    const double voxelSize = voxelSizeFor(garment, sliceOptions.radius, a.resolution, a.voxelSize);
-    // A run that would leave no voxels is refused before any slicing.
-    const RunScale scale{radius.radius, radius.description, voxelSize,
-                         a.resolution > 0 ? "--resolution " + std::to_string(a.resolution)
-                                          : "--voxel-size " + numberText(a.voxelSize),
-                         a.supersample, a.spacing};
-    for (const std::string& w : checkRunScale(scale, xs)) tell("warning: " + w);
-    // Disk the run needs at least, before minutes of work.
-    {
-        const std::string outputDir = std::filesystem::path(a.output).parent_path().string();
-        const bool store = !a.workDir.empty() || a.keepWorkDir || a.resume || group;
-        const RunPlace place{outputDir, store ? (a.workDir.empty() ? outputDir : a.workDir) : ""};
-        const TraceSpan span("estimate what the run needs");
-        const std::string problem = checkNeeds(estimateNeeds(garment, radius.radius, voxelSize, a.precision == "half"),
-                                               place, scale.voxelSource);
-        if (!problem.empty()) throw Error(a.input + ": " + problem);
-    }
-    const bool explicitSpacing = a.slicesPerSegment > 0 || a.spacing > 0.0;
-    sliceOptions.slicesPerSegment = a.slicesPerSegment;
-    sliceOptions.spacing = explicitSpacing ? a.spacing : defaultSliceSpacing(voxelSize, a.supersample);
-    const SlicePlan plan = [&] {
-        const TraceSpan span("plan the slices");
-        try {
-            return planSlices(garment, sliceOptions);
-        } catch (const Error& e) {
-            throw Error(a.input + ": " + e.what());
+        s.xs = makeCrossSection(a.crossSection, a.albedo);
+        const CrossSection& xs = s.xs;
+        SliceOptions& sliceOptions = s.sliceOptions;
+        sliceOptions.twist = a.twist;
+        s.radius = chooseYarnRadius(a.yarnRadius, xs, garment, a.input);
+        const YarnRadiusChoice& radius = s.radius;
+        if (!radius.note.empty()) tell(radius.note);
+        sliceOptions.radius = radius.radius;
+        if (a.resolution == 0 && a.voxelSize == 0.0)
+            throw Error("give --resolution N (voxels on the longest axis) or --voxel-size H");
+        // Slices follow the voxel size, not the garment's control points: one
+        // slice per (supersampled) voxel along the yarn, unless asked otherwise.
+        const double voxelSize = voxelSizeFor(garment, sliceOptions.radius, a.resolution, a.voxelSize);
+        // A run that would leave no voxels is refused before any slicing.
+        const RunScale scale{radius.radius, radius.description, voxelSize,
+                             a.resolution > 0 ? "--resolution " + std::to_string(a.resolution)
+                                              : "--voxel-size " + numberText(a.voxelSize),
+                             a.supersample, a.spacing};
+        for (const std::string& w : checkRunScale(scale, xs)) tell("warning: " + w);
+        // Disk the run needs at least, before minutes of work.
+        {
+            const std::string outputDir = std::filesystem::path(a.output).parent_path().string();
+            const bool store = !a.workDir.empty() || a.keepWorkDir || a.resume || group;
+            const RunPlace place{outputDir, store ? (a.workDir.empty() ? outputDir : a.workDir) : ""};
+            const TraceSpan span("estimate what the run needs");
+            const std::string problem = checkNeeds(estimateNeeds(garment, radius.radius, voxelSize, a.precision == "half"),
+                                                   place, scale.voxelSource);
+            if (!problem.empty()) throw Error(a.input + ": " + problem);
         }
-    }();
-    timer.lap("slices");
+        s.explicitSpacing = a.slicesPerSegment > 0 || a.spacing > 0.0;
+        const bool explicitSpacing = s.explicitSpacing;
+        sliceOptions.slicesPerSegment = a.slicesPerSegment;
+        sliceOptions.spacing = explicitSpacing ? a.spacing : defaultSliceSpacing(voxelSize, a.supersample);
+        s.plan = [&] {
+            const TraceSpan span("plan the slices");
+            try {
+                return planSlices(garment, sliceOptions);
+            } catch (const Error& e) {
+                throw Error(a.input + ": " + e.what());
+            }
+        }();
+        timer.lap("slices");
+        return s;
+    });
+    std::future<std::unique_ptr<GlContext>> pendingContext;
+    double glContextSeconds = 0.0;
+    if (a.backend != "cpu" && a.method != "dense")
+        pendingContext = makeGlContextHere(GlContextOptions{a.device, std::getenv("YV_GL_DEBUG") != nullptr,
+                                                            cluster() ? cluster()->localRank() : 0},
+                                           glContextSeconds);
+    Sliced sliced = pendingSlices.get();
+    const Garment& garment = sliced.garment;
+    const CrossSection& xs = sliced.xs;
+    const YarnRadiusChoice& radius = sliced.radius;
+    const SliceOptions& sliceOptions = sliced.sliceOptions;
+    const bool explicitSpacing = sliced.explicitSpacing;
+    const SlicePlan& plan = sliced.plan;
     std::unique_ptr<GlContext> glContext;
-    double glContextWait = 0.0;
-    a.backend = resolveBackend(args, pendingContext, glContext, glContextWait, note);
+    a.backend = resolveBackend(args, pendingContext, glContext, note);
     // Every rank must write regions of the same run: rank 0's choice holds.
     if (group) a.backend = group->broadcast(a.backend == "gl") ? "gl" : "cpu";
     const VoxelGrid grid = makeGrid(plan, a.resolution, a.voxelSize);
@@ -438,7 +475,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             gl.spreadIndex = cluster() ? cluster()->localRank() : 0; // each rank its own GPU, alone or not
             gl.fragmentCapacity = a.fragmentCapacity;
             gl.verbose = a.verbose && !a.quiet;
-            backend.gl.contextSeconds = glContextWait;
+            backend.gl.contextSeconds = glContextSeconds;
             const TraceSpan span("set up the GL backend");
             backend.rasterizer = std::make_unique<GlBackend>(plan, xs, grid, gl, backend.gl, std::move(glContext));
         } else {
