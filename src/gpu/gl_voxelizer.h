@@ -1,6 +1,8 @@
-// The GL backend: slices rasterised on the GPU, voxel fragments appended to
-// an SSBO through an atomic counter, bricks built and resolved by compute
-// passes; only finished bricks come back to the host, packed.
+// The GL backend: slices placed by a compute pass and rasterised, a sample
+// item appended per pixel that can hold fibre, the items sampled by a compute
+// pass into voxel fragments appended to an SSBO through an atomic counter,
+// bricks built and resolved by compute passes; only finished bricks come back
+// to the host, packed.
 #pragma once
 
 #include "core/bricks.h"
@@ -30,7 +32,7 @@ namespace yv {
 enum class BrickResolve { Auto, Gpu, Host };
 
 /// What each slice is drawn as. Both cover every pixel whose sample can hold
-/// fibre, and the fragment shader decides from the pixel alone, so both give
+/// fibre, and the sampling decides from the pixel alone, so both give
 /// the same voxels, bit for bit. Point: one sprite, an axis-aligned square
 /// on the face around the slice's projection (no inner edge, so no 2x2 quad
 /// is shaded twice; 11 to 18 % off the raster on the H100 for the sweater and
