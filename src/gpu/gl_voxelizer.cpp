@@ -172,13 +172,13 @@ class GlBackend::Impl {
         traceSpanSince("compile the programs", compileStart);
         glCreateVertexArrays(1, &vao_);
         glCreateFramebuffers(1, &fbo_);
-        // The list starts small and grows to what passes need, up to the budget,
-        // so a small garment does not hold the whole budget on the GPU.
+        // The lists start small; run() sizes them from the zoom plan, and a
+        // pass that finds them short grows them, up to the budget, so a small
+        // garment does not hold the whole budget on the GPU.
         const std::uint64_t initialSlots = settings.initialListSlots ? settings.initialListSlots : kInitialFragmentSlots;
         fragmentSlots_ = std::min<std::uint64_t>(capacity_, initialSlots);
         itemSlots_ = std::min<std::uint64_t>(capacity_, initialSlots);
-        reserveFragments();
-        items_.reserve(itemSlots_ * sizeof(GpuSampleItem), &gpuBytes_);
+        reserveLists();
         counter_.reserve(8, &gpuBytes_); // the append counter, then the flag of a counter that wrapped
         itemCounter_.reserve(32, &gpuBytes_); // likewise for the items, then the sampling pass's dispatch size
         counts_.reserve(16, &gpuBytes_);
@@ -259,14 +259,9 @@ class GlBackend::Impl {
         double most = 0.0;
         for (const ZoomRegion& r : regions) most = std::max(most, r.estimatedFragments);
         const std::uint64_t slots = std::min<std::uint64_t>(capacity_, static_cast<std::uint64_t>(kListsPerEstimate * most));
-        if (slots > fragmentSlots_) {
-            fragmentSlots_ = slots;
-            reserveFragments();
-        }
-        if (slots > itemSlots_) {
-            itemSlots_ = slots;
-            items_.reserve(itemSlots_ * sizeof(GpuSampleItem), &gpuBytes_);
-        }
+        fragmentSlots_ = std::max(fragmentSlots_, slots);
+        itemSlots_ = std::max(itemSlots_, slots);
+        reserveLists();
         notePeak();
     }
 
@@ -483,7 +478,7 @@ class GlBackend::Impl {
             // Within the budget but beyond the item list as allocated: grow it
             // (the counter told us how much is needed) and redo the pass.
             itemSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(itemCount) + itemCount / 4);
-            items_.reserve(itemSlots_ * sizeof(GpuSampleItem), &gpuBytes_);
+            reserveLists();
             ++counters_.listGrowths;
             return process(item);
         }
@@ -491,7 +486,7 @@ class GlBackend::Impl {
             // Likewise for the fragment list; the items are whole, so only
             // the sampling is redone.
             fragmentSlots_ = std::min<std::uint64_t>(capacity_, std::uint64_t(fragmentCount) + fragmentCount / 4);
-            reserveFragments();
+            reserveLists();
             ++counters_.listGrowths;
             counter_.clear(8);
             runSampling(item, bricks);
@@ -597,7 +592,6 @@ class GlBackend::Impl {
         }
         slices_.bindStorage(5);
         items_.bindStorage(6);
-        itemCounter_.bindStorage(7);
         glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, itemCounter_.id());
         glDispatchComputeIndirect(16);
         sampleTimer_.end();
@@ -622,10 +616,13 @@ class GlBackend::Impl {
         glUniform3i(program.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
     }
 
-    /// Sizes the fragment list (and with albedo its colour list) for fragmentSlots_.
-    void reserveFragments() {
+    /// Sizes the fragment list (and with albedo its colour list) for
+    /// fragmentSlots_ and the item list for itemSlots_ (a list already as
+    /// large is kept as it is).
+    void reserveLists() {
         fragments_.reserve(fragmentSlots_ * sizeof(GpuFragment), &gpuBytes_);
         if (albedo_) albedoFragments_.reserve(fragmentSlots_ * sizeof(GpuAlbedoFragment), &gpuBytes_);
+        items_.reserve(itemSlots_ * sizeof(GpuSampleItem), &gpuBytes_);
     }
 
     /// Zeroes the first `bytes` (a multiple of 4) of `buffer` with a dispatch

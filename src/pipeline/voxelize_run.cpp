@@ -205,12 +205,11 @@ StageSeconds workDirStages(const StageTimer& timer, const RegionWriterStats& wri
 /// the GL backend runs, `context` gets it.
 std::string resolveBackend(const VoxelizeRequest& a, std::future<std::unique_ptr<GlContext>>& pending,
                            std::unique_ptr<GlContext>& context, const std::function<void(const std::string&)>& note) {
-    const auto take = [&] { return pending.get(); };
     if (a.method == "dense") return "gl";
-    if (a.backend == "gl" && pending.valid()) context = take(); // no GL 4.5 context: its error, here
+    if (a.backend == "gl" && pending.valid()) context = pending.get(); // no GL 4.5 context: its error, here
     if (a.backend != "auto") return a.backend;
     try {
-        if (std::unique_ptr<GlContext> probe = take(); probe->info().platform == "device") {
+        if (std::unique_ptr<GlContext> probe = pending.get(); probe->info().platform == "device") {
             context = std::move(probe);
             return "gl";
         }
@@ -235,7 +234,6 @@ std::string shortNumber(double v) {
     return text;
 }
 
-/// The zoom regions' rasterizer, whichever backend, and what it counted.
 /// Destroys the GL backend on a thread of its own (its GPU buffers and context
 /// take tens of ms to free) while the caller goes on to write the output; the
 /// thread is joined where the returned handle goes.
@@ -247,6 +245,7 @@ std::jthread freeInBackground(std::unique_ptr<RegionRasterizer> rasterizer) {
     });
 }
 
+/// The zoom regions' rasterizer, whichever backend, and what it counted.
 struct Backend {
     GlVoxelizeSettings glSettings; ///< the GL backend keeps a reference to it
     GlVoxelizeCounters gl;

@@ -309,14 +309,14 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batc
         // Each grid's piece (and the octants) in one range of the scratch
         // file, written in blocks on every core: joined and written by one
         // thread, a region's pieces were most of its encode time.
-        std::uint64_t start[kMaxGrids + 1] = {};
+        std::vector<std::uint64_t> blockAt[kMaxGrids + 1]; // where each block of kSpillBlock leaves goes
         for (int g = 0; g <= kOctants; ++g) {
             if (g == kOctants ? !octants : g >= level.gridCount) continue;
             std::uint64_t at = 0;
             for (std::size_t i = 0; i < count; ++i) at += encoded[g][i].size();
-            start[g] = spill.reserve(at);
-            at = start[g];
+            at = spill.reserve(at);
             for (std::size_t i = 0; i < count; ++i) {
+                if (i % kSpillBlock == 0) blockAt[g].push_back(at);
                 LeafRecord& r = batch.records[first + i];
                 if (g == kOctants) {
                     YV_CHECK(encoded[g][i].size() < 0x10000);
@@ -332,12 +332,10 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batc
         tbb::parallel_for(std::size_t(0), std::size_t(kOctants + 1) * blocks, [&](std::size_t task) {
             const int g = int(task / blocks);
             if (g == kOctants ? !octants : g >= level.gridCount) return;
-            const std::size_t begin = (task % blocks) * kSpillBlock, end = std::min(count, begin + kSpillBlock);
-            std::uint64_t at = start[g];
-            for (std::size_t i = 0; i < begin; ++i) at += encoded[g][i].size();
+            const std::size_t block = task % blocks, begin = block * kSpillBlock, end = std::min(count, begin + kSpillBlock);
             ByteVector joined;
             for (std::size_t i = begin; i < end; ++i) joined.insert(joined.end(), encoded[g][i].begin(), encoded[g][i].end());
-            spill.writeAt(at, joined);
+            spill.writeAt(blockAt[g][block], joined);
         });
         for (std::size_t i = 0; i < count; ++i) {
             batch.records[first + i].order = order[first + i].first;
