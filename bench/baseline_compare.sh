@@ -3,7 +3,8 @@
 # CPU, yv_openvdb_baseline: density only, and with an orientation grid), on
 # the same garment and grid, one after the other on this machine. Prints JSON
 # lines: a header (machine, date, commit, command), then for each garment and
-# resolution the yarnvox --stats summary and the two baseline runs.
+# resolution the yarnvox --stats summary (the median of YV_REPEAT runs, 3
+# unless set) and the two baseline runs.
 #
 #   bench/baseline_compare.sh GARMENT YARN_RADIUS "2048 4096"
 #     GARMENT: a .bcc file, or gen:PATTERN:SHAPE:CROSSINGS (generated first)
@@ -34,21 +35,33 @@ if [ "${YV_COLD:-0}" != 1 ]; then
     "$build/yarnvox" voxelize "$scratch/yv-warm.bcc" -o "$scratch/yv-warm.vdb" --resolution 64 --quiet
 fi
 
+# yarnvox runs YV_REPEAT times (3 unless set) at each size: a run of a second
+# varies by a tenth from one to the next on the same machine. Its line holds
+# the median run's stats and every run's wall time.
+repeat=${YV_REPEAT:-3}
 for res in $resolutions; do
-    start=$(date +%s.%N)
-    "$build/yarnvox" voxelize "$input" -o "$scratch/yv-$res.vdb" --yarn-radius "$radius" --resolution "$res" --quiet \
-        --stats "$scratch/yv-stats.json"
-    end=$(date +%s.%N)
-    python3 - "$garment" "$res" "$scratch/yv-stats.json" "$start" "$end" "$(stat -c %s "$scratch/yv-$res.vdb")" <<'PY'
+    runs=()
+    for ((run = 0; run < repeat; ++run)); do
+        start=$(date +%s.%N)
+        "$build/yarnvox" voxelize "$input" -o "$scratch/yv-$res.vdb" --yarn-radius "$radius" --resolution "$res" --quiet \
+            --stats "$scratch/yv-stats-$run.json"
+        end=$(date +%s.%N)
+        runs+=("$start" "$end")
+        size=$(stat -c %s "$scratch/yv-$res.vdb")
+        rm -f "$scratch/yv-$res.vdb"
+    done
+    python3 - "$garment" "$res" "$scratch/yv-stats" "$size" "${runs[@]}" <<'PY'
 import json, sys
-garment, res, path, start, end, size = sys.argv[1], int(sys.argv[2]), sys.argv[3], float(sys.argv[4]), float(sys.argv[5]), int(sys.argv[6])
-s = json.load(open(path))
-print(json.dumps({"tool": "yarnvox", "garment": garment, "resolution": res, "wall_seconds": round(end - start, 3),
-                  "seconds": s["seconds"], "slices": s["slices"], "fragments": s["samples"],
+garment, res, stats, size = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
+times = [float(t) for t in sys.argv[5:]]
+walls = [round(end - start, 3) for start, end in zip(times[0::2], times[1::2])]
+median = sorted(range(len(walls)), key=lambda i: walls[i])[len(walls) // 2]
+s = json.load(open(f"{stats}-{median}.json"))
+print(json.dumps({"tool": "yarnvox", "garment": garment, "resolution": res, "wall_seconds": walls[median],
+                  "wall_seconds_runs": walls, "seconds": s["seconds"], "slices": s["slices"], "fragments": s["samples"],
                   "active_voxels": s["active_voxels"], "file_bytes": size, "peak_host_bytes": s["peak_host_bytes"],
                   "backend_stats": s["backend_stats"]}))
 PY
-    rm -f "$scratch/yv-$res.vdb"
     # Each baseline line gains its process's wall time, measured as yarnvox's
     # is (its own "total" leaves out the process's start and exit).
     for orientation in "" --orientation; do

@@ -1,6 +1,7 @@
 #include "core/packed_bricks.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -29,6 +30,21 @@ void copyInParallel(void* to, const void* from, std::size_t bytes) {
     });
 }
 
+/// Makes room for `count` records in `v` without a copy on one thread: a
+/// larger storage (at least half as large again) is filled on every core.
+template <typename T>
+void growTo(PackedBricks::Storage<T>& v, std::size_t count) {
+    if (count <= v.capacity()) {
+        v.resize(count, boost::container::default_init);
+        return;
+    }
+    PackedBricks::Storage<T> bigger;
+    bigger.reserve(std::max(count, v.capacity() + v.capacity() / 2));
+    bigger.resize(count, boost::container::default_init);
+    copyInParallel(bigger.data(), v.data(), v.size() * sizeof(T));
+    v.swap(bigger);
+}
+
 } // namespace
 
 void PackedBricks::append(const PackedBrickHeader* h, std::size_t brickCount, const PackedVoxel* v,
@@ -39,14 +55,16 @@ void PackedBricks::append(const PackedBrickHeader* h, std::size_t brickCount, co
     YV_CHECK(a ? albedo.size() == voxels.size() : albedo.empty());
     const auto shift = static_cast<std::uint32_t>(voxels.size());
     const std::size_t firstBrick = headers.size(), firstVoxel = voxels.size();
-    headers.resize(firstBrick + brickCount, boost::container::default_init);
-    voxels.resize(firstVoxel + voxelCount, boost::container::default_init);
+    {
+        const TraceSpan span("grow the packed bricks");
+        growTo(headers, firstBrick + brickCount);
+        growTo(voxels, firstVoxel + voxelCount);
+        if (a) growTo(albedo, firstVoxel + voxelCount);
+    }
+    const TraceSpan span("copy the packed bricks");
     copyInParallel(headers.data() + firstBrick, h, brickCount * sizeof(PackedBrickHeader));
     copyInParallel(voxels.data() + firstVoxel, v, voxelCount * sizeof(PackedVoxel));
-    if (a) {
-        albedo.resize(firstVoxel + voxelCount, boost::container::default_init);
-        copyInParallel(albedo.data() + firstVoxel, a, voxelCount * sizeof(PackedAlbedo));
-    }
+    if (a) copyInParallel(albedo.data() + firstVoxel, a, voxelCount * sizeof(PackedAlbedo));
     for (std::size_t i = firstBrick; i < headers.size(); ++i) headers[i].firstVoxel += shift;
 }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/huge_pages.h"
 #include "plan/grid.h"
 
 #include <boost/container/vector.hpp>
@@ -50,16 +51,20 @@ static_assert(sizeof(PackedAlbedo) == 12, "PackedAlbedo must match shaders/brick
 
 /// A region's resolved bricks, packed. Boost's vector grows without zeroing
 /// what append() then overwrites: a region's readback is gigabytes, and
-/// zeroing it first on one thread touched every page twice.
+/// zeroing it first on one thread touched every page twice. Its storage is
+/// in huge pages where the kernel offers them (core/huge_pages.h).
 struct PackedBricks {
-    boost::container::vector<PackedBrickHeader> headers; ///< bricks with an active voxel, in the order they were resolved
-    boost::container::vector<PackedVoxel> voxels;        ///< each brick's active voxels, bricks one after another
-    boost::container::vector<PackedAlbedo> albedo;       ///< with --albedo, one per voxel of `voxels`; else empty
+    template <typename T>
+    using Storage = boost::container::vector<T, HugePageAllocator<T>>;
+    Storage<PackedBrickHeader> headers; ///< bricks with an active voxel, in the order they were resolved
+    Storage<PackedVoxel> voxels;        ///< each brick's active voxels, bricks one after another
+    Storage<PackedAlbedo> albedo;       ///< with --albedo, one per voxel of `voxels`; else empty
 
     /// Appends bricks whose firstVoxel counts from `voxels` (as one GPU pass
     /// wrote them), shifting them past the voxels already held, and, when
     /// given, the voxels' colours (`a`, voxelCount of them). Large appends are
-    /// copied on several threads (the pages they land in too).
+    /// copied on several threads (the pages they land in too), and so is what
+    /// is held when the storage grows.
     void append(const PackedBrickHeader* h, std::size_t brickCount, const PackedVoxel* v, std::size_t voxelCount,
                 const PackedAlbedo* a = nullptr);
     std::size_t bytes() const {

@@ -121,7 +121,17 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
         }
     });
 
-    // Slice counts and lengths are independent per segment.
+    // Per segment, independently: the slice count, the length, the bounds of
+    // the slice centres (for culling) and how far from its centre a slice's
+    // samples reach: the square's half-diagonal in its plane, plus half the
+    // slab's depth along the projection axis, which a bend thickens on its
+    // outer side by up to kappa r sqrt(2). Each slice's geometry is found
+    // once, without its frame, which the bounds do not need.
+    const double halfDiagonal = options.radius * std::sqrt(2.0);
+    std::vector<double> spacingOf(plan.segments.size(), 0.0);
+    // A slice without a tangent (repeated control points) is reported after
+    // the knots' frames are, as placeSlice would report it.
+    std::atomic<std::size_t> firstFlatSegment{plan.segments.size()};
     tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t i) {
         SegmentRecord& rec = plan.segments[i];
         std::uint32_t k = static_cast<std::uint32_t>(options.slicesPerSegment);
@@ -135,9 +145,29 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
             k = static_cast<std::uint32_t>(std::clamp(std::ceil(fastest / options.spacing * (1.0 - 1e-12)), 1.0, 1.0e6));
         }
         rec.sliceCount = k;
-        double len = 0.0;
-        for (std::uint32_t j = 0; j < k; ++j) len += catmullRomArcLength(rec.points, double(j) / k, double(j + 1) / k);
+        glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
+        double len = 0.0, reach = halfDiagonal, spacing = 0.0;
+        for (std::uint32_t j = 0; j < k; ++j) {
+            const SliceOnCurve g = sliceOnCurve(rec, j);
+            len += g.thickness;
+            lo = glm::min(lo, g.center);
+            hi = glm::max(hi, g.center);
+            spacing = std::max(spacing, g.thickness);
+            if (!g.hasTangent) {
+                std::size_t seen = firstFlatSegment.load();
+                while (i < seen && !firstFlatSegment.compare_exchange_weak(seen, i)) {}
+                continue;
+            }
+            const glm::dvec3 t = glm::abs(g.tangent);
+            const double dominant = std::max({t.x, t.y, t.z});
+            const double depth = (1.0 + glm::length(g.curvature) * halfDiagonal) * g.thickness / dominant;
+            reach = std::max(reach, halfDiagonal + 0.5 * depth);
+        }
         rec.length = len;
+        rec.centerMin = lo;
+        rec.centerMax = hi;
+        rec.reach = reach;
+        spacingOf[i] = spacing;
     });
 
     // Slice offsets run over the whole garment.
@@ -163,31 +193,9 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
     if (const std::size_t bad = firstBadYarn.load(); bad < garment.yarns.size())
         frameAndTwistYarn(garment.yarns[bad], options.twist, std::span(plan.segments).subspan(yarnFirst[bad], yarnFirst[bad + 1] - yarnFirst[bad]));
 
-    // Per segment: bounds of slice centres (for culling), and how far from its
-    // centre a slice's samples reach: the square's half-diagonal in its plane,
-    // plus half the slab's depth along the projection axis, which a bend
-    // thickens on its outer side by up to kappa r sqrt(2).
-    const double halfDiagonal = options.radius * std::sqrt(2.0);
-    std::vector<double> spacingOf(plan.segments.size(), 0.0);
-    tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t i) {
-        SegmentRecord& rec = plan.segments[i];
-        glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
-        double reach = halfDiagonal, spacing = 0.0;
-        for (std::uint32_t k = 0; k < rec.sliceCount; ++k) {
-            const Slice s = placeSlice(rec, k);
-            lo = glm::min(lo, s.center);
-            hi = glm::max(hi, s.center);
-            const glm::dvec3 t = glm::abs(s.tangent);
-            const double dominant = std::max({t.x, t.y, t.z});
-            const double depth = (1.0 + glm::length(s.curvature) * halfDiagonal) * s.thickness / dominant;
-            reach = std::max(reach, halfDiagonal + 0.5 * depth);
-            spacing = std::max(spacing, s.thickness);
-        }
-        rec.centerMin = lo;
-        rec.centerMax = hi;
-        rec.reach = reach;
-        spacingOf[i] = spacing;
-    });
+    if (const std::size_t flat = firstFlatSegment.load(); flat < plan.segments.size())
+        throw Error("yarn " + std::to_string(plan.segments[flat].yarn) +
+                    ": repeated control points leave the curve without a tangent");
     // Min and max are exact, so any split gives the same answers.
     struct Extremes {
         glm::dvec3 lo{HUGE_VAL}, hi{-HUGE_VAL};
@@ -240,22 +248,37 @@ void curveBounds(const Garment& garment, glm::dvec3& lo, glm::dvec3& hi) {
     hi = box.second;
 }
 
-Slice placeSlice(const SegmentRecord& segment, std::uint32_t k) {
+SliceOnCurve sliceOnCurve(const SegmentRecord& segment, std::uint32_t k) {
     const double invK = 1.0 / segment.sliceCount;
     const double t = (k + 0.5) * invK;
+    SliceOnCurve g;
+    g.center = evalCatmullRom(segment.points, t);
+    g.derivative = evalCatmullRomDerivative(segment.points, t);
+    g.thickness = catmullRomArcLength(segment.points, k * invK, (k + 1) * invK);
+    const double speed = glm::length(g.derivative);
+    g.hasTangent = speed > 1e-12;
+    if (!g.hasTangent) return g;
+    g.tangent = g.derivative / speed;
+    const glm::dvec3 d2 = evalCatmullRomSecondDerivative(segment.points, t);
+    g.curvature = (d2 - glm::dot(d2, g.tangent) * g.tangent) / glm::dot(g.derivative, g.derivative);
+    return g;
+}
+
+Slice placeSlice(const SegmentRecord& segment, std::uint32_t k) {
+    const SliceOnCurve g = sliceOnCurve(segment, k);
     Slice s;
     s.yarn = segment.yarn;
-    s.center = evalCatmullRom(segment.points, t);
-    const glm::dvec3 d1 = evalCatmullRomDerivative(segment.points, t), d2 = evalCatmullRomSecondDerivative(segment.points, t);
-    s.tangent = unitTangent(d1, segment.yarn);
-    s.thickness = catmullRomArcLength(segment.points, k * invK, (k + 1) * invK);
+    s.center = g.center;
+    s.tangent = unitTangent(g.derivative, segment.yarn);
+    s.thickness = g.thickness;
     s.twistStep = segment.twistRate * s.thickness;
-    s.curvature = (d2 - glm::dot(d2, s.tangent) * s.tangent) / glm::dot(d1, d1);
+    s.curvature = g.curvature;
 
     glm::dvec3 up = rotateMinimal(segment.knotUp, segment.knotTangent, s.tangent);
     up = glm::normalize(up - glm::dot(up, s.tangent) * s.tangent);
     // Twist phase grows with arc length; within a segment arc length is taken
     // as linear in t, the same rule the vertex shader uses.
+    const double t = (k + 0.5) * (1.0 / segment.sliceCount);
     const double phase = segment.phaseStart + segment.twistRate * t * segment.length;
     const glm::dvec3 side = glm::cross(s.tangent, up);
     s.right = std::cos(phase) * up + std::sin(phase) * side;

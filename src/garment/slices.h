@@ -97,6 +97,15 @@ inline double slabScale(const Slice& slice, double x, double y) {
 /// a yarn with fewer than 2 points or with repeated points that leave no tangent.
 SlicePlan planSlices(const Garment& garment, const SliceOptions& options);
 
+/// What the slice bounds need of slice `k`: where it sits, how thick it is
+/// and how the curve bends there, without its frame.
+struct SliceOnCurve {
+    glm::dvec3 center, derivative, tangent{0.0}, curvature{0.0};
+    double thickness = 0.0;
+    bool hasTangent = false; ///< the curve moves there (else tangent and curvature are zero)
+};
+SliceOnCurve sliceOnCurve(const SegmentRecord& segment, std::uint32_t k);
+
 /// Slice `k` (0 <= k < sliceCount) of a segment. Slice k sits at the middle of
 /// parameter interval [k/K, (k+1)/K]; its thickness is that interval's arc length.
 Slice placeSlice(const SegmentRecord& segment, std::uint32_t k);

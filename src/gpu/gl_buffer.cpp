@@ -1,6 +1,7 @@
 #include "gpu/gl_buffer.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 #include "gpu/gl_program.h"
 
 #include <algorithm>
@@ -9,6 +10,7 @@ namespace yv {
 
 void GlBuffer::reserve(std::uint64_t bytes, std::uint64_t* gpuBytes) {
     if (bytes <= size_ && id_) return;
+    const TraceSpan span("allocate a GPU buffer");
     if (gpuBytes) *gpuBytes -= size_;
     release();
     size_ = std::max<std::uint64_t>(bytes, 16);
@@ -55,6 +57,7 @@ void ReadbackBuffer::startCopy(std::initializer_list<Range> ranges, std::uint64_
     if (empty_) return;
     bytesRead_ += bytes;
     if (bytes > size_) {
+        const TraceSpan span("allocate a readback buffer");
         if (gpuBytes) *gpuBytes -= size_;
         release();
         size_ = std::max<std::uint64_t>(bytes, 1 << 20);

@@ -495,6 +495,7 @@ class GlBackend::Impl {
             YV_CHECK(count[1] == 0 && fragmentCount <= fragmentSlots_); // the same items give the same fragments
         }
         counters_.sampleItems += itemCount;
+        counters_.slicesDrawn += instances;
         if (fragmentCount == 0) return true;
 
         // Brick passes: flag, scan, then scatter into the touched bricks only.

@@ -70,6 +70,7 @@ struct GlVoxelizeCounters {
     std::string slicePrimitive; ///< "point" or "triangle", as drawn
     std::uint64_t fragments = 0;        ///< fragments appended, summed over passes that fit
     std::uint64_t sampleItems = 0;      ///< sample items (slice and pixel) the raster appended, likewise
+    std::uint64_t slicesDrawn = 0;      ///< slices drawn (a slice near a region's edge is drawn in each region it reaches), likewise
     std::uint64_t passes = 0;           ///< raster passes that fit
     std::uint64_t overflows = 0;        ///< passes redone in smaller pieces
     std::uint64_t listGrowths = 0;      ///< passes redone after growing the fragment list within the budget

@@ -651,6 +651,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 .set("gl_program_seconds", counters.programSeconds)
                 .set("gpu_raster_seconds", counters.rasterSeconds)
                 .set("sample_items", counters.sampleItems)
+                .set("slices_drawn", counters.slicesDrawn)
                 .set("gpu_sample_seconds", counters.sampleSeconds)
                 .set("gpu_brick_seconds", counters.brickSeconds)
                 .set("gpu_resolve_seconds", counters.resolveSeconds)

@@ -50,8 +50,11 @@ std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGr
 /// its projected area in pixels times the cross-section's filled fraction to
 /// the cell of its centre) and splits the grid octree-wise, on 128-voxel
 /// (OpenVDB internal node) boundaries where the box is large, until each
-/// region's estimate is within half the budget and its size within
-/// maxRegionSize. Regions no segment reaches are left out.
+/// region's estimate is within half the budget (and, past a million
+/// fragments, within a 32nd of the garment's) and its size within
+/// maxRegionSize. A thin axis (at most 128 voxels and a quarter of the
+/// box's longest) is not halved, so a flat garment's regions keep its whole
+/// thickness. Regions no segment reaches are left out.
 ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs,
                          const ZoomPlanOptions& options);
 

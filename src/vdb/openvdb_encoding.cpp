@@ -5,6 +5,7 @@
 #include <openvdb/io/Compression.h>
 #include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/io/GridDescriptor.h>
+#include <openvdb/math/Half.h>
 #include <openvdb/tools/Count.h>
 #include <tbb/enumerable_thread_specific.h>
 
@@ -129,6 +130,15 @@ LeafEncoder::~LeafEncoder() = default;
 
 namespace {
 
+/// Mask compression without a codec (--vdb-compression mask, the default) in
+/// the grid's and the file's flags: a leaf's record is then its mask, one
+/// metadata byte and its active values, raw.
+bool isPlainMaskRecord(const GridEncoding& encoding) {
+    constexpr std::uint32_t kCodecs = openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_BLOSC;
+    return (encoding.compression & openvdb::io::COMPRESS_ACTIVE_MASK) != 0 && (encoding.compression & kCodecs) == 0 &&
+           (encoding.archiveCompression & kCodecs) == 0;
+}
+
 /// The record of one leaf's values, and what the delayed-load metadata says of it.
 template <typename ValueT>
 LeafLoadInfo encodeValues(std::ostream& os, ValueT* values, const LeafMask& mask, const GridEncoding& encoding) {
@@ -153,16 +163,55 @@ template <class DensityAt, class VectorAt>
 LeafLoadInfo encodeLeaf(std::unique_ptr<TaggedStream>& stream, const GridEncoding& encoding,
                         const std::array<std::uint64_t, kBrickVoxels / 64>& words, ByteVector& out, DensityAt density,
                         VectorAt vector) {
-    if (!stream) stream = std::make_unique<TaggedStream>(encoding.compression, backgroundOf(encoding.kind));
-    stream->buffer.target(&out);
-    LeafMask mask;
-    for (int w = 0; w < kBrickVoxels / 64; ++w) mask.getWord<std::uint64_t>(w) = words[w];
-    mask.save(stream->os);
     const auto eachActive = [&](auto&& put) {
         std::size_t n = 0;
         for (int w = 0; w < kBrickVoxels / 64; ++w)
             for (std::uint64_t bits = words[w]; bits; bits &= bits - 1, ++n) put(w * 64 + std::countr_zero(bits), n);
     };
+    if (isPlainMaskRecord(encoding)) {
+        // The record writeCompressedValues makes when every inactive value is
+        // the background (yarnvox's always is): the mask, the metadata byte,
+        // the active values in voxel order. Written directly: OpenVDB's
+        // writer fills and scans all 512 values (6 KiB for a vector) and
+        // goes through a stream, several times the cost of the bytes.
+        std::size_t active = 0;
+        for (std::uint64_t w : words) active += std::size_t(std::popcount(w));
+        const std::size_t components = encoding.kind == GridKind::Density ? 1 : 3;
+        const std::size_t at = out.size();
+        out.resize(at + sizeof words + 1 + active * components * (encoding.half ? 2 : 4));
+        std::uint8_t* p = out.data() + at;
+        std::memcpy(p, words.data(), sizeof words);
+        p += sizeof words;
+        *p++ = std::uint8_t(openvdb::io::NO_MASK_OR_INACTIVE_VALS);
+        const auto put = [&](float value) {
+            if (encoding.half) {
+                const openvdb::math::half h(value);
+                std::memcpy(p, &h, 2);
+                p += 2;
+            } else {
+                std::memcpy(p, &value, 4);
+                p += 4;
+            }
+        };
+        if (encoding.kind == GridKind::Density) {
+            eachActive([&](int v, std::size_t n) { put(density(v, n)); });
+        } else {
+            eachActive([&](int v, std::size_t n) {
+                const openvdb::Vec3s value = vector(v, n);
+                put(value[0]);
+                put(value[1]);
+                put(value[2]);
+            });
+        }
+        LeafLoadInfo info;
+        info.maskMetadata = std::int8_t(openvdb::io::NO_MASK_OR_INACTIVE_VALS);
+        return info;
+    }
+    if (!stream) stream = std::make_unique<TaggedStream>(encoding.compression, backgroundOf(encoding.kind));
+    stream->buffer.target(&out);
+    LeafMask mask;
+    for (int w = 0; w < kBrickVoxels / 64; ++w) mask.getWord<std::uint64_t>(w) = words[w];
+    mask.save(stream->os);
     LeafLoadInfo info;
     if (encoding.kind == GridKind::Density) {
         float values[kBrickVoxels] = {};

@@ -1,0 +1,80 @@
+// The zoom plan's split: a flat garment's thickness is never halved, a round
+// one is split on every axis, a run has enough regions for the writer to
+// keep up with the GPU, and a coarse grid's estimate is not rounded away.
+#include "garment/cross_section.h"
+#include "plan/zoom_plan.h"
+#include "test_helpers.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+
+using namespace yv;
+
+namespace {
+
+ZoomPlan planOf(const test::GeneratedRun& run, std::uint64_t budget) {
+    return planZoomRegions(run.plan, run.grid, makeFiberCrossSection(), {budget, 1024, 1});
+}
+
+/// The fragments the plan expects of the whole garment.
+double expectedFragments(const test::GeneratedRun& run) { return planOf(run, std::uint64_t(1) << 40).estimatedFragments; }
+
+} // namespace
+
+TEST_CASE("Zoom plan: a flat garment's regions keep its whole thickness", "[plan]") {
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Plain, GarmentShape::Flat, 4000, 1.0, 1024);
+    const glm::ivec3 dims = run.grid.dims;
+    const int thin = std::min({dims.x, dims.y, dims.z});
+    const int thinAxis = dims.x == thin ? 0 : (dims.y == thin ? 1 : 2);
+    INFO("grid " << dims.x << " x " << dims.y << " x " << dims.z);
+    REQUIRE(thin <= 128);
+    REQUIRE(4 * thin <= std::max({dims.x, dims.y, dims.z}));
+    // A budget far below the garment's: many regions.
+    const ZoomPlan zoom = planOf(run, std::uint64_t(expectedFragments(run) / 64) + 1);
+    REQUIRE(zoom.regions.size() >= 8);
+    for (const ZoomRegion& r : zoom.regions) {
+        CHECK(r.min[thinAxis] == 0);
+        CHECK(r.max[thinAxis] == dims[thinAxis]);
+    }
+}
+
+TEST_CASE("Zoom plan: a round garment is split on every axis", "[plan]") {
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 4000, 1.0, 512);
+    const ZoomPlan zoom = planOf(run, std::uint64_t(expectedFragments(run) / 64) + 1);
+    REQUIRE(zoom.regions.size() >= 8);
+    for (int a = 0; a < 3; ++a) {
+        INFO("axis " << a);
+        CHECK(std::any_of(zoom.regions.begin(), zoom.regions.end(),
+                          [&](const ZoomRegion& r) { return r.max[a] - r.min[a] < run.grid.dims[a]; }));
+    }
+}
+
+TEST_CASE("Zoom plan: with a budget far above the garment, regions stay within a 32nd of it", "[plan]") {
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 20000, 1.0, 2048);
+    const double total = expectedFragments(run);
+    INFO("expected fragments " << total);
+    REQUIRE(total > 8.0 * (1 << 20));
+    // The budget alone would keep it whole (but for the 1024-voxel region cap).
+    const ZoomPlan zoom = planOf(run, std::uint64_t(1) << 40);
+    CHECK(zoom.regions.size() >= 8);
+    const double target = std::max(double(1 << 20), total / 32.0);
+    for (const ZoomRegion& r : zoom.regions) {
+        const glm::ivec3 size = r.max - r.min;
+        if (size.x > 8 || size.y > 8 || size.z > 8) CHECK(r.estimatedFragments <= target);
+    }
+}
+
+TEST_CASE("Zoom plan: a coarse grid's estimate keeps its fractions of a fragment", "[plan]") {
+    // At 64 a slice of this garment expects well under one fragment.
+    const test::GeneratedRun coarse = test::generatedRun(WeavePattern::Plain, GarmentShape::Flat, 4000, 1.0, 64);
+    const test::GeneratedRun fine = test::generatedRun(WeavePattern::Plain, GarmentShape::Flat, 4000, 1.0, 128);
+    const double a = expectedFragments(coarse), b = expectedFragments(fine);
+    INFO("at 64: " << a << " for " << coarse.plan.sliceCount << " slices; at 128: " << b);
+    REQUIRE(a > 0.0);
+    CHECK(a < 0.5 * double(coarse.plan.sliceCount));
+    // Twice the resolution: each slice's square four times the pixels, and
+    // twice the slices.
+    CHECK(b / a > 4.0);
+    CHECK(b / a < 12.0);
+}
