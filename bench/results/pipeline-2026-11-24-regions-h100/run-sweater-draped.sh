@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# The whole-run benchmark (first call): the disk's
+# write speed (dd with fsync), yarnvox against OpenVDB's tools on the sweater
+# and the draped garment at 2048 and 4096, and the bare append rate.
+set -u
+export YV_BUILD_DIR=build-dev YV_SCRATCH=/tmp/yvb YV_COMMIT=${YV_COMMIT:?}
+mkdir -p /tmp/yvb
+dd if=/dev/zero of=/tmp/yvb/dd.bin bs=64M count=64 conv=fsync 2> $OUT/disk-sweater-draped.txt; rm -f /tmp/yvb/dd.bin
+bench/baseline_compare.sh .data/sweater_flame_ribbing.bcc 0.1 "2048 4096" > $OUT/sweater.jsonl 2> $OUT/sweater.err
+bench/baseline_compare.sh gen:twill:cylinder:410000 0.3 "2048 4096" > $OUT/draped.jsonl 2> $OUT/draped.err
+build-dev/bench/yv_bench_append --fragments 268435456 --sides 1,2,3,4,8 > $OUT/append.jsonl 2>&1
+tail -n +1 $OUT/disk-sweater-draped.txt $OUT/*.err; python3 bench/baseline_summary.py $OUT/sweater.jsonl $OUT/draped.jsonl; cut -c1-200 $OUT/append.jsonl
+# Where the draped garment's time goes at 8192 (YV_TRACE).
+build-dev/yarnvox gen --pattern twill --shape cylinder --crossings 410000 -o /tmp/yvb/d.bcc --quiet
+YV_TRACE=$OUT/d8192.trace.json build-dev/yarnvox voxelize /tmp/yvb/d.bcc -o /tmp/yvb/d8192.vdb --yarn-radius 0.3 --resolution 8192 --quiet --stats $OUT/d8192-trace-stats.json
+rm -f /tmp/yvb/d8192.vdb
