@@ -94,8 +94,16 @@ void writeTrace() {
                                  .set("ts", double(e.startNs) * 1e-3)
                                  .set("dur", double(e.endNs - e.startNs) * 1e-3));
     }
+    // Where the timeline starts on the host's monotonic clock (CLOCK_MONOTONIC,
+    // Python's time.monotonic()): a script that times the process from
+    // outside sees what its start and its exit took.
+    const double origin = std::chrono::duration<double>(log.origin.time_since_epoch()).count();
     std::ofstream out(tracePath());
-    out << JsonObject().set("traceEvents", events).dump() << "\n";
+    out << JsonObject()
+               .set("traceEvents", events)
+               .set("otherData", JsonObject().set("origin_monotonic_seconds", origin))
+               .dump()
+        << "\n";
     if (!out) std::fprintf(stderr, "yarnvox: warning: YV_TRACE: cannot write %s\n", tracePath());
 }
 

@@ -430,39 +430,46 @@ class GlBackend::Impl {
         // The raster: the slices placed on every compute unit, then drawn, one
         // sample item appended per pixel that can hold fibre.
         rasterTimer_.begin();
-        placer_->place(SliceDraw{segments_.id(), drawList_.id(), static_cast<int>(item.segments.size()), uniformSlices_, instances},
-                       slices_, &gpuBytes_);
-        const int viewport = std::max({size.x, size.y, size.z}) * S + 2 * pointMargin_;
-        glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_WIDTH, viewport);
-        glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_HEIGHT, viewport);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-        glViewport(0, 0, viewport, viewport);
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_CULL_FACE);
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-
-        raster_.use();
-        setRegionUniforms(raster_, item.min, bricks);
-        glUniform2f(raster_.uniform("uViewport"), float(viewport), float(viewport));
-        glUniform1i(raster_.uniform("uMargin"), pointMargin_);
-        glUniform1ui(raster_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
-        slices_.bindStorage(5);
-        items_.bindStorage(6);
-        itemCounter_.bindStorage(7); // the wrap flag
-        glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, itemCounter_.id());
-        glBindVertexArray(vao_);
-        if (pointMargin_ > 0) {
-            glEnable(GL_PROGRAM_POINT_SIZE);
-            glDrawArraysInstanced(GL_POINTS, 0, 1, static_cast<GLsizei>(instances));
-        } else {
-            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances));
+        {
+            const TraceSpan placing("place the slices");
+            placer_->place(SliceDraw{segments_.id(), drawList_.id(), static_cast<int>(item.segments.size()), uniformSlices_, instances},
+                           slices_, &gpuBytes_);
         }
-        rasterTimer_.end();
-        checkGlError("raster pass");
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
+        {
+            // Submitting the draw and the sampling (the driver may wait here on first use).
+            const TraceSpan drawing("draw the slices");
+            const int viewport = std::max({size.x, size.y, size.z}) * S + 2 * pointMargin_;
+            glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_WIDTH, viewport);
+            glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_HEIGHT, viewport);
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+            glViewport(0, 0, viewport, viewport);
+            glDisable(GL_DEPTH_TEST);
+            glDisable(GL_CULL_FACE);
+            glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
 
-        runSampling(item, bricks);
-        glFlush();
+            raster_.use();
+            setRegionUniforms(raster_, item.min, bricks);
+            glUniform2f(raster_.uniform("uViewport"), float(viewport), float(viewport));
+            glUniform1i(raster_.uniform("uMargin"), pointMargin_);
+            glUniform1ui(raster_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
+            slices_.bindStorage(5);
+            items_.bindStorage(6);
+            itemCounter_.bindStorage(7); // the wrap flag
+            glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, itemCounter_.id());
+            glBindVertexArray(vao_);
+            if (pointMargin_ > 0) {
+                glEnable(GL_PROGRAM_POINT_SIZE);
+                glDrawArraysInstanced(GL_POINTS, 0, 1, static_cast<GLsizei>(instances));
+            } else {
+                glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances));
+            }
+            rasterTimer_.end();
+            checkGlError("raster pass");
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
+
+            runSampling(item, bricks);
+            glFlush();
+        }
         // While the GPU rasterizes, the host takes in the pass before's bricks.
         finishReadbacks();
 
