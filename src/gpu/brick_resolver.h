@@ -51,9 +51,9 @@ class GlBrickResolver {
     /// The same in two halves, so that the host can queue the next pass's
     /// work between them: startResolve waits for the totals only and queues
     /// the copy of the packed bricks; finishResolve waits for that copy and
-    /// appends the bricks. Two copies alternate between two host buffers, so
-    /// one resolve may start while the one before is still to finish; a
-    /// third start finishes nothing for you (call finishResolve in between).
+    /// appends the bricks. A second host buffer takes the copy of a resolve
+    /// that starts while the one before is still to finish; a third start
+    /// finishes nothing for you (call finishResolve in between).
     void startResolve(GLuint words, std::uint32_t count, const BrickKeys& keys,
                       std::uint64_t maxActiveVoxels = ~std::uint64_t(0));
     /// Appends the oldest started resolve's bricks to `out`; nothing when none is started.
@@ -83,7 +83,6 @@ class GlBrickResolver {
     ReadbackBuffer small_, readback_[2];
     Pending pending_[2];        ///< oldest first
     int pendingCount_ = 0;
-    int nextBuffer_ = 0;
     GLuint maxGroups_ = 65535;
     double gpuSeconds_ = 0.0, readbackSeconds_ = 0.0;
 };

@@ -49,6 +49,21 @@ ReadbackBuffer::~ReadbackBuffer() {
     release();
 }
 
+void ReadbackBuffer::reserve(std::uint64_t bytes, std::uint64_t* gpuBytes) {
+    if (bytes <= size_) return;
+    if (fence_) waitForCopy();
+    const TraceSpan span("allocate a readback buffer");
+    if (gpuBytes) *gpuBytes -= size_;
+    release();
+    size_ = std::max<std::uint64_t>(bytes, 1 << 20);
+    glCreateBuffers(1, &id_);
+    const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_CLIENT_STORAGE_BIT;
+    glNamedBufferStorage(id_, static_cast<GLsizeiptr>(size_), nullptr, flags);
+    mapped_ = glMapNamedBufferRange(id_, 0, static_cast<GLsizeiptr>(size_), GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT);
+    checkGlError("mapping the readback buffer");
+    if (gpuBytes) *gpuBytes += size_;
+}
+
 void ReadbackBuffer::startCopy(std::initializer_list<Range> ranges, std::uint64_t* gpuBytes) {
     if (fence_) waitForCopy();
     std::uint64_t bytes = 0;
@@ -56,18 +71,7 @@ void ReadbackBuffer::startCopy(std::initializer_list<Range> ranges, std::uint64_
     empty_ = bytes == 0;
     if (empty_) return;
     bytesRead_ += bytes;
-    if (bytes > size_) {
-        const TraceSpan span("allocate a readback buffer");
-        if (gpuBytes) *gpuBytes -= size_;
-        release();
-        size_ = std::max<std::uint64_t>(bytes, 1 << 20);
-        glCreateBuffers(1, &id_);
-        const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_CLIENT_STORAGE_BIT;
-        glNamedBufferStorage(id_, static_cast<GLsizeiptr>(size_), nullptr, flags);
-        mapped_ = glMapNamedBufferRange(id_, 0, static_cast<GLsizeiptr>(size_), GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT);
-        checkGlError("mapping the readback buffer");
-        if (gpuBytes) *gpuBytes += size_;
-    }
+    reserve(bytes, gpuBytes);
     std::uint64_t at = 0;
     for (const Range& r : ranges) {
         if (r.bytes)

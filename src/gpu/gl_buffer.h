@@ -69,6 +69,12 @@ class ReadbackBuffer {
     }
     /// Bytes read so far.
     std::uint64_t bytesRead() const { return bytesRead_; }
+    /// Host bytes the buffer holds now.
+    std::uint64_t capacity() const { return size_; }
+    /// Makes room for copies of `bytes` (exactly that, at least 1 MiB), once
+    /// the copy in flight is in. startCopy grows the buffer to each copy's
+    /// size; a caller that expects its copies to grow reserves ahead.
+    void reserve(std::uint64_t bytes, std::uint64_t* gpuBytes);
 
   private:
     void release();
