@@ -25,11 +25,17 @@ glm::dvec3 anyPerpendicular(const glm::dvec3& t) {
     return glm::normalize(glm::cross(t, a));
 }
 
+/// Below this speed |dC/dt| the curve has no tangent.
+constexpr double kLeastSpeed = 1e-12;
+
+Error noTangent(std::uint32_t yarn) {
+    return Error("yarn " + std::to_string(yarn) + ": repeated control points leave the curve without a tangent");
+}
+
 /// The unit tangent from the curve's derivative `d` at a point of `yarn`.
 glm::dvec3 unitTangent(const glm::dvec3& d, std::uint32_t yarn) {
     const double len = glm::length(d);
-    if (!(len > 1e-12))
-        throw Error("yarn " + std::to_string(yarn) + ": repeated control points leave the curve without a tangent");
+    if (!(len > kLeastSpeed)) throw noTangent(yarn);
     return d / len;
 }
 
@@ -194,8 +200,7 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
         frameAndTwistYarn(garment.yarns[bad], options.twist, std::span(plan.segments).subspan(yarnFirst[bad], yarnFirst[bad + 1] - yarnFirst[bad]));
 
     if (const std::size_t flat = firstFlatSegment.load(); flat < plan.segments.size())
-        throw Error("yarn " + std::to_string(plan.segments[flat].yarn) +
-                    ": repeated control points leave the curve without a tangent");
+        throw noTangent(plan.segments[flat].yarn);
     // Min and max are exact, so any split gives the same answers.
     struct Extremes {
         glm::dvec3 lo{HUGE_VAL}, hi{-HUGE_VAL};
@@ -256,7 +261,7 @@ SliceOnCurve sliceOnCurve(const SegmentRecord& segment, std::uint32_t k) {
     g.derivative = evalCatmullRomDerivative(segment.points, t);
     g.thickness = catmullRomArcLength(segment.points, k * invK, (k + 1) * invK);
     const double speed = glm::length(g.derivative);
-    g.hasTangent = speed > 1e-12;
+    g.hasTangent = speed > kLeastSpeed;
     if (!g.hasTangent) return g;
     g.tangent = g.derivative / speed;
     const glm::dvec3 d2 = evalCatmullRomSecondDerivative(segment.points, t);
@@ -269,7 +274,8 @@ Slice placeSlice(const SegmentRecord& segment, std::uint32_t k) {
     Slice s;
     s.yarn = segment.yarn;
     s.center = g.center;
-    s.tangent = unitTangent(g.derivative, segment.yarn);
+    if (!g.hasTangent) throw noTangent(segment.yarn);
+    s.tangent = g.tangent;
     s.thickness = g.thickness;
     s.twistStep = segment.twistRate * s.thickness;
     s.curvature = g.curvature;
