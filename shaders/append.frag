@@ -13,36 +13,24 @@ layout(std430, binding = 6) writeonly buffer Items { uvec2 items[]; };
 layout(std430, binding = 7) buffer ItemCounter { uint itemWord; uint itemWrapped; };
 
 uniform uint uItemCapacity;   // items the list holds; the counter goes on past it
-uniform float uRadius;        // yarn radius, voxel units
-uniform float uSupport;       // textureSupport() (1 for the disk), units of the radius
-uniform int uSupersample;
-uniform ivec3 uRegionMin;
-uniform ivec3 uRegionBricks;  // region size in bricks
 uniform int uMargin;          // pixels around the region's face in the viewport (slice.vert)
 
 flat in int vInstance;
-flat in int vAxis;
-flat in ivec3 vAnchor;
-flat in vec3 vCenter;
-flat in vec3 vRight;
-flat in vec3 vUp;
-flat in vec3 vTangent;
-
-// Relative slack of the support test (the exact test is sample.comp's).
-const float kSupportSlack = 1e-3;
+// The test's terms, from the slice (slice.vert).
+flat in ivec4 vFace;
+flat in vec2 vAtOrigin;
+flat in vec4 vSteps;
+flat in float vLimit;
 
 void main() {
-    int a = vAxis;
     ivec2 local = ivec2(gl_FragCoord.xy) - uMargin;
-    ivec2 faceSize = axisFirst(uRegionBricks * 8, a).yz * uSupersample;
-    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, faceSize))) return;
-
-    vec3 center = axisFirst(vCenter, a), right = axisFirst(vRight, a), up = axisFirst(vUp, a);
-    float det = axisFirst(vTangent, a).x, S = float(uSupersample);
-    ivec3 regionMin = axisFirst(uRegionMin, a);
-    vec2 xy = columnCrossing(local + regionMin.yz * uSupersample, uSupersample, axisFirst(vAnchor, a), center, right, up, det);
-    vec2 edgeB = footprintEdgeB(right, up, det, S, uRadius), edgeC = footprintEdgeC(right, up, det, S, uRadius);
-    if (footprintNearest(xy, edgeB, edgeC, uRadius) > uSupport * (1.0 + kSupportSlack) + kSupportSlack) return;
+    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, vFace.zw))) return;
+    // Where the column through this pixel meets the slice (columnCrossing),
+    // and whether the footprint about it comes within the support
+    // (footprintNearest, widened by slice.vert's slack).
+    vec2 steps = vec2(local - vFace.xy);
+    vec2 xy = vAtOrigin + steps.x * vSteps.xy + steps.y * vSteps.zw;
+    if (dot(xy, xy) > vLimit * vLimit) return;
 
     uint slot = atomicCounterIncrement(uItemCount);
     if (slot >= 0x80000000u) itemWrapped = 1u;

@@ -1,4 +1,4 @@
-// Places slice gl_InstanceID (its record from slice_setup.comp) and
+// Places one slice (its record from slice_setup.comp) and
 // projects it along the dominant axis of its normal onto the region's face,
 // one pixel per (supersampled) voxel column. Each slice is drawn as one point
 // sprite around its projection (SLICE_POINTS, src/gpu/gl_voxelizer.h:
@@ -14,6 +14,7 @@ uniform float uRadius;         // yarn radius, voxel units
 uniform float uSupport;        // textureSupport(), units of the radius (1 for the disk)
 uniform int uSupersample;
 uniform ivec3 uRegionMin;      // region box in voxels
+uniform ivec3 uRegionBricks;   // region size in bricks
 uniform vec2 uViewport;        // viewport size in pixels (covers every axis' face)
 uniform int uMargin;           // pixels around the region's face (SLICE_POINTS: sprites whose centre lies outside it)
 
@@ -29,8 +30,27 @@ flat out float vThickness; // voxel units
 flat out float vTwistStep; // radians the cross-section turns by at the next slice
 flat out float vDepthScale; // slab depth along the projection axis, voxel units, before the bend's scale
 
+// What append.frag's test needs, worked out once a slice rather than once a
+// pixel (the raster's fragment shaders run on few units of an H100, where
+// they are most of its time; dense.frag reads the slice's vectors above):
+// where the column through a pixel meets the slice is affine in the pixel.
+flat out ivec4 vFace;    // xy: the face pixel (region-local) the test is expanded about; zw: the face's size in pixels
+flat out vec2 vAtOrigin; // slice-local (x, y), units of the radius, where the column through vFace.xy's centre meets the slice
+flat out vec4 vSteps;    // xy: (x, y) a pixel along the face's axis b (footprintEdgeB); zw: along c (footprintEdgeC)
+flat out float vLimit;   // farthest |(x, y)| a kept sample can have: the support, its slack and half the footprint's edges
+
+// Relative slack of append.frag's support test (the exact test is
+// sample.comp's): float rounding here must never drop a sample it keeps.
+const float kSupportSlack = 1e-3;
+
 void main() {
-    SliceRecord s = slices[gl_InstanceID];
+#if SLICE_POINTS
+    // Points: one vertex a slice (an instance a slice ran no faster).
+    int slice = gl_VertexID;
+#else
+    int slice = gl_InstanceID;
+#endif
+    SliceRecord s = slices[slice];
     vec3 center = s.center.xyz, right = s.right.xyz, sliceUp = s.up.xyz, tangent = s.tangent.xyz;
     int a = floatBitsToInt(s.center.w);
     int b = (a + 1) % 3, c = (a + 2) % 3;
@@ -84,7 +104,18 @@ void main() {
     gl_Position = vec4(pixel / uViewport * 2.0 - 1.0, 0.0, 1.0);
 #endif
 
-    vInstance = gl_InstanceID;
+    // The face pixel holding the slice's centre, and the test's terms there.
+    vec3 centerA = axisFirst(center, a), rightA = axisFirst(right, a), upA = axisFirst(sliceUp, a);
+    ivec3 anchorA = axisFirst(anchor, a), regionMinA = axisFirst(uRegionMin, a);
+    float det = tangent[a];
+    ivec2 origin = ivec2(floor((vec2(anchorA.yz - regionMinA.yz) + centerA.yz) * S));
+    vec2 edgeB = footprintEdgeB(rightA, upA, det, S, uRadius), edgeC = footprintEdgeC(rightA, upA, det, S, uRadius);
+    vFace = ivec4(origin, axisFirst(uRegionBricks * 8, a).yz * uSupersample);
+    vAtOrigin = columnCrossing(origin + regionMinA.yz * uSupersample, uSupersample, anchorA, centerA, rightA, upA, det) / uRadius;
+    vSteps = vec4(edgeB, edgeC);
+    vLimit = uSupport * (1.0 + kSupportSlack) + kSupportSlack + 0.5 * (length(edgeB) + length(edgeC));
+
+    vInstance = slice;
     vAxis = a;
     vAnchor = s.anchor.xyz;
     vCenter = center;

@@ -241,7 +241,8 @@ class GlBackend::Impl {
             awaiting_ = std::move(current_);
         });
         finishReadbacks();
-        counters_.rasterSeconds = rasterTimer_.seconds();
+        counters_.placeSeconds = placeTimer_.seconds();
+        counters_.rasterSeconds = counters_.placeSeconds + rasterTimer_.seconds();
         counters_.sampleSeconds = sampleTimer_.seconds();
         counters_.brickSeconds = brickTimer_.seconds();
         noteResolver();
@@ -429,12 +430,14 @@ class GlBackend::Impl {
 
         // The raster: the slices placed on every compute unit, then drawn, one
         // sample item appended per pixel that can hold fibre.
-        rasterTimer_.begin();
+        placeTimer_.begin();
         {
             const TraceSpan placing("place the slices");
             placer_->place(SliceDraw{segments_.id(), drawList_.id(), static_cast<int>(item.segments.size()), uniformSlices_, instances},
                            slices_, &gpuBytes_);
         }
+        placeTimer_.end();
+        rasterTimer_.begin();
         {
             // Submitting the draw and the sampling (the driver may wait here on first use).
             const TraceSpan drawing("draw the slices");
@@ -459,7 +462,7 @@ class GlBackend::Impl {
             glBindVertexArray(vao_);
             if (pointMargin_ > 0) {
                 glEnable(GL_PROGRAM_POINT_SIZE);
-                glDrawArraysInstanced(GL_POINTS, 0, 1, static_cast<GLsizei>(instances));
+                glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(instances)); // vertex i is slice i
             } else {
                 glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances));
             }
@@ -731,8 +734,8 @@ class GlBackend::Impl {
     std::unique_ptr<RegionInFlight> current_;  ///< the region being rasterized
     std::unique_ptr<RegionInFlight> awaiting_; ///< the region before, until its last bricks are in
     PackedBricks* pendingTarget_ = nullptr;    ///< where the resolve in flight appends
-    GpuTimer rasterTimer_{context_->info().platform == "device"}, sampleTimer_{context_->info().platform == "device"},
-        brickTimer_{context_->info().platform == "device"};
+    GpuTimer placeTimer_{context_->info().platform == "device"}, rasterTimer_{context_->info().platform == "device"},
+        sampleTimer_{context_->info().platform == "device"}, brickTimer_{context_->info().platform == "device"};
     /// The current region's raw bricks: those drawn in several passes (their
     /// words summed on the host), or all of them with the host resolve.
     std::vector<BrickAccumulator> partials_;

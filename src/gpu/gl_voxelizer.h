@@ -84,6 +84,7 @@ struct GlVoxelizeCounters {
     double contextSeconds = 0.0;        ///< creating the GL context (EGL display, device, context), here or by the caller
     double programSeconds = 0.0;        ///< compiling and linking the backend's shader programs
     double rasterSeconds = 0.0;         ///< time of the raster passes: slices placed, drawn, items appended (GPU drained at both ends)
+    double placeSeconds = 0.0;          ///< the part of rasterSeconds that places the slices (slice_setup.comp)
     double sampleSeconds = 0.0;         ///< time of the sampling passes: items sampled, fragments appended (likewise)
     double brickSeconds = 0.0;          ///< time of the brick passes (likewise)
     double resolveSeconds = 0.0;        ///< time of the resolve passes, until their totals are on the host

@@ -650,6 +650,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 .set("gl_context_seconds", counters.contextSeconds)
                 .set("gl_program_seconds", counters.programSeconds)
                 .set("gpu_raster_seconds", counters.rasterSeconds)
+                .set("gpu_place_seconds", counters.placeSeconds)
                 .set("sample_items", counters.sampleItems)
                 .set("slices_drawn", counters.slicesDrawn)
                 .set("gpu_sample_seconds", counters.sampleSeconds)

@@ -1,0 +1,365 @@
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+// Shared by every yarnvox shader: buffer layouts and the sampling rule's
+// helpers. src/gpu/gpu_layout.h holds the C++ side of each layout.
+
+// Fixed-point scale of volume fractions (src/core/sampling.h: kFixedScale).
+const float kFixedScale = 16777216.0;
+const int kBrickVoxels = 512;
+// Smallest share of a voxel a sample gives it (src/core/sampling.h: kMinVoxelShare).
+const float kMinVoxelShare = 1.0 / 65536.0;
+
+// One curve segment (96 bytes): control points in voxel units relative to
+// the segment's anchor, an integer voxel (p[1].w, p[2].w, p[3].w), so that
+// floats keep their precision anywhere in the grid; p[0].w = twist rate
+// (radians per voxel unit of length);
+// up.w = twist phase at the segment's start; info = first slice within the
+// draw's list, slice count, float bits of the segment length, yarn.
+struct GpuSegment {
+    vec4 p[4];
+    vec4 up;
+    uvec4 info;
+};
+
+// One voxel fragment (16 bytes): region-local key (brick << 9 | voxel in
+// brick), fixed-point volume fraction, axis code, float bits of the density.
+struct Fragment {
+    uint key;
+    uint weight;
+    uint axis;
+    uint density;
+};
+
+// One slice placed from its segment (slice_setup.comp), 96 bytes: what the
+// sprite's vertex shader and the sampling pass read of it.
+struct SliceRecord {
+    vec4 center;    // xyz: voxel units from `anchor`; w: projection axis (int bits)
+    ivec4 anchor;   // xyz: the integer voxel the slice's coordinates are relative to
+    vec4 right;     // xyz: the cross-section's right; w: thickness, voxel units
+    vec4 up;        // xyz: the cross-section's up (tangent x right); w: radians it turns by at the next slice
+    vec4 tangent;   // xyz; w: slab depth along the projection axis before the bend's scale, voxel units
+    vec4 curvature; // xyz: curvature vector, 1 / voxel units; w: unused
+};
+
+vec3 catmullRom(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t) {
+    float t2 = t * t, t3 = t2 * t;
+    return 0.5 * ((-t + 2.0 * t2 - t3) * p0 + (2.0 - 5.0 * t2 + 3.0 * t3) * p1 +
+                  (t + 4.0 * t2 - 3.0 * t3) * p2 + (-t2 + t3) * p3);
+}
+
+vec3 catmullRomDerivative(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t) {
+    float t2 = t * t;
+    return 0.5 * ((-1.0 + 4.0 * t - 3.0 * t2) * p0 + (-10.0 * t + 9.0 * t2) * p1 +
+                  (1.0 + 8.0 * t - 9.0 * t2) * p2 + (-2.0 * t + 3.0 * t2) * p3);
+}
+
+// Arc length for t in [t0, t1]: three-point Gauss-Legendre quadrature of the
+// speed (src/garment/catmull_rom.h: catmullRomArcLength).
+float catmullRomArcLength(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t0, float t1) {
+    float mid = 0.5 * (t0 + t1), halfWidth = 0.5 * (t1 - t0), node = 0.7745966692414834 * halfWidth;
+    return halfWidth * (5.0 / 9.0 * length(catmullRomDerivative(p0, p1, p2, p3, mid - node)) +
+                   8.0 / 9.0 * length(catmullRomDerivative(p0, p1, p2, p3, mid)) +
+                   5.0 / 9.0 * length(catmullRomDerivative(p0, p1, p2, p3, mid + node)));
+}
+
+vec3 catmullRomSecondDerivative(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t) {
+    return 0.5 * ((4.0 - 6.0 * t) * p0 + (-10.0 + 18.0 * t) * p1 + (8.0 - 18.0 * t) * p2 + (-2.0 + 6.0 * t) * p3);
+}
+
+// Projection axis: the dominant component of the slice normal; components
+// within a relative 2^-10 of the largest go to the lowest index, so that
+// float here and double on the CPU agree at exact 45-degree ties
+// (src/core/sampling.h: dominantAxis).
+int dominantAxis(vec3 n) {
+    vec3 a = abs(n);
+    float floorValue = max(a.x, max(a.y, a.z)) * (1.0 - 1.0 / 1024.0);
+    return a.x >= floorValue ? 0 : (a.y >= floorValue ? 1 : 2);
+}
+
+vec3 rotateMinimal(vec3 v, vec3 from, vec3 to) {
+    float c = dot(from, to);
+    vec3 k = cross(from, to);
+    if (c < -0.999999) {
+        vec3 a = abs(from);
+        vec3 e = (a.x <= a.y && a.x <= a.z) ? vec3(1, 0, 0) : (a.y <= a.z ? vec3(0, 1, 0) : vec3(0, 0, 1));
+        vec3 axis = normalize(cross(from, e));
+        return 2.0 * dot(axis, v) * axis - v;
+    }
+    return v + cross(k, v) + cross(k, cross(k, v)) / (1.0 + c);
+}
+
+// Slice k of segment `seg` (src/garment/slices.h: the same frame, twist and
+// slab as the CPU reference places it).
+SliceRecord placeSlice(GpuSegment seg, uint k) {
+    float K = float(seg.info.y);
+    vec3 p0 = seg.p[0].xyz, p1 = seg.p[1].xyz, p2 = seg.p[2].xyz, p3 = seg.p[3].xyz;
+
+    float t = (float(k) + 0.5) / K;
+    vec3 center = catmullRom(p0, p1, p2, p3, t);
+    vec3 d1 = catmullRomDerivative(p0, p1, p2, p3, t);
+    vec3 d2 = catmullRomSecondDerivative(p0, p1, p2, p3, t);
+    vec3 tangent = normalize(d1);
+    float thickness = catmullRomArcLength(p0, p1, p2, p3, float(k) / K, float(k + 1u) / K);
+
+    vec3 t0 = normalize(catmullRomDerivative(p0, p1, p2, p3, 0.0));
+    vec3 up = rotateMinimal(seg.up.xyz, t0, tangent);
+    up = normalize(up - dot(up, tangent) * tangent);
+    float twistRate = seg.p[0].w;
+    float phase = seg.up.w + twistRate * t * uintBitsToFloat(seg.info.z);
+    vec3 right = cos(phase) * up + sin(phase) * cross(tangent, up);
+    vec3 sliceUp = cross(tangent, right);
+    int a = dominantAxis(tangent);
+
+    SliceRecord s;
+    s.center = vec4(center, intBitsToFloat(a));
+    s.anchor = ivec4(int(seg.p[1].w), int(seg.p[2].w), int(seg.p[3].w), 0);
+    s.right = vec4(right, thickness);
+    s.up = vec4(sliceUp, twistRate * thickness);
+    s.tangent = vec4(tangent, thickness / abs(tangent[a]));
+    s.curvature = vec4((d2 - dot(d2, tangent) * tangent) / dot(d1, d1), 0.0);
+    return s;
+}
+
+// Axis folded onto the upper hemisphere (v and -v are the same fibre).
+vec3 canonicalAxis(vec3 v) {
+    if (v.z < 0.0 || (v.z == 0.0 && (v.y < 0.0 || (v.y == 0.0 && v.x < 0.0)))) v = -v;
+    return v;
+}
+
+// 16+16-bit octahedral code of an axis (src/core/sampling.h: encodeAxis).
+uint encodeAxis(vec3 axis) {
+    vec3 v = canonicalAxis(axis);
+    float s = abs(v.x) + abs(v.y) + abs(v.z);
+    vec2 uw = clamp(v.xy / s, -1.0, 1.0) * 0.5 + 0.5;
+    uvec2 q = uvec2(round(uw * 65535.0));
+    return (q.x << 16) | q.y;
+}
+
+vec3 decodeAxis(uint code) {
+    vec2 uw = vec2(float(code >> 16), float(code & 0xffffu)) / 65535.0 * 2.0 - 1.0;
+    return normalize(vec3(uw, max(0.0, 1.0 - abs(uw.x) - abs(uw.y))));
+}
+
+// Area of (disk of radius r about the origin) ∩ (parallelogram centred at c
+// with edges u, v) over the parallelogram's area (src/core/footprint.h:
+// diskCoverage): shoelace about c, plus a circular cap for every arc.
+float diskCoverage(vec2 c, vec2 u, vec2 v, float r) {
+    float area = abs(u.x * v.y - u.y * v.x);
+    if (!(area > 0.0)) return 0.0;
+    float reach = 0.5 * (length(u) + length(v)), dist = length(c);
+    if (dist - reach >= r) return 0.0;
+    if (dist + reach <= r) return 1.0;
+    if (u.x * v.y - u.y * v.x < 0.0) { vec2 t = u; u = v; v = t; }
+    vec2 corner[4] = vec2[4](c - 0.5 * u - 0.5 * v, c + 0.5 * u - 0.5 * v, c + 0.5 * u + 0.5 * v, c - 0.5 * u + 0.5 * v);
+    float r2 = r * r;
+    float tIn[4], tOut[4];
+    bool inside[4];
+    for (int i = 0; i < 4; ++i) {
+        vec2 a = corner[i], d = corner[(i + 1) & 3] - a;
+        float qa = dot(d, d), qb = dot(a, d), qc = dot(a, a) - r2;
+        float disc = qb * qb - qa * qc;
+        float s = sqrt(max(disc, 0.0));
+        tIn[i] = max(0.0, (-qb - s) / qa);
+        tOut[i] = min(1.0, (-qb + s) / qa);
+        inside[i] = disc > 0.0 && tOut[i] > tIn[i];
+    }
+    // Edge by edge with fixed indices, as src/core/footprint.h explains: a
+    // list of boundary points indexed at run time went to scratch memory and
+    // made the disk program 8 to 13 times slower than the texture's.
+    float twice = 0.0, caps = 0.0;
+    bool any = false;
+    for (int i = 0; i < 4; ++i) {
+        if (!inside[i]) continue;
+        any = true;
+        int next = (i + 1) & 3;
+        vec2 a = corner[i], d = corner[next] - a;
+        vec2 entry = a + tIn[i] * d;
+        vec2 nextEntry = entry;
+        for (int step = 1; step < 4; ++step) {
+            int k = (i + step) & 3;
+            if (inside[k]) {
+                nextEntry = corner[k] + tIn[k] * (corner[(k + 1) & 3] - corner[k]);
+                break;
+            }
+        }
+        bool exits = tOut[i] < 1.0 || !inside[next] || tIn[next] > 0.0;
+        vec2 exitPoint = exits ? a + tOut[i] * d : nextEntry;
+        vec2 p = entry - c, q = exitPoint - c, o = nextEntry - c;
+        twice += (p.x * q.y - p.y * q.x) + (q.x * o.y - q.y * o.x);
+        if (exits) {
+            float theta = atan(exitPoint.x * nextEntry.y - exitPoint.y * nextEntry.x, dot(exitPoint, nextEntry));
+            if (theta < 0.0) theta = theta > -1e-4 ? 0.0 : theta + 6.28318530717959;
+            float t2 = theta * theta;
+            float excess = theta < 1e-2 ? theta * t2 / 6.0 * (1.0 - t2 / 20.0) : theta - sin(theta);
+            caps += 0.5 * r2 * excess;
+        }
+    }
+    if (!any) {
+        for (int i = 0; i < 4; ++i) {
+            vec2 e = corner[(i + 1) & 3] - corner[i];
+            if (e.x * -corner[i].y - e.y * -corner[i].x < 0.0) return 0.0;
+        }
+        return min(1.0, 3.14159265358979 * r2 / area);
+    }
+    return clamp((0.5 * twice + caps) / area, 0.0, 1.0);
+}
+
+// Mean density over a footprint cell, slice-local units of the radius
+// (src/garment/cross_section.h: CrossSection::footprintDensity): exact
+// coverage for the disk, else the texture, bilinear, at the cell's centre (0
+// outside the slice square). The four texels come from four texelFetch;
+// with CROSS_SECTION_GATHER from one textureGather at the corner they share
+// (the texture clamps to its edge, as the CPU clamps); with
+// CROSS_SECTION_QUAD (the default) from one texelFetch of a texture that
+// holds each lookup's four. The same texels; the quad is the fastest on
+// NVIDIA's driver and on llvmpipe (cross_section_texture.h: TexelReads).
+// `size`: the cross-section's width in texels, asked once a sample
+// (textureSize in the cell loop was a tenth of the raster's time on NVIDIA's
+// driver).
+float footprintDensity(usampler2D crossSection, int size, bool disk, vec2 c, vec2 e0, vec2 e1) {
+    if (disk) return diskCoverage(c, e0, e1, 1.0);
+    if (!(c.x >= -1.0 && c.x < 1.0 && c.y >= -1.0 && c.y < 1.0)) return 0.0;
+    // Bilinear between texel centres (CrossSection::bilinear).
+    vec2 f = (c + 1.0) * 0.5 * float(size) - 0.5;
+    vec2 f0 = floor(f), t = f - f0;
+#if CROSS_SECTION_QUAD
+    // One texel holds the four (uploadCrossSectionTexture): the one at
+    // floor(f) + 1, which the lookup's range keeps within [0, size].
+    uvec4 texel = texelFetch(crossSection, clamp(ivec2(f0) + 1, ivec2(0), ivec2(size)), 0);
+    float top = float(texel.x) * (1.0 - t.x) + float(texel.y) * t.x;
+    float bottom = float(texel.z) * (1.0 - t.x) + float(texel.w) * t.x;
+#elif CROSS_SECTION_GATHER
+    // x: (i0, j1), y: (i1, j1), z: (i1, j0), w: (i0, j0).
+    vec4 texel = vec4(textureGather(crossSection, (f0 + 1.0) / float(size)));
+    float top = texel.w * (1.0 - t.x) + texel.z * t.x;
+    float bottom = texel.x * (1.0 - t.x) + texel.y * t.x;
+#else
+    ivec2 i0 = clamp(ivec2(f0), ivec2(0), ivec2(size - 1)), i1 = clamp(ivec2(f0) + 1, ivec2(0), ivec2(size - 1));
+    float top = float(texelFetch(crossSection, ivec2(i0.x, i0.y), 0).r) * (1.0 - t.x) +
+                float(texelFetch(crossSection, ivec2(i1.x, i0.y), 0).r) * t.x;
+    float bottom = float(texelFetch(crossSection, ivec2(i0.x, i1.y), 0).r) * (1.0 - t.x) +
+                   float(texelFetch(crossSection, ivec2(i1.x, i1.y), 0).r) * t.x;
+#endif
+    return (top * (1.0 - t.y) + bottom * t.y) / 255.0;
+}
+
+// Cells per side of a sample's footprint (CrossSection::kFootprintCells).
+const int kFootprintCells = 4;
+const int kCells = kFootprintCells * kFootprintCells;
+
+// A vector's components with the projection axis a first, then b = a + 1,
+// then c = a + 2 (mod 3). The sampling code below takes its vectors this way
+// and indexes them with constants: a component index known only at run time
+// made NVIDIA's compiler keep the vectors in memory instead of registers, a
+// sixth of the raster's time.
+vec3 axisFirst(vec3 v, int a) { return a == 0 ? v : (a == 1 ? v.yzx : v.zxy); }
+ivec3 axisFirst(ivec3 v, int a) { return a == 0 ? v : (a == 1 ? v.yzx : v.zxy); }
+// The inverse: (a, b, c) components back to (x, y, z).
+ivec3 axisBack(ivec3 v, int a) { return a == 0 ? v : (a == 1 ? v.zxy : v.yzx); }
+
+// Where the column through the centre of `pixel` (global, on the face's
+// axes b and c, supersampled by S) meets the slice: slice-local (x, y) in
+// voxel units along right and up. Vectors axis first (axisFirst); right x up
+// = tangent, so the 2x2 system has determinant det = tangent[a]. Integers
+// first (exact), then small floats.
+vec2 columnCrossing(ivec2 pixel, int S, ivec3 anchor, vec3 center, vec3 right, vec3 up, float det) {
+    ivec2 fromAnchor = pixel - anchor.yz * S;
+    float db = (float(fromAnchor.x) + 0.5) / float(S) - center.y;
+    float dc = (float(fromAnchor.y) + 0.5) / float(S) - center.z;
+    return vec2((db * up.z - dc * up.y) / det, (right.y * dc - right.z * db) / det);
+}
+
+// The edges of a sample's footprint (its pixel seen on the slice plane), in
+// units of the radius: one pixel along the face's axis b, and along c.
+// Vectors axis first; det = tangent[a].
+vec2 footprintEdgeB(vec3 right, vec3 up, float det, float S, float radius) {
+    return vec2(up.z, -right.z) / (det * S * radius);
+}
+vec2 footprintEdgeC(vec3 right, vec3 up, float det, float S, float radius) {
+    return vec2(-up.y, right.y) / (det * S * radius);
+}
+
+// The least distance from the slice's centre, units of the radius, that the
+// footprint about (x, y) (voxel units) can reach: its centre's distance less
+// half its edges.
+float footprintNearest(vec2 xy, vec2 edgeB, vec2 edgeC, float radius) {
+    return length(xy / radius) - 0.5 * (length(edgeB) + length(edgeC));
+}
+
+// Where the centre of footprint cell (p, q) lies on the slice, in units of
+// the radius: first + p stepP + q stepQ (the pixel's sub-squares seen on the
+// slice plane, about the column's crossing (x, y), voxel units; det =
+// tangent[a]). Vectors axis first (axisFirst).
+struct CellGrid {
+    vec2 first, stepP, stepQ;
+};
+CellGrid footprintCellGrid(vec3 right, vec3 up, float det, float S, float radius, float x, float y) {
+    float m = float(kFootprintCells);
+    float scale = 1.0 / (det * radius * m * S);
+    CellGrid g;
+    g.stepP = vec2(up.z, -right.z) * scale; // one cell along the face's axis b
+    g.stepQ = vec2(-up.y, right.y) * scale; // one cell along c
+    g.first = vec2(x, y) / radius - 0.5 * (m - 1.0) * (g.stepP + g.stepQ);
+    return g;
+}
+
+// A sample's footprint on the slice in kFootprintCells^2 cells, each with
+// its fibre density and its column's depth interval [z0, z1) through the
+// slab, in voxels along the projection axis (src/cpu/slice_sampler.h:
+// sampleSlice). The slice's vectors come axis first (axisFirst).
+// `support`: slice-local distance, units of the radius, beyond which the
+// texture reads 0 (src/garment/cross_section.h: textureSupport); a footprint
+// wholly beyond it is skipped, as on the CPU. Returns the sum of the cells'
+// densities (0: no fibre).
+float footprintCells(usampler2D crossSection, bool disk, float support, float S, float radius,
+                     vec3 center, vec3 right, vec3 up, vec3 tangent, vec3 curvature, float depthScale, float x, float y,
+                     out float cellDensity[kCells], out float cellZ0[kCells], out float cellZ1[kCells],
+                     out float zMin, out float zMax) {
+    float det = tangent.x;
+    vec2 edgeB = footprintEdgeB(right, up, det, S, radius), edgeC = footprintEdgeC(right, up, det, S, radius);
+    zMin = 1e30;
+    zMax = -1e30;
+    float coverage = 0.0;
+    if (disk) {
+        coverage = footprintDensity(crossSection, 0, true, vec2(x, y) / radius, edgeB, edgeC);
+        if (!(coverage > 0.0)) return 0.0;
+    } else if (footprintNearest(vec2(x, y), edgeB, edgeC, radius) > support) {
+        return 0.0;
+    }
+#if CROSS_SECTION_QUAD
+    int size = disk ? 0 : textureSize(crossSection, 0).x - 1; // the quad texture has a texel more a side
+#else
+    int size = disk ? 0 : textureSize(crossSection, 0).x;
+#endif
+    // The cells' centres, their lookups and their depths are affine in the
+    // cell's (p, q): a start and two steps, worked out once a sample.
+    float m = float(kFootprintCells), density = 0.0;
+    CellGrid cells = footprintCellGrid(right, up, det, S, radius, x, y);
+    float bendR = dot(curvature, right) * radius, bendU = dot(curvature, up) * radius;
+    float rightA = right.x * radius, upA = up.x * radius;
+    for (int q = 0; q < kFootprintCells; ++q)
+        for (int p = 0; p < kFootprintCells; ++p) {
+            int k = q * kFootprintCells + p;
+            vec2 c = cells.first + float(p) * cells.stepP + float(q) * cells.stepQ;
+            float d = disk && coverage >= 1.0 ? 1.0 : footprintDensity(crossSection, size, disk, c, edgeB / m, edgeC / m);
+            float depth = max(0.0, 1.0 - (c.x * bendR + c.y * bendU)) * depthScale;
+            cellZ0[k] = center.x + c.x * rightA + c.y * upA - 0.5 * depth;
+            cellZ1[k] = cellZ0[k] + depth;
+            cellDensity[k] = d > 0.0 && depth > 0.0 ? d : 0.0;
+            if (cellDensity[k] > 0.0) {
+                density += d;
+                zMin = min(zMin, cellZ0[k]);
+                zMax = max(zMax, cellZ1[k]);
+            }
+        }
+    return density;
+}
+
+// What the cells put into voxel layer [v, v + 1): density times depth.
+float layerShare(float v, float cellDensity[kCells], float cellZ0[kCells], float cellZ1[kCells]) {
+    float share = 0.0;
+    for (int k = 0; k < kCells; ++k)
+        if (cellDensity[k] > 0.0) share += cellDensity[k] * max(0.0, min(cellZ1[k], v + 1.0) - max(cellZ0[k], v));
+    return share;
+}
