@@ -26,8 +26,8 @@ void main() {
     ivec2 local = ivec2(gl_FragCoord.xy) - uMargin;
     if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, vFace.zw))) return;
     // Where the column through this pixel meets the slice (columnCrossing),
-    // and whether the footprint about it comes within the support
-    // (footprintNearest, widened by slice.vert's slack).
+    // and whether the footprint about it comes within the support (by the
+    // footprint's reach, slice.vert, widened by its slack).
     vec2 steps = vec2(local - vFace.xy);
     vec2 xy = vAtOrigin + steps.x * vSteps.xy + steps.y * vSteps.zw;
     if (dot(xy, xy) > vLimit * vLimit) return;

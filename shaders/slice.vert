@@ -37,7 +37,7 @@ flat out float vDepthScale; // slab depth along the projection axis, voxel units
 flat out ivec4 vFace;    // xy: the face pixel (region-local) the test is expanded about; zw: the face's size in pixels
 flat out vec2 vAtOrigin; // slice-local (x, y), units of the radius, where the column through vFace.xy's centre meets the slice
 flat out vec4 vSteps;    // xy: (x, y) a pixel along the face's axis b (footprintEdgeB); zw: along c (footprintEdgeC)
-flat out float vLimit;   // farthest |(x, y)| a kept sample can have: the support, its slack and half the footprint's edges
+flat out float vLimit;   // farthest |(x, y)| a kept sample can have: the support, its slack and the footprint's reach
 
 // Relative slack of append.frag's support test (the exact test is
 // sample.comp's): float rounding here must never drop a sample it keeps.
@@ -61,12 +61,25 @@ void main() {
     // the slice square has its centre in it.
     float S = float(uSupersample);
     float extent = uRadius + 2.0 / S;
-    // A sample can hold fibre only where its footprint's centre lies within
-    // the support plus half the footprint's edges (the skip in append.frag
-    // and footprintCells): a disk of radius `reach` in the plane (the
-    // margin covers float rounding and the rasterizer's snapping).
-    float footprintEdges = 0.5 * (length(vec2(sliceUp[c], right[c])) + length(vec2(sliceUp[b], right[b]))) / (abs(tangent[a]) * S);
-    float reach = (uSupport * uRadius + footprintEdges) * 1.001 + 0.05 / S;
+    // A sample can hold fibre only where what it reads of its footprint (the
+    // pixel seen on the slice plane, a parallelogram) comes within the
+    // support: with the disk, the whole parallelogram, whose farthest point
+    // lies half its longer diagonal from its centre; with a texture, the
+    // centres of its cells (footprintCells), (m - 1) / 2m of that diagonal.
+    // footprintCells skips by half the edges' sum, which is never less: a
+    // footprint between the bounds reads 0 there. A disk of radius `reach`
+    // in the plane (the margin covers float rounding and the rasterizer's
+    // snapping).
+#if CROSS_SECTION_DISK
+    const float kFootprintReach = 0.5;
+#else
+    const float kFootprintReach = 0.5 * float(kFootprintCells - 1) / float(kFootprintCells);
+#endif
+    vec3 centerA = axisFirst(center, a), rightA = axisFirst(right, a), upA = axisFirst(sliceUp, a);
+    float det = tangent[a];
+    vec2 edgeB = footprintEdgeB(rightA, upA, det, S, uRadius), edgeC = footprintEdgeC(rightA, upA, det, S, uRadius);
+    float footprintReach = kFootprintReach * max(length(edgeB + edgeC), length(edgeB - edgeC)); // units of the radius
+    float reach = (uSupport + footprintReach) * uRadius * 1.001 + 0.05 / S;
     ivec3 anchor = s.anchor.xyz;
 #if SLICE_POINTS
     // One point sprite a slice: an axis-aligned square on the face around the
@@ -105,15 +118,12 @@ void main() {
 #endif
 
     // The face pixel holding the slice's centre, and the test's terms there.
-    vec3 centerA = axisFirst(center, a), rightA = axisFirst(right, a), upA = axisFirst(sliceUp, a);
     ivec3 anchorA = axisFirst(anchor, a), regionMinA = axisFirst(uRegionMin, a);
-    float det = tangent[a];
     ivec2 origin = ivec2(floor((vec2(anchorA.yz - regionMinA.yz) + centerA.yz) * S));
-    vec2 edgeB = footprintEdgeB(rightA, upA, det, S, uRadius), edgeC = footprintEdgeC(rightA, upA, det, S, uRadius);
     vFace = ivec4(origin, axisFirst(uRegionBricks * 8, a).yz * uSupersample);
     vAtOrigin = columnCrossing(origin + regionMinA.yz * uSupersample, uSupersample, anchorA, centerA, rightA, upA, det) / uRadius;
     vSteps = vec4(edgeB, edgeC);
-    vLimit = uSupport * (1.0 + kSupportSlack) + kSupportSlack + 0.5 * (length(edgeB) + length(edgeC));
+    vLimit = uSupport * (1.0 + kSupportSlack) + kSupportSlack + footprintReach;
 
     vInstance = slice;
     vAxis = a;

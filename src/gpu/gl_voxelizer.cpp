@@ -155,8 +155,11 @@ class GlBackend::Impl {
         std::vector<std::string> sampleDefines = crossSectionDefines(xs, reads);
         if (albedo_) sampleDefines.push_back("ALBEDO 1");
         placer_ = std::make_unique<SlicePlacer>();
-        raster_ = GlProgram::graphics("slice.vert", "append.frag", pointMargin_ > 0 ? std::vector<std::string>{"SLICE_POINTS 1"}
-                                                                                   : std::vector<std::string>{});
+        // The raster bounds a footprint by what the sampling reads of it (the
+        // disk's whole footprint, or a texture's cell centres: slice.vert).
+        std::vector<std::string> rasterDefines = crossSectionDefines(xs, reads);
+        if (pointMargin_ > 0) rasterDefines.push_back("SLICE_POINTS 1");
+        raster_ = GlProgram::graphics("slice.vert", "append.frag", rasterDefines);
         sample_ = GlProgram::compute("sample.comp", sampleDefines);
         sampleDispatch_ = GlProgram::compute("sample_dispatch.comp");
         flag_ = GlProgram::compute("brick_flag.comp");
