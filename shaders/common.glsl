@@ -360,3 +360,82 @@ float layerShare(float v, float cellDensity[kCells], float cellZ0[kCells], float
         if (cellDensity[k] > 0.0) share += cellDensity[k] * max(0.0, min(cellZ1[k], v + 1.0) - max(cellZ0[k], v));
     return share;
 }
+
+// The raster's test of a pixel against a slice, and the slice's point sprite
+// (slice.vert; with SLICE_SPRITES, slice_setup.comp).
+
+// Relative slack of append.frag's support test (the exact test is
+// sample.comp's): float rounding there must never drop a sample it keeps.
+const float kSupportSlack = 1e-3;
+
+// How far from a footprint's centre (the pixel seen on the slice plane, a
+// parallelogram) the sampling reads it, in its longer diagonals: the disk's
+// coverage takes the whole parallelogram, half the diagonal; a texture is
+// read at the cells' centres (footprintCells), (m - 1) / 2m of it.
+// footprintCells skips by half the edges' sum, which is never less: a
+// footprint between the two reads 0.
+#if CROSS_SECTION_DISK
+const float kFootprintReach = 0.5;
+#else
+const float kFootprintReach = 0.5 * float(kFootprintCells - 1) / float(kFootprintCells);
+#endif
+
+// What append.frag's test needs of one slice in one region, worked out once
+// a slice: where the column through a pixel meets the slice is affine in the
+// pixel, so a pixel costs two multiply-adds and a dot product.
+struct SliceTest {
+    ivec4 face;    // xy: the face pixel (region-local) the test is expanded about; zw: the face's size in pixels
+    vec2 atOrigin; // slice-local (x, y), units of the radius, where the column through face.xy's centre meets the slice
+    vec4 steps;    // xy: (x, y) a pixel along the face's axis b (footprintEdgeB); zw: along c (footprintEdgeC)
+    float limit;   // farthest |(x, y)| a kept sample can have: the support, its slack and the footprint's reach
+    float reach;   // voxel units: a disk in the slice plane that holds every column crossing the test keeps,
+                   // with a margin for float rounding and the rasterizer's snapping
+};
+
+SliceTest sliceTest(SliceRecord s, float radius, float support, int S, ivec3 regionMin, ivec3 regionBricks) {
+    int a = floatBitsToInt(s.center.w);
+    vec3 center = axisFirst(s.center.xyz, a), right = axisFirst(s.right.xyz, a), up = axisFirst(s.up.xyz, a);
+    ivec3 anchor = axisFirst(s.anchor.xyz, a), regionMinA = axisFirst(regionMin, a);
+    float det = axisFirst(s.tangent.xyz, a).x, fS = float(S);
+    vec2 edgeB = footprintEdgeB(right, up, det, fS, radius), edgeC = footprintEdgeC(right, up, det, fS, radius);
+    float footprintReach = kFootprintReach * max(length(edgeB + edgeC), length(edgeB - edgeC)); // units of the radius
+    // The face pixel holding the slice's centre, and the test's terms there.
+    ivec2 origin = ivec2(floor((vec2(anchor.yz - regionMinA.yz) + center.yz) * fS));
+    SliceTest t;
+    t.face = ivec4(origin, axisFirst(regionBricks * 8, a).yz * S);
+    t.atOrigin = columnCrossing(origin + regionMinA.yz * S, S, anchor, center, right, up, det) / radius;
+    t.steps = vec4(edgeB, edgeC);
+    t.limit = support * (1.0 + kSupportSlack) + kSupportSlack + footprintReach;
+    t.reach = (support + footprintReach) * radius * 1.001 + 0.05 / fS;
+    return t;
+}
+
+// One slice's point sprite for a region, and its test's terms (64 bytes;
+// src/gpu/gpu_layout.h: GpuSpriteRecord): an axis-aligned square on the face
+// around the projection of the disk of radius `reach` (or, where the slice's
+// square grown by two pixels is smaller, of that square's corners), widened
+// by 0.05 pixel; the viewport's `margin` of pixels around the region's face
+// keeps the sprite's centre in it (a point whose centre is clipped is
+// dropped whole).
+struct SpriteRecord {
+    vec4 position; // xy: the sprite's centre, clip space; z: its side, pixels; w: SliceTest.limit
+    ivec4 face;    // SliceTest.face
+    vec4 steps;    // SliceTest.steps
+    vec4 atOrigin; // xy: SliceTest.atOrigin; zw: unused
+};
+
+SpriteRecord sliceSprite(SliceRecord s, SliceTest t, float radius, int S, ivec3 regionMin, vec2 viewport, int margin) {
+    int a = floatBitsToInt(s.center.w);
+    vec3 right = axisFirst(s.right.xyz, a), up = axisFirst(s.up.xyz, a);
+    float fS = float(S), extent = radius + 2.0 / fS;
+    float halfSide = t.reach <= extent ? t.reach * max(length(vec2(right.y, up.y)), length(vec2(right.z, up.z)))
+                                       : extent * max(abs(right.y) + abs(up.y), abs(right.z) + abs(up.z));
+    vec3 fromRegion = axisFirst(vec3(s.anchor.xyz - regionMin) + s.center.xyz, a);
+    vec2 pixel = fromRegion.yz * fS + float(margin);
+    SpriteRecord r;
+    r.position = vec4(pixel / viewport * 2.0 - 1.0, 2.0 * (halfSide * fS + 0.05), t.limit);
+    r.face = t.face;
+    r.steps = t.steps;
+    r.atOrigin = vec4(t.atOrigin, 0.0, 0.0);
+    return r;
+}
