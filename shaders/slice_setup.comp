@@ -9,18 +9,6 @@ layout(std430, binding = 0) readonly buffer Segments { GpuSegment segments[]; };
 // instance of each, for the search from instance to segment.
 layout(std430, binding = 1) readonly buffer DrawList { uvec2 drawList[]; }; // x: segment, y: first instance
 layout(std430, binding = 5) writeonly buffer Slices { SliceRecord slices[]; };
-#if SLICE_SPRITES
-// Each slice's point sprite in the region drawn next, and its test's terms
-// (slice.vert with SLICE_POINTS only reads these).
-layout(std430, binding = 6) writeonly buffer Sprites { SpriteRecord sprites[]; };
-uniform float uRadius;       // yarn radius, voxel units
-uniform float uSupport;      // textureSupport(), units of the radius
-uniform int uSupersample;
-uniform ivec3 uRegionMin;    // region box in voxels
-uniform ivec3 uRegionBricks; // region size in bricks
-uniform vec2 uViewport;      // viewport size in pixels
-uniform int uMargin;         // pixels around the region's face in the viewport
-#endif
 
 uniform int uDrawCount;        // entries in drawList
 uniform uint uUniformSlices;   // slices of every segment when all have the same count, else 0
@@ -37,11 +25,6 @@ void main() {
             int mid = (lo + hi + 1) >> 1;
             if (drawList[mid].y <= instance) lo = mid; else hi = mid - 1;
         }
-        SliceRecord slice = placeSlice(segments[drawList[lo].x], instance - drawList[lo].y);
-        slices[instance] = slice;
-#if SLICE_SPRITES
-        SliceTest test = sliceTest(slice, uRadius, uSupport, uSupersample, uRegionMin, uRegionBricks);
-        sprites[instance] = sliceSprite(slice, test, uRadius, uSupersample, uRegionMin, uViewport, uMargin);
-#endif
+        slices[instance] = placeSlice(segments[drawList[lo].x], instance - drawList[lo].y);
     }
 }

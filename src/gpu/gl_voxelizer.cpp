@@ -154,8 +154,7 @@ class GlBackend::Impl {
         const auto compileStart = std::chrono::steady_clock::now();
         std::vector<std::string> sampleDefines = crossSectionDefines(xs, reads);
         if (albedo_) sampleDefines.push_back("ALBEDO 1");
-        // Point sprites are worked out with the slices' placement (slice_setup.comp).
-        placer_ = std::make_unique<SlicePlacer>(pointMargin_ > 0 ? std::optional(crossSectionDefines(xs, reads)) : std::nullopt);
+        placer_ = std::make_unique<SlicePlacer>();
         // The raster bounds a footprint by what the sampling reads of it (the
         // disk's whole footprint, or a texture's cell centres: slice.vert).
         std::vector<std::string> rasterDefines = crossSectionDefines(xs, reads);
@@ -434,20 +433,18 @@ class GlBackend::Impl {
 
         // The raster: the slices placed on every compute unit, then drawn, one
         // sample item appended per pixel that can hold fibre.
-        const int viewport = std::max({size.x, size.y, size.z}) * S + 2 * pointMargin_;
         placeTimer_.begin();
         {
             const TraceSpan placing("place the slices");
-            const SpriteRegion sprites{&sprites_, float(plan_.options.radius / grid_.voxelSize), float(support_), S,
-                                       item.min, bricks, viewport, pointMargin_};
             placer_->place(SliceDraw{segments_.id(), drawList_.id(), static_cast<int>(item.segments.size()), uniformSlices_, instances},
-                           slices_, &gpuBytes_, pointMargin_ > 0 ? &sprites : nullptr);
+                           slices_, &gpuBytes_);
         }
         placeTimer_.end();
         rasterTimer_.begin();
         {
             // Submitting the draw and the sampling (the driver may wait here on first use).
             const TraceSpan drawing("draw the slices");
+            const int viewport = std::max({size.x, size.y, size.z}) * S + 2 * pointMargin_;
             glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_WIDTH, viewport);
             glNamedFramebufferParameteri(fbo_, GL_FRAMEBUFFER_DEFAULT_HEIGHT, viewport);
             glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
@@ -462,7 +459,6 @@ class GlBackend::Impl {
             glUniform1i(raster_.uniform("uMargin"), pointMargin_);
             glUniform1ui(raster_.uniform("uItemCapacity"), static_cast<GLuint>(itemSlots_));
             slices_.bindStorage(5);
-            if (pointMargin_ > 0) sprites_.bindStorage(4);
             items_.bindStorage(6);
             itemCounter_.bindStorage(7); // the wrap flag
             glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, itemCounter_.id());
@@ -727,7 +723,6 @@ class GlBackend::Impl {
     ReadbackBuffer small_, readback_;
     GlBuffer segments_, drawList_, fragments_, albedoFragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
     GlBuffer slices_, items_, itemCounter_; ///< the placed slices, the sample items and their counter
-    GlBuffer sprites_;                     ///< with point sprites: each slice's sprite in the region drawn
     GLuint texture_ = 0, albedoTexture_ = 0, vao_ = 0, fbo_ = 0;
     double support_ = 0.0; ///< textureSupport() of the cross-section
     std::unique_ptr<SlicePlacer> placer_;

@@ -37,17 +37,6 @@ struct GpuSliceRecord {
 };
 static_assert(sizeof(GpuSliceRecord) == 96, "GpuSliceRecord must match shaders/common.glsl");
 
-/// shaders/common.glsl: SpriteRecord, one slice's point sprite in a region and
-/// the terms of the raster's test (slice_setup.comp writes them with
-/// SLICE_SPRITES; the host only sizes their buffer).
-struct GpuSpriteRecord {
-    float position[4];    ///< xy: centre, clip space; z: side, pixels; w: the test's bound
-    std::int32_t face[4]; ///< xy: the pixel the test is expanded about; zw: the face's size
-    float steps[4];
-    float atOrigin[4];
-};
-static_assert(sizeof(GpuSpriteRecord) == 64, "GpuSpriteRecord must match shaders/common.glsl");
-
 /// shaders/append.frag and sample.comp: one sample item, a slice's instance
 /// and a pixel of the region's face (x | y << 16).
 struct GpuSampleItem {
