@@ -1,4 +1,5 @@
 // The yarnvox binary end to end: exit codes, messages, files left behind.
+#include "gpu/egl_context.h"
 #include "run_cli.h"
 #include "test_helpers.h"
 
@@ -191,6 +192,24 @@ TEST_CASE("CLI: --overlap clamp keeps voxels at 1, sum keeps the sums, --stats s
     // What clamping removed is the excess the stats report.
     CHECK(range[1].mass - range[0].mass == Approx(share * range[1].mass).epsilon(1e-3));
     CHECK(jsonNumber(stats[0], "fiber_volume") == Approx(range[0].mass).epsilon(1e-6));
+}
+
+TEST_CASE("CLI: --stats of a GL run times the raster and its placing, and counts what was drawn", "[cli][gl]") {
+    YV_REQUIRE_GL();
+    const fs::path bcc = scratch("gl-stats.bcc"), vdb = scratch("gl-stats.vdb"), stats = scratch("gl-stats.json");
+    REQUIRE(run("gen --pattern twill --crossings 40 --shape cylinder -o " + bcc.string()).exitCode == 0);
+    const RunResult r = run("voxelize " + bcc.string() + " -o " + vdb.string() +
+                            " --backend gl --resolution 64 --quiet --stats " + stats.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    const std::string json = readText(stats);
+    INFO(json);
+    const double raster = jsonNumber(json, "gpu_raster_seconds"), place = jsonNumber(json, "gpu_place_seconds");
+    CHECK(place > 0.0);
+    CHECK(place <= raster); // the placing is a part of the raster's time
+    CHECK(jsonNumber(json, "slices_drawn") >= jsonNumber(json, "slices")); // a slice is drawn in every region it reaches
+    CHECK(jsonNumber(json, "sample_items") > 0.0);
+    CHECK(jsonNumber(json, "fragments") > 0.0);
 }
 
 TEST_CASE("CLI: slices follow the voxel size by default, and a coarse explicit spacing warns", "[cli]") {
