@@ -339,8 +339,9 @@ class GlBackend::Impl {
         counters_.slicePrimitive = "triangle";
         if (asked == SlicePrimitive::Triangle || (asked == SlicePrimitive::Auto && info.platform != "device")) return;
         const double S = settings_.base.supersample, r = plan_.options.radius / grid_.voxelSize;
-        // slice.vert's reach with the footprint's edges at their largest
-        // (1/(|tangent[a]| S) <= sqrt(3)/S), and the square's corners.
+        // A bound on slice.vert's reach: its footprint term (a share of the
+        // footprint's longer diagonal) is at most half the edges' sum, at most
+        // sqrt(3)/S since 1/|tangent[a]| <= sqrt(3); and the square's corners.
         const double reach = (support_ * r + 1.75 / S) * 1.001 + 0.05 / S, extent = r + 2.0 / S;
         const double halfPixels = std::max(reach, extent * std::sqrt(2.0)) * S + 0.05;
         GLfloat sizes[2] = {0, 0};
