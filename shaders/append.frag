@@ -1,5 +1,6 @@
-// Raster pass: appends one sample item (the slice, and this pixel of the
-// region's face) for each pixel whose footprint can hold fibre. The sampling
+// Raster pass: appends one sample item (a slice, and this pixel of the
+// region's face) for each slice drawn here (one, or a run of them with point
+// sprites: slice.vert) whose footprint at this pixel can hold fibre. The sampling
 // pass (sample.comp) then turns each item into voxel fragments on every
 // compute unit; here only the test whether the footprint comes within the
 // cross-section's support, widened a little, so that float rounding in this
@@ -15,24 +16,27 @@ layout(std430, binding = 7) buffer ItemCounter { uint itemWord; uint itemWrapped
 uniform uint uItemCapacity;   // items the list holds; the counter goes on past it
 uniform int uMargin;          // pixels around the region's face in the viewport (slice.vert)
 
-flat in int vInstance;
-// The test's terms, from the slice (slice.vert).
-flat in ivec4 vFace;
-flat in vec2 vAtOrigin;
-flat in vec4 vSteps;
-flat in float vLimit;
+// The slices drawn (slice.vert: a run of them with point sprites, else
+// one) and each one's test terms.
+flat in ivec4 vRun;
+flat in vec4 vAt[kRunSlices];
+flat in vec4 vSteps[kRunSlices];
 
 void main() {
     ivec2 local = ivec2(gl_FragCoord.xy) - uMargin;
-    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, vFace.zw))) return;
-    // Where the column through this pixel meets the slice (columnCrossing),
-    // and whether the footprint about it comes within the support (by the
-    // footprint's reach, slice.vert, widened by its slack).
-    vec2 steps = vec2(local - vFace.xy);
-    vec2 xy = vAtOrigin + steps.x * vSteps.xy + steps.y * vSteps.zw;
-    if (dot(xy, xy) > vLimit * vLimit) return;
+    ivec2 face = ivec2(vRun.w & 0xffff, vRun.w >> 16);
+    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, face))) return;
+    vec2 steps = vec2(local - vRun.xy);
+    for (int i = 0; i < kRunSlices; ++i) {
+        // Where the column through this pixel meets the slice
+        // (columnCrossing), and whether the footprint about it comes within
+        // the support (by the footprint's reach, slice.vert, widened by its
+        // slack).
+        vec2 xy = vAt[i].xy + steps.x * vSteps[i].xy + steps.y * vSteps[i].zw;
+        if (dot(xy, xy) > vAt[i].z) continue;
 
-    uint slot = atomicCounterIncrement(uItemCount);
-    if (slot >= 0x80000000u) itemWrapped = 1u;
-    if (slot < uItemCapacity) items[slot] = uvec2(uint(vInstance), uint(local.x) | (uint(local.y) << 16));
+        uint slot = atomicCounterIncrement(uItemCount);
+        if (slot >= 0x80000000u) itemWrapped = 1u;
+        if (slot < uItemCapacity) items[slot] = uvec2(uint(vRun.z + i), uint(local.x) | (uint(local.y) << 16));
+    }
 }

@@ -39,6 +39,15 @@ struct SliceRecord {
     vec4 curvature; // xyz: curvature vector, 1 / voxel units; w: unused
 };
 
+// Slices one point sprite draws at most (SLICE_POINTS: a run of consecutive
+// slices, slice_runs.comp; SLICE_RUN is gpu_layout.h's kSliceRunMax); a
+// triangle draws one.
+#if SLICE_POINTS
+const int kRunSlices = SLICE_RUN;
+#else
+const int kRunSlices = 1;
+#endif
+
 vec3 catmullRom(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t) {
     float t2 = t * t, t3 = t2 * t;
     return 0.5 * ((-t + 2.0 * t2 - t3) * p0 + (2.0 - 5.0 * t2 + 3.0 * t3) * p1 +

@@ -162,7 +162,7 @@ TEST_CASE("GL: texels read by one gather, by four fetches or from the quad textu
     CHECK(cmp.densityWithinShare() >= 0.9999);
 }
 
-TEST_CASE("GL: slices drawn as point sprites or as triangles give the same voxels bit for bit", "[gl][agreement]") {
+TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or runs of slices) give the same voxels bit for bit", "[gl][agreement]") {
     YV_REQUIRE_GL();
     // A twisted cylinder (every tangent direction, so every projection axis
     // and tilt), once at one sample a voxel and once supersampled, with the
@@ -183,9 +183,26 @@ TEST_CASE("GL: slices drawn as point sprites or as triangles give the same voxel
             REQUIRE(a.activeVoxelCount() > 1000);
             CHECK(drawnAsPoints.fragments == drawnAsTriangles.fragments);
             CHECK(identical(a, b));
+            CHECK(drawnAsTriangles.primitivesDrawn == drawnAsTriangles.slicesDrawn);
+            // Point sprites a slice each, or runs of consecutive slices
+            // (slice_runs.comp): fewer points than slices (runs break where
+            // the projection axis changes), the same voxels.
+            for (int sliceRun : {1, 2, 4}) {
+                INFO("runs of up to " << sliceRun << " slices");
+                GlVoxelizeSettings runs = points;
+                runs.sliceRun = sliceRun;
+                GlVoxelizeCounters drawnInRuns;
+                CHECK(identical(a, voxelizeGl(run.plan, xs, run.grid, runs, &drawnInRuns)));
+                CHECK(drawnInRuns.primitivesDrawn * sliceRun >= drawnInRuns.slicesDrawn);
+                if (sliceRun == 1)
+                    CHECK(drawnInRuns.primitivesDrawn == drawnInRuns.slicesDrawn);
+                else
+                    CHECK(drawnInRuns.primitivesDrawn * (sliceRun + 1) < drawnInRuns.slicesDrawn * 2);
+            }
             // Many small regions: sprites whose centre lies outside a region
             // still reach into it (the viewport's margin keeps them).
             GlVoxelizeSettings smallPoints = points;
+            smallPoints.sliceRun = 2;
             smallPoints.fragmentCapacity = test::smallestFragmentBudget(run.plan) * supersample * supersample + 2000;
             GlVoxelizeCounters drawnInPieces;
             const BrickVolume c = voxelizeGl(run.plan, xs, run.grid, smallPoints, &drawnInPieces);

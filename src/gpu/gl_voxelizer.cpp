@@ -154,11 +154,14 @@ class GlBackend::Impl {
         const auto compileStart = std::chrono::steady_clock::now();
         std::vector<std::string> sampleDefines = crossSectionDefines(xs, reads);
         if (albedo_) sampleDefines.push_back("ALBEDO 1");
-        placer_ = std::make_unique<SlicePlacer>();
         // The raster bounds a footprint by what the sampling reads of it (the
         // disk's whole footprint, or a texture's cell centres: slice.vert).
         std::vector<std::string> rasterDefines = crossSectionDefines(xs, reads);
-        if (pointMargin_ > 0) rasterDefines.push_back("SLICE_POINTS 1");
+        if (pointMargin_ > 0) {
+            rasterDefines.push_back("SLICE_POINTS 1");
+            rasterDefines.push_back("SLICE_RUN " + std::to_string(runSlices_));
+        }
+        placer_ = std::make_unique<SlicePlacer>(pointMargin_ > 0 ? runSlices_ : 1, rasterDefines);
         raster_ = GlProgram::graphics("slice.vert", "append.frag", rasterDefines);
         sample_ = GlProgram::compute("sample.comp", sampleDefines);
         sampleDispatch_ = GlProgram::compute("sample_dispatch.comp");
@@ -183,6 +186,8 @@ class GlBackend::Impl {
         itemSlots_ = std::min<std::uint64_t>(capacity_, initialSlots);
         reserveLists();
         counter_.reserve(8, &gpuBytes_); // the append counter, then the flag of a counter that wrapped
+        runDraw_.reserve(16, &gpuBytes_); // with point sprites, the draw's command (its first word: the runs)
+        runDraw_.clear(16);
         itemCounter_.reserve(32, &gpuBytes_); // likewise for the items, then the sampling pass's dispatch size
         counts_.reserve(16, &gpuBytes_);
         notePeak();
@@ -339,11 +344,21 @@ class GlBackend::Impl {
         counters_.slicePrimitive = "triangle";
         if (asked == SlicePrimitive::Triangle || (asked == SlicePrimitive::Auto && info.platform != "device")) return;
         const double S = settings_.base.supersample, r = plan_.options.radius / grid_.voxelSize;
+        // Runs of slices, one sprite each, where the yarn is thin on the face:
+        // there a point's fixed cost is most of its time, and two slices'
+        // sprites cover nearly the same few pixels (slice_runs.comp).
+        if (settings_.sliceRun > 0)
+            runSlices_ = settings_.sliceRun;
+        else
+            runSlices_ = support_ * r * S < kSliceRunSupportPixels ? kSliceRunMax : 1;
         // A bound on slice.vert's reach: its footprint term (a share of the
         // footprint's longer diagonal) is at most half the edges' sum, at most
         // sqrt(3)/S since 1/|tangent[a]| <= sqrt(3); and the square's corners.
+        // A run's sprite is at most half the spread of its slices' centres
+        // wider than its widest slice's.
         const double reach = (support_ * r + 1.75 / S) * 1.001 + 0.05 / S, extent = r + 2.0 / S;
-        const double halfPixels = std::max(reach, extent * std::sqrt(2.0)) * S + 0.05;
+        const double runWidening = runSlices_ > 1 ? 0.5 * kSliceRunSpread : 0.0;
+        const double halfPixels = std::max(reach, extent * std::sqrt(2.0)) * S + 0.05 + runWidening;
         GLfloat sizes[2] = {0, 0};
         glGetFloatv(GL_POINT_SIZE_RANGE, sizes);
         if (!(2.0 * halfPixels + 1.0 <= sizes[1])) return;
@@ -439,6 +454,8 @@ class GlBackend::Impl {
             const TraceSpan placing("place the slices");
             placer_->place(SliceDraw{segments_.id(), drawList_.id(), static_cast<int>(item.segments.size()), uniformSlices_, instances},
                            slices_, &gpuBytes_);
+            if (pointMargin_ > 0 && runSlices_ > 1)
+                placer_->joinRuns(instances, S, kSliceRunSpread, slices_, runs_, runDraw_, &gpuBytes_);
         }
         placeTimer_.end();
         rasterTimer_.begin();
@@ -464,7 +481,14 @@ class GlBackend::Impl {
             itemCounter_.bindStorage(7); // the wrap flag
             glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, itemCounter_.id());
             glBindVertexArray(vao_);
-            if (pointMargin_ > 0) {
+            if (pointMargin_ > 0 && runSlices_ > 1) {
+                // Vertex i is run i; their count is on the GPU (slice_runs.comp).
+                glEnable(GL_PROGRAM_POINT_SIZE);
+                runs_.bindStorage(8);
+                glBindBuffer(GL_DRAW_INDIRECT_BUFFER, runDraw_.id());
+                glDrawArraysIndirect(GL_POINTS, nullptr);
+                glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+            } else if (pointMargin_ > 0) {
                 glEnable(GL_PROGRAM_POINT_SIZE);
                 glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(instances)); // vertex i is slice i
             } else {
@@ -483,7 +507,7 @@ class GlBackend::Impl {
         // Each counter, then its wrap flag: the 32-bit counter went past 2^31
         // (and may have wrapped to a small count), far beyond any list, so the
         // pass is redone in pieces.
-        GLuint count[4] = {0, 0, 0, 0};
+        GLuint count[5] = {0, 0, 0, 0, 0};
         readCounts(count);
         GLuint fragmentCount = count[0];
         const GLuint itemCount = count[2];
@@ -510,6 +534,7 @@ class GlBackend::Impl {
         }
         counters_.sampleItems += itemCount;
         counters_.slicesDrawn += instances;
+        counters_.primitivesDrawn += pointMargin_ > 0 && runSlices_ > 1 ? count[4] : instances;
         if (fragmentCount == 0) return true;
 
         // Brick passes: flag, scan, then scatter into the touched bricks only.
@@ -615,10 +640,12 @@ class GlBackend::Impl {
 
     /// The fragment counter and its wrap flag, then the item counter and its
     /// flag, once the passes before are done.
-    void readCounts(GLuint (&count)[4]) {
+    /// The fragment counter and its wrap flag, the item counter and its flag,
+    /// and the point sprites drawn (0 with triangles).
+    void readCounts(GLuint (&count)[5]) {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         const TraceSpan span("wait for the fragment count");
-        std::memcpy(count, small_.read({{counter_.id(), 0, 8}, {itemCounter_.id(), 0, 8}}, &gpuBytes_), 16);
+        std::memcpy(count, small_.read({{counter_.id(), 0, 8}, {itemCounter_.id(), 0, 8}, {runDraw_.id(), 0, 4}}, &gpuBytes_), 20);
     }
 
     /// The uniforms the raster and the sampling programs share: the yarn, the
@@ -717,6 +744,7 @@ class GlBackend::Impl {
     std::uint64_t maxBlock_ = 0; ///< GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes
     int regionCap_ = 1024;
     int pointMargin_ = 0; ///< pixels around a region's face with point sprites; 0: triangles
+    int runSlices_ = 1; ///< with point sprites, slices one draws at most (chooseSlicePrimitive)
     std::uint64_t fragmentSlots_ = 0; ///< fragments the list holds now (grows up to capacity_)
     std::uint64_t itemSlots_ = 0;     ///< sample items the item list holds now (likewise)
     std::uint32_t uniformSlices_ = 0; ///< slices per segment when all segments agree, else 0
@@ -724,6 +752,7 @@ class GlBackend::Impl {
     ReadbackBuffer small_, readback_;
     GlBuffer segments_, drawList_, fragments_, albedoFragments_, counter_, flags_, blockSums_, counts_, slotBricks_, brickWords_;
     GlBuffer slices_, items_, itemCounter_; ///< the placed slices, the sample items and their counter
+    GlBuffer runs_, runDraw_; ///< point sprites: the runs of slices, and the draw's indirect command
     GLuint texture_ = 0, albedoTexture_ = 0, vao_ = 0, fbo_ = 0;
     double support_ = 0.0; ///< textureSupport() of the cross-section
     std::unique_ptr<SlicePlacer> placer_;

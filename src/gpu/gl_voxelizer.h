@@ -58,6 +58,10 @@ struct GlVoxelizeSettings {
     TexelReads texelReads = TexelReads::Auto;
     BrickResolve brickResolve = BrickResolve::Auto;
     SlicePrimitive slicePrimitive = SlicePrimitive::Auto;
+    /// Slices one point sprite draws at most (0: as suits the yarn's width
+    /// in pixels, gpu_layout.h: kSliceRunSupportPixels); tests compare runs
+    /// with single slices.
+    int sliceRun = 0;
     /// Where the first pass's 32-bit fragment counter, and its sample item
     /// counter, start (tests set them near 2^32 to make them wrap; runs leave
     /// them at 0).
@@ -71,6 +75,7 @@ struct GlVoxelizeCounters {
     std::uint64_t fragments = 0;        ///< fragments appended, summed over passes that fit
     std::uint64_t sampleItems = 0;      ///< sample items (slice and pixel) the raster appended, likewise
     std::uint64_t slicesDrawn = 0;      ///< slices drawn (a slice near a region's edge is drawn in each region it reaches), likewise
+    std::uint64_t primitivesDrawn = 0;  ///< points (each a run of slices) or triangles drawn, likewise
     std::uint64_t passes = 0;           ///< raster passes that fit
     std::uint64_t overflows = 0;        ///< passes redone in smaller pieces
     std::uint64_t listGrowths = 0;      ///< passes redone after growing the fragment list within the budget

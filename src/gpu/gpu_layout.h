@@ -25,6 +25,25 @@ struct GpuSegment {
 };
 static_assert(sizeof(GpuSegment) == 96, "GpuSegment must match shaders/common.glsl");
 
+/// Point sprites draw runs of consecutive slices (shaders/slice_runs.comp)
+/// where the yarn's support is under kSliceRunSupportPixels pixels in radius:
+/// at most kSliceRunMax slices a run, whose centres lie within
+/// kSliceRunSpread pixels of each other on each axis of the face. Chosen on
+/// an H100 (bench/results/slice-runs-2026-11-25-h100): runs of 2 took 7 to
+/// 9 % off the raster of the 41 M-slice garments at 2048 (a yarn about one
+/// pixel in radius), runs of 3 or 4 gave less or cost more, and wider yarns
+/// (2 pixels and more) drew slower in runs.
+constexpr int kSliceRunMax = 2;
+constexpr float kSliceRunSpread = 2.0f;
+constexpr double kSliceRunSupportPixels = 1.5;
+
+/// shaders/slice_runs.comp: one run, drawn as one point sprite.
+struct GpuSliceRun {
+    std::uint32_t first; ///< the run's first slice (its record)
+    std::uint32_t count; ///< its slices, 1 to the run length
+};
+static_assert(sizeof(GpuSliceRun) == 8, "GpuSliceRun must match shaders/slice_runs.comp");
+
 /// shaders/common.glsl: SliceRecord, one placed slice (shaders/slice_setup.comp
 /// writes them; the host only sizes their buffer).
 struct GpuSliceRecord {

@@ -653,6 +653,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 .set("gpu_place_seconds", counters.placeSeconds)
                 .set("sample_items", counters.sampleItems)
                 .set("slices_drawn", counters.slicesDrawn)
+                .set("primitives_drawn", counters.primitivesDrawn)
                 .set("gpu_sample_seconds", counters.sampleSeconds)
                 .set("gpu_brick_seconds", counters.brickSeconds)
                 .set("gpu_resolve_seconds", counters.resolveSeconds)
