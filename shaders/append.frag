@@ -1,10 +1,10 @@
 // Raster pass: appends one sample item (a slice, and this pixel of the
-// region's face) for each slice drawn here (one, or a run of them with point
-// sprites: slice.vert) whose footprint at this pixel can hold fibre. The sampling
-// pass (sample.comp) then turns each item into voxel fragments on every
-// compute unit; here only the test whether the footprint comes within the
-// cross-section's support, widened a little, so that float rounding in this
-// stage never drops a sample that sample.comp would keep.
+// region's face) for each slice drawn here (one, or with point sprites a run
+// of them: slice.vert) whose footprint at this pixel can hold fibre. The
+// sampling pass (sample.comp) then turns each item into voxel fragments on
+// every compute unit; here only the test whether the footprint comes within
+// the cross-section's support, widened a little, so that float rounding in
+// this stage never drops a sample that sample.comp would keep.
 
 layout(binding = 0, offset = 0) uniform atomic_uint uItemCount;
 // x: the slice (its instance in the draw), y: the pixel on the region's face, x | y << 16.

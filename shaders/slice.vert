@@ -41,13 +41,19 @@ flat out float vDepthScale; // slab depth along the projection axis, voxel units
 // pixel (the raster's fragment shaders run on few units of an H100, where
 // they are most of its time): where the column through a pixel meets the
 // slice is affine in the pixel.
-flat out ivec4 vRun;  // xy: the face pixel (region-local) the tests are expanded about; z: the first slice's record; w: the face's size in pixels, x | y << 16
-flat out vec4 vAt[kRunSlices];    // xy: slice-local (x, y), units of the radius, where the column through vRun.xy's centre meets the slice;
-                                  // z: the square of the farthest |(x, y)| a kept sample can have (the support, its slack and the
-                                  // footprint's reach), or -1 past the run's end; w: unused
-flat out vec4 vSteps[kRunSlices]; // xy: (x, y) a pixel along the face's axis b (footprintEdgeB); zw: along c (footprintEdgeC)
-// (Four components a slot: each array element takes a slot of its own, and
-// the fragment shader's inputs, slot by slot, cost the raster on an H100.)
+// vRun: xy, the face pixel (region-local) the tests are expanded about; z,
+// the first slice's record; w, the face's size in pixels, x | y << 16.
+// vAt[i]: xy, slice-local (x, y), units of the radius, where the column
+// through vRun.xy's centre meets slice i; z, the square of the farthest
+// |(x, y)| a kept sample can have (the support, its slack and the
+// footprint's reach), or -1 past the run's end. vSteps[i]: xy, (x, y) a
+// pixel along the face's axis b (footprintEdgeB); zw, along c
+// (footprintEdgeC). Four components a slot: each array element takes a slot
+// of its own, and the fragment shader's inputs, slot by slot, cost the
+// raster on an H100 (bench/results/slice-runs-2026-11-25-h100).
+flat out ivec4 vRun;
+flat out vec4 vAt[kRunSlices];
+flat out vec4 vSteps[kRunSlices];
 
 // Relative slack of append.frag's support test (the exact test is
 // sample.comp's): float rounding here must never drop a sample it keeps.
@@ -57,7 +63,7 @@ const float kSupportSlack = 1e-3;
 struct SliceTerms {
     float reach;    // voxel units in the slice plane: the disk holding every footprint centre whose sample can read fibre
     float extent;   // voxel units: half the side of the slice's square grown by two pixels
-    vec2 atOrigin;  // the test's terms about face pixel `origin` (vAtOrigin, vSteps, vLimit)
+    vec2 atOrigin;  // the test's terms about face pixel `origin` (vAt, vSteps)
     vec4 steps;
     float limit;
 };
