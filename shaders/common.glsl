@@ -40,8 +40,9 @@ struct SliceRecord {
 };
 
 // Slices one point sprite draws at most (SLICE_POINTS: a run of consecutive
-// slices, slice_runs.comp; SLICE_RUN is gpu_layout.h's kSliceRunMax); a
-// triangle draws one.
+// slices, slice_runs.comp; SLICE_RUN, chooseSlicePrimitive in
+// src/gpu/gl_voxelizer.cpp: 1, or gpu_layout.h's kSliceRunMax where the yarn
+// is thin on the face); a triangle draws one.
 #if SLICE_POINTS
 const int kRunSlices = SLICE_RUN;
 #else

@@ -12,7 +12,7 @@
 layout(std430, binding = 5) readonly buffer Slices { SliceRecord slices[]; };
 #if SLICE_POINTS && SLICE_RUN > 1
 // x: a run's first slice, y: its slices, all with one projection axis.
-layout(std430, binding = 8) readonly buffer Runs { uvec2 runs[]; };
+layout(std430, binding = 4) readonly buffer Runs { uvec2 runs[]; };
 #endif
 
 uniform float uRadius;         // yarn radius, voxel units

@@ -193,6 +193,7 @@ TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or ru
                 runs.sliceRun = sliceRun;
                 GlVoxelizeCounters drawnInRuns;
                 CHECK(identical(a, voxelizeGl(run.plan, xs, run.grid, runs, &drawnInRuns)));
+                CHECK(drawnInRuns.fragments == drawnAsTriangles.fragments);
                 CHECK(drawnInRuns.primitivesDrawn * sliceRun >= drawnInRuns.slicesDrawn);
                 if (sliceRun == 1)
                     CHECK(drawnInRuns.primitivesDrawn == drawnInRuns.slicesDrawn);

@@ -347,20 +347,27 @@ class GlBackend::Impl {
         // Runs of slices, one sprite each, where the yarn is thin on the face:
         // there a point's fixed cost is most of its time, and two slices'
         // sprites cover nearly the same few pixels (slice_runs.comp).
+        if (settings_.sliceRun < 0 || settings_.sliceRun > kSliceRunLimit)
+            throw Error("a point sprite draws 1 to " + std::to_string(kSliceRunLimit) + " slices (asked for " +
+                        std::to_string(settings_.sliceRun) + ")");
         if (settings_.sliceRun > 0)
             runSlices_ = settings_.sliceRun;
         else
             runSlices_ = support_ * r * S < kSliceRunSupportPixels ? kSliceRunMax : 1;
+        GLfloat sizes[2] = {0, 0};
+        glGetFloatv(GL_POINT_SIZE_RANGE, sizes);
         // A bound on slice.vert's reach: its footprint term (a share of the
         // footprint's longer diagonal) is at most half the edges' sum, at most
         // sqrt(3)/S since 1/|tangent[a]| <= sqrt(3); and the square's corners.
         // A run's sprite is at most half the spread of its slices' centres
-        // wider than its widest slice's.
+        // wider than its widest slice's; where runs' sprites would not fit the
+        // driver's point sizes, a slice's may.
         const double reach = (support_ * r + 1.75 / S) * 1.001 + 0.05 / S, extent = r + 2.0 / S;
-        const double runWidening = runSlices_ > 1 ? 0.5 * kSliceRunSpread : 0.0;
-        const double halfPixels = std::max(reach, extent * std::sqrt(2.0)) * S + 0.05 + runWidening;
-        GLfloat sizes[2] = {0, 0};
-        glGetFloatv(GL_POINT_SIZE_RANGE, sizes);
+        const auto halfPixelsWith = [&](int runSlices) {
+            return std::max(reach, extent * std::sqrt(2.0)) * S + 0.05 + (runSlices > 1 ? 0.5 * kSliceRunSpread : 0.0);
+        };
+        if (runSlices_ > 1 && !(2.0 * halfPixelsWith(runSlices_) + 1.0 <= sizes[1])) runSlices_ = 1;
+        const double halfPixels = halfPixelsWith(runSlices_);
         if (!(2.0 * halfPixels + 1.0 <= sizes[1])) return;
         pointMargin_ = static_cast<int>(std::ceil(halfPixels)) + 2; // chooseBudgets keeps regions within the rest
         counters_.slicePrimitive = "point";
@@ -484,7 +491,7 @@ class GlBackend::Impl {
             if (pointMargin_ > 0 && runSlices_ > 1) {
                 // Vertex i is run i; their count is on the GPU (slice_runs.comp).
                 glEnable(GL_PROGRAM_POINT_SIZE);
-                runs_.bindStorage(8);
+                runs_.bindStorage(4); // (the sampling binds its own buffers at 3 and 4)
                 glBindBuffer(GL_DRAW_INDIRECT_BUFFER, runDraw_.id());
                 glDrawArraysIndirect(GL_POINTS, nullptr);
                 glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
@@ -638,10 +645,9 @@ class GlBackend::Impl {
         checkGlError("sampling pass");
     }
 
-    /// The fragment counter and its wrap flag, then the item counter and its
-    /// flag, once the passes before are done.
     /// The fragment counter and its wrap flag, the item counter and its flag,
-    /// and the point sprites drawn (0 with triangles).
+    /// and the point sprites drawn (0 with triangles), once the passes before
+    /// are done.
     void readCounts(GLuint (&count)[5]) {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         const TraceSpan span("wait for the fragment count");

@@ -36,7 +36,8 @@ enum class BrickResolve { Auto, Gpu, Host };
 /// the same voxels, bit for bit. Point: one sprite, an axis-aligned square
 /// on the face around the slice's projection (no inner edge, so no 2x2 quad
 /// is shaded twice; 11 to 18 % off the raster on the H100 for the sweater and
-/// the draped garment). Triangle: one triangle around the fibre's disk, or
+/// the draped garment), or around a run of consecutive slices' projections
+/// where the yarn is thin on the face (GlVoxelizeSettings::sliceRun). Triangle: one triangle around the fibre's disk, or
 /// the slice's square (17 to 20 % faster than sprites on llvmpipe). Auto:
 /// Point on a GPU, Triangle on llvmpipe, and Triangle where the driver's
 /// largest point size cannot hold the largest sprite.
@@ -58,9 +59,9 @@ struct GlVoxelizeSettings {
     TexelReads texelReads = TexelReads::Auto;
     BrickResolve brickResolve = BrickResolve::Auto;
     SlicePrimitive slicePrimitive = SlicePrimitive::Auto;
-    /// Slices one point sprite draws at most (0: as suits the yarn's width
-    /// in pixels, gpu_layout.h: kSliceRunSupportPixels); tests compare runs
-    /// with single slices.
+    /// Slices one point sprite draws at most, 1 to kSliceRunLimit (0: as
+    /// suits the yarn's width in pixels, gpu_layout.h:
+    /// kSliceRunSupportPixels); tests compare runs with single slices.
     int sliceRun = 0;
     /// Where the first pass's 32-bit fragment counter, and its sample item
     /// counter, start (tests set them near 2^32 to make them wrap; runs leave

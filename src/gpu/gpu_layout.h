@@ -34,6 +34,9 @@ static_assert(sizeof(GpuSegment) == 96, "GpuSegment must match shaders/common.gl
 /// pixel in radius), runs of 3 or 4 gave less or cost more, and wider yarns
 /// (2 pixels and more) drew slower in runs.
 constexpr int kSliceRunMax = 2;
+/// The most slices a run may be set to hold: each takes two of the
+/// fragment shader's input slots, of which GL promises 16.
+constexpr int kSliceRunLimit = 4;
 constexpr float kSliceRunSpread = 2.0f;
 constexpr double kSliceRunSupportPixels = 1.5;
 

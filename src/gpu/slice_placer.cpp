@@ -52,8 +52,8 @@ void SlicePlacer::joinRuns(std::uint64_t instances, int supersample, float sprea
     glUniform1i(runs_.uniform("uSupersample"), supersample);
     glUniform1f(runs_.uniform("uRunSpread"), spread);
     records.bindStorage(5);
-    runs.bindStorage(8);
-    command.bindStorage(9);
+    runs.bindStorage(4);
+    command.bindStorage(3);
     const std::uint64_t blocks = (instances + runSlices_ - 1) / runSlices_;
     const std::uint64_t groups = (blocks + kGroupSize - 1) / kGroupSize;
     glDispatchCompute(static_cast<GLuint>(std::min<std::uint64_t>(groups, maxGroups_)), 1, 1);
