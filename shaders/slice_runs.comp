@@ -24,41 +24,44 @@ uniform float uRunSpread;  // pixels the centres of a run's slices may spread ov
 
 shared uint groupRuns, groupBase;
 
+// Where slice `s` lies on the face of its axis `a`, in pixels from `anchor0`:
+// integers first, so floats keep their precision anywhere in the grid.
+vec2 onFace(SliceRecord s, int a, ivec3 anchor0) {
+    return axisFirst(vec3(s.anchor.xyz - anchor0) + s.center.xyz, a).yz * float(uSupersample);
+}
+
 void main() {
     // Each thread joins the slices of one block of kRunSlices; a run never
     // spans two blocks. The loop is the same for every thread of a work
     // group (its barriers), which gathers its runs into one global atomic.
     uint blocks = (uInstances + uint(kRunSlices) - 1u) / uint(kRunSlices);
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    float S = float(uSupersample);
     for (uint base = gl_WorkGroupID.x * gl_WorkGroupSize.x; base < blocks; base += stride) {
         uint block = base + gl_LocalInvocationID.x;
         uvec2 found[kRunSlices];
         uint n = 0u;
         if (block < blocks) {
             uint first = block * uint(kRunSlices), end = min(first + uint(kRunSlices), uInstances);
-            // Face positions relative to the block's first slice: integers
-            // first, so floats keep their precision anywhere in the grid.
-            ivec3 anchor0 = slices[first].anchor.xyz;
+            // The run so far: its first slice, axis, and the box of its
+            // slices' centres on the face.
+            SliceRecord s0 = slices[first];
+            ivec3 anchor0 = s0.anchor.xyz;
             uint start = first;
-            int axis = floatBitsToInt(slices[first].center.w);
-            vec2 lo = vec2(0.0), hi = vec2(0.0);
-            for (uint i = first; i < end; ++i) {
+            int axis = floatBitsToInt(s0.center.w);
+            vec2 lo = onFace(s0, axis, anchor0), hi = lo;
+            for (uint i = first + 1u; i < end; ++i) {
                 SliceRecord s = slices[i];
                 int a = floatBitsToInt(s.center.w);
-                vec3 p = axisFirst(vec3(s.anchor.xyz - anchor0) + s.center.xyz, a);
-                vec2 onFace = p.yz * S;
-                vec2 newLo = min(lo, onFace), newHi = max(hi, onFace);
-                if (i == start) {
-                    lo = hi = onFace;
-                } else if (a == axis && max(newHi.x - newLo.x, newHi.y - newLo.y) <= uRunSpread) {
+                vec2 p = onFace(s, a, anchor0);
+                vec2 newLo = min(lo, p), newHi = max(hi, p);
+                if (a == axis && max(newHi.x - newLo.x, newHi.y - newLo.y) <= uRunSpread) {
                     lo = newLo;
                     hi = newHi;
                 } else {
                     found[n++] = uvec2(start, i - start);
                     start = i;
                     axis = a;
-                    lo = hi = onFace;
+                    lo = hi = p;
                 }
             }
             found[n++] = uvec2(start, end - start);

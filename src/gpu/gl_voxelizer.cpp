@@ -161,7 +161,7 @@ class GlBackend::Impl {
             rasterDefines.push_back("SLICE_POINTS 1");
             rasterDefines.push_back("SLICE_RUN " + std::to_string(runSlices_));
         }
-        placer_ = std::make_unique<SlicePlacer>(pointMargin_ > 0 ? runSlices_ : 1, rasterDefines);
+        placer_ = std::make_unique<SlicePlacer>(runSlices_, rasterDefines);
         raster_ = GlProgram::graphics("slice.vert", "append.frag", rasterDefines);
         sample_ = GlProgram::compute("sample.comp", sampleDefines);
         sampleDispatch_ = GlProgram::compute("sample_dispatch.comp");
@@ -461,7 +461,7 @@ class GlBackend::Impl {
             const TraceSpan placing("place the slices");
             placer_->place(SliceDraw{segments_.id(), drawList_.id(), static_cast<int>(item.segments.size()), uniformSlices_, instances},
                            slices_, &gpuBytes_);
-            if (pointMargin_ > 0 && runSlices_ > 1)
+            if (runSlices_ > 1)
                 placer_->joinRuns(instances, S, kSliceRunSpread, slices_, runs_, runDraw_, &gpuBytes_);
         }
         placeTimer_.end();
@@ -488,7 +488,7 @@ class GlBackend::Impl {
             itemCounter_.bindStorage(7); // the wrap flag
             glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, itemCounter_.id());
             glBindVertexArray(vao_);
-            if (pointMargin_ > 0 && runSlices_ > 1) {
+            if (runSlices_ > 1) {
                 // Vertex i is run i; their count is on the GPU (slice_runs.comp).
                 glEnable(GL_PROGRAM_POINT_SIZE);
                 runs_.bindStorage(4); // (the sampling binds its own buffers at 3 and 4)
@@ -541,7 +541,7 @@ class GlBackend::Impl {
         }
         counters_.sampleItems += itemCount;
         counters_.slicesDrawn += instances;
-        counters_.primitivesDrawn += pointMargin_ > 0 && runSlices_ > 1 ? count[4] : instances;
+        counters_.primitivesDrawn += runSlices_ > 1 ? count[4] : instances;
         if (fragmentCount == 0) return true;
 
         // Brick passes: flag, scan, then scatter into the touched bricks only.
@@ -750,7 +750,7 @@ class GlBackend::Impl {
     std::uint64_t maxBlock_ = 0; ///< GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes
     int regionCap_ = 1024;
     int pointMargin_ = 0; ///< pixels around a region's face with point sprites; 0: triangles
-    int runSlices_ = 1; ///< with point sprites, slices one draws at most (chooseSlicePrimitive)
+    int runSlices_ = 1; ///< slices a point sprite draws at most (chooseSlicePrimitive); 1 with triangles
     std::uint64_t fragmentSlots_ = 0; ///< fragments the list holds now (grows up to capacity_)
     std::uint64_t itemSlots_ = 0;     ///< sample items the item list holds now (likewise)
     std::uint32_t uniformSlices_ = 0; ///< slices per segment when all segments agree, else 0

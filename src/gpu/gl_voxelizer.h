@@ -37,8 +37,9 @@ enum class BrickResolve { Auto, Gpu, Host };
 /// on the face around the slice's projection (no inner edge, so no 2x2 quad
 /// is shaded twice; 11 to 18 % off the raster on the H100 for the sweater and
 /// the draped garment), or around a run of consecutive slices' projections
-/// where the yarn is thin on the face (GlVoxelizeSettings::sliceRun). Triangle: one triangle around the fibre's disk, or
-/// the slice's square (17 to 20 % faster than sprites on llvmpipe). Auto:
+/// where the yarn is thin on the face (GlVoxelizeSettings::sliceRun).
+/// Triangle: one triangle around the fibre's disk, or the slice's square (17
+/// to 20 % faster than sprites on llvmpipe). Auto:
 /// Point on a GPU, Triangle on llvmpipe, and Triangle where the driver's
 /// largest point size cannot hold the largest sprite.
 enum class SlicePrimitive { Auto, Triangle, Point };
