@@ -1,6 +1,7 @@
 #include "garment/cross_section.h"
 #include "garment/generate.h"
 #include "gpu/egl_context.h"
+#include "cpu/cpu_voxelizer.h"
 #include "gpu/gl_voxelizer.h"
 #include "test_helpers.h"
 

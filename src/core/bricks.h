@@ -4,7 +4,7 @@
 #pragma once
 
 #include "core/sampling.h"
-#include "plan/grid.h"
+#include "core/voxel_grid.h"
 
 #include <glm/vec3.hpp>
 

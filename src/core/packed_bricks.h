@@ -7,7 +7,7 @@
 
 #include "core/bricks.h"
 #include "core/huge_pages.h"
-#include "plan/grid.h"
+#include "core/voxel_grid.h"
 
 #include <boost/container/vector.hpp>
 

@@ -9,7 +9,7 @@
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
-#include "plan/region_backend.h"
+#include "core/region_rasterizer.h"
 #include "plan/zoom_plan.h"
 
 #include <cstdint>

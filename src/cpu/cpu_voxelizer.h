@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/voxelize_settings.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
@@ -12,13 +13,6 @@
 #include <vector>
 
 namespace yv {
-
-struct VoxelizeSettings {
-    Reduce reduce = Reduce::Mean;
-    int supersample = 1; ///< samples per voxel face along each axis
-    bool quiet = true;   ///< no progress output
-    Overlap overlap = Overlap::Clamp; ///< mean: clamp interpenetrating yarns' sum at 1, or keep it
-};
 
 struct CpuVoxelizeCounters {
     std::uint64_t samples = 0; ///< samples that landed on fibre

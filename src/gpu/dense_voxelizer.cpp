@@ -109,7 +109,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     GlContext context(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr});
     const GlInfo& info = context.info();
     c.renderer = info.renderer;
-    c.platform = info.platform;
+    c.platform = platformName(info.platform);
 
     // The method's limit: the whole grid in one 3D texture per channel, all
     // three resident at once. Checked before any work, so benchmarks can

@@ -307,7 +307,7 @@ GlContext::GlContext(const GlContextOptions& options) : impl_(std::make_unique<I
             take();
         }
         if (m.display != EGL_NO_DISPLAY) {
-            m.info.platform = "device";
+            m.info.platform = GlPlatform::Device;
             m.createContext(where, eglMajor, eglMinor, options.debug);
         } else if (options.device >= 0) {
             if (usable == 0)
@@ -331,7 +331,7 @@ GlContext::GlContext(const GlContextOptions& options) : impl_(std::make_unique<I
             fail("EGL surfaceless platform failed to initialise (" + eglErrorName(eglGetError()) +
                  "; install libgl1-mesa-dri, or use --backend cpu)");
         m.display = d;
-        m.info.platform = "surfaceless";
+        m.info.platform = GlPlatform::Surfaceless;
         m.createContext("the EGL surfaceless platform", eglMajor, eglMinor, options.debug);
     }
     std::lock_guard lock(gStackMutex);

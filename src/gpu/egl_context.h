@@ -17,10 +17,19 @@ struct GlContextOptions {
     int spreadIndex = 0;
 };
 
+/// Where a context comes from: a GPU through EGL's device platform, or Mesa's
+/// software rasteriser (llvmpipe) through the surfaceless platform.
+enum class GlPlatform { Device, Surfaceless };
+
+/// "device" or "surfaceless", as --stats and messages say it.
+inline const char* platformName(GlPlatform p) { return p == GlPlatform::Device ? "device" : "surfaceless"; }
+
 /// Limits and names read off the live context; budgets are derived from these.
 struct GlInfo {
     std::string vendor, renderer, version;
-    std::string platform;          ///< "device" or "surfaceless"
+    GlPlatform platform = GlPlatform::Surfaceless;
+    /// A GPU (the device platform), not the software rasteriser.
+    bool hardware() const { return platform == GlPlatform::Device; }
     long long maxSsboBlockSize = 0; ///< GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes
     int maxComputeWorkGroupCountX = 0;
     int maxTextureSize = 0;

@@ -127,9 +127,9 @@ class GlBackend::Impl {
             throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
         const GlInfo& info = context_->info();
         hostResolve_ = settings.brickResolve == BrickResolve::Host ||
-                       (settings.brickResolve == BrickResolve::Auto && info.platform == "surfaceless");
+                       (settings.brickResolve == BrickResolve::Auto && !info.hardware());
         counters_.renderer = info.renderer;
-        counters_.platform = info.platform;
+        counters_.platform = platformName(info.platform);
         support_ = textureSupport(xs);
         const TraceSpan span("choose the budgets");
         chooseSlicePrimitive(info);
@@ -342,7 +342,7 @@ class GlBackend::Impl {
     void chooseSlicePrimitive(const GlInfo& info) {
         const SlicePrimitive asked = settings_.slicePrimitive;
         counters_.slicePrimitive = "triangle";
-        if (asked == SlicePrimitive::Triangle || (asked == SlicePrimitive::Auto && info.platform != "device")) return;
+        if (asked == SlicePrimitive::Triangle || (asked == SlicePrimitive::Auto && !info.hardware())) return;
         const double S = settings_.base.supersample, r = plan_.options.radius / grid_.voxelSize;
         // Runs of slices, one sprite each, where the yarn is thin on the face:
         // there a point's fixed cost is most of its time, and two slices'
@@ -773,8 +773,8 @@ class GlBackend::Impl {
     std::unique_ptr<RegionInFlight> current_;  ///< the region being rasterized
     std::unique_ptr<RegionInFlight> awaiting_; ///< the region before, until its last bricks are in
     PackedBricks* pendingTarget_ = nullptr;    ///< where the resolve in flight appends
-    GpuTimer placeTimer_{context_->info().platform == "device"}, rasterTimer_{context_->info().platform == "device"},
-        sampleTimer_{context_->info().platform == "device"}, brickTimer_{context_->info().platform == "device"};
+    GpuTimer placeTimer_{context_->info().hardware()}, rasterTimer_{context_->info().hardware()},
+        sampleTimer_{context_->info().hardware()}, brickTimer_{context_->info().hardware()};
     /// The current region's raw bricks: those drawn in several passes (their
     /// words summed on the host), or all of them with the host resolve.
     std::vector<BrickAccumulator> partials_;

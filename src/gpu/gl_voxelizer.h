@@ -7,13 +7,13 @@
 
 #include "core/bricks.h"
 #include "core/packed_bricks.h"
-#include "cpu/cpu_voxelizer.h"
+#include "core/voxelize_settings.h"
 #include "gpu/cross_section_texture.h"
 #include "gpu/egl_context.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
-#include "plan/region_backend.h"
+#include "core/region_rasterizer.h"
 #include "plan/zoom_plan.h"
 
 #include <cstdint>

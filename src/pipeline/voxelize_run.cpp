@@ -209,7 +209,7 @@ std::string resolveBackend(const VoxelizeRequest& a, std::future<std::unique_ptr
     if (a.backend == "gl" && pending.valid()) context = pending.get(); // no GL 4.5 context: its error, here
     if (a.backend != "auto") return a.backend;
     try {
-        if (std::unique_ptr<GlContext> probe = pending.get(); probe->info().platform == "device") {
+        if (std::unique_ptr<GlContext> probe = pending.get(); probe->info().hardware()) {
             context = std::move(probe);
             return "gl";
         }

@@ -1,26 +1,14 @@
-// The voxel grid: where voxel (i, j, k) lies in the world.
+// Choosing the voxel grid for a garment: its box, padding and voxel size.
 #pragma once
 
+#include "core/voxel_grid.h"
 #include "garment/slices.h"
-
-#include <glm/vec3.hpp>
 
 #include <cmath>
 #include <cstdint>
 
 namespace yv {
 
-/// Voxel (i, j, k) covers origin + [i, i+1) * voxelSize (and likewise in j, k);
-/// its centre is origin + (i + 0.5) * voxelSize. Dimensions are multiples of
-/// 8, so the grid is a whole number of 8^3 bricks.
-struct VoxelGrid {
-    glm::dvec3 origin{0.0};
-    double voxelSize = 1.0;
-    glm::ivec3 dims{0};
-
-    std::uint64_t voxelCount() const { return std::uint64_t(dims.x) * dims.y * dims.z; }
-    glm::ivec3 brickDims() const { return dims / 8; }
-};
 
 /// How far (voxels) a sample's footprint cells reach beyond its slice's
 /// square and slab: a pixel beyond the square's projection, and its cells'

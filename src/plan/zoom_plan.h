@@ -3,6 +3,7 @@
 // will produce at the target resolution.
 #pragma once
 
+#include "core/zoom_region.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
@@ -13,15 +14,6 @@
 #include <vector>
 
 namespace yv {
-
-/// One box of voxels (whole bricks), processed as one unit and stored as one
-/// file. Every voxel any slice can reach lies in exactly one region.
-struct ZoomRegion {
-    std::uint64_t id = 0;                ///< position in the plan (stable for the same inputs)
-    glm::ivec3 min{0}, max{0};           ///< voxels [min, max)
-    std::vector<std::uint32_t> segments; ///< segments whose slices can reach the box
-    double estimatedFragments = 0.0;
-};
 
 struct ZoomPlanOptions {
     std::uint64_t fragmentBudget = 0; ///< fragments one pass may produce

@@ -5,7 +5,7 @@
 
 #include "core/bricks.h"
 #include "core/sampling.h"
-#include "plan/grid.h"
+#include "core/voxel_grid.h"
 #include "store/manifest.h"
 #include "store/region_file.h" // xxh64, for callers hashing their run fingerprint
 

@@ -5,7 +5,7 @@
 
 #include "core/sampling.h"
 #include "core/stage_seconds.h"
-#include "plan/grid.h"
+#include "core/voxel_grid.h"
 
 #include <cstdint>
 #include <optional>

@@ -8,7 +8,7 @@
 #include "core/error.h"
 #include "core/packed_bricks.h"
 #include "core/progress.h"
-#include "plan/zoom_plan.h"
+#include "core/zoom_region.h"
 
 #include <string>
 #include <vector>
