@@ -34,8 +34,8 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 VDB_MAGIC = (0x56444220).to_bytes(8, "little")
 UUID_BYTES = slice(21, 57)  # i64 magic, u32 version, 2 x u32 library version, u8 offsets flag, then 36 bytes
-# --stats keys that change from run to run: times, rates, memory, queues, the output path.
-VOLATILE_KEY = re.compile(r"seconds|per_second|peak|queued|wait|^output$")
+# --stats keys that change from run to run: times, rates, memory, queues, threads used, the output path.
+VOLATILE_KEY = re.compile(r"seconds|per_second|peak|queued|wait|^threads$|^output$")
 
 
 def fail(msg, code=2):
@@ -108,7 +108,14 @@ def differences(dir_a, dir_b):
     for f in fa:
         if f in fb:
             a, b = comparable(os.path.join(dir_a, f)), comparable(os.path.join(dir_b, f))
-            if a != b:
+            if a != b and f.endswith(".json") and a[:1] == b"{" and b[:1] == b"{":
+                def leaves(v, p=""):
+                    return {q: x for k, w in v.items() for q, x in leaves(w, p + k + ".").items()} \
+                        if isinstance(v, dict) else {p[:-1]: v}
+                la, lb = leaves(json.loads(a)), leaves(json.loads(b))
+                keys = sorted(k for k in set(la) | set(lb) if la.get(k) != lb.get(k))
+                diffs.append(f"{f}: differs in " + ", ".join(f"{k} ({la.get(k)} against {lb.get(k)})" for k in keys))
+            elif a != b:
                 at = next((i for i in range(min(len(a), len(b))) if a[i] != b[i]), min(len(a), len(b)))
                 diffs.append(f"{f}: differs ({len(a)} and {len(b)} bytes compared, first at {at})")
     return diffs
