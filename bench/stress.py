@@ -237,8 +237,8 @@ def chart(path, title, series, xlabel, ylabel):
     for axis in (ax.xaxis, ax.yaxis):
         # Real values at every tick, decades and the steps between them when
         # the data spans few decades, in the units of the summary (k, M, G).
-        axis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
-        axis.set_minor_locator(ticker.LogLocator(base=10, subs=tuple(range(1, 10))))
+        axis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0), numticks=15))
+        axis.set_minor_locator(ticker.LogLocator(base=10, subs=tuple(range(1, 10)), numticks=15))
         axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: fmt(v)))
         axis.set_minor_formatter(ticker.NullFormatter())
     ax.grid(True, which="major", color="0.85")
