@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Stress benchmark: the whole yarnvox pipeline at garment scale, against the
 paper's dense method and the CPU backend, in one run on one machine.
 
@@ -212,37 +212,47 @@ def write_summary(out, meta, rows, methods):
     open(os.path.join(out, "summary.md"), "w").write("\n".join(lines) + "\n")
 
 
-def svg_chart(path, title, series, xlabel, ylabel, logx=True, logy=True):
-    """A small line chart with log axes, no dependencies. series: {label: [(x, y)]}."""
-    import math
-    w, h, m = 640, 400, 60
-    pts = [(x, y) for s in series.values() for x, y in s if x and y and x > 0 and y > 0]
-    colors = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#7f7f7f"]
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="11">',
-           f'<rect width="{w}" height="{h}" fill="white"/>', f'<text x="{w / 2}" y="18" text-anchor="middle" font-size="14">{title}</text>']
-    if pts:
-        tx = (lambda v: math.log10(v)) if logx else (lambda v: v)
-        ty = (lambda v: math.log10(v)) if logy else (lambda v: v)
-        x0, x1 = min(tx(p[0]) for p in pts), max(tx(p[0]) for p in pts)
-        y0, y1 = min(ty(p[1]) for p in pts), max(ty(p[1]) for p in pts)
-        x1, y1 = (x1 if x1 > x0 else x0 + 1), (y1 if y1 > y0 else y0 + 1)
-        X = lambda v: m + (tx(v) - x0) / (x1 - x0) * (w - 2 * m)
-        Y = lambda v: h - m - (ty(v) - y0) / (y1 - y0) * (h - 2 * m)
-        out.append(f'<line x1="{m}" y1="{h - m}" x2="{w - m}" y2="{h - m}" stroke="black"/><line x1="{m}" y1="{m}" x2="{m}" y2="{h - m}" stroke="black"/>')
-        for v, label in ((x0, 10 ** x0 if logx else x0), (x1, 10 ** x1 if logx else x1)):
-            out.append(f'<text x="{m + (v - x0) / (x1 - x0) * (w - 2 * m)}" y="{h - m + 15}" text-anchor="middle">{fmt(label)}</text>')
-        for v, label in ((y0, 10 ** y0 if logy else y0), (y1, 10 ** y1 if logy else y1)):
-            out.append(f'<text x="{m - 5}" y="{h - m - (v - y0) / (y1 - y0) * (h - 2 * m)}" text-anchor="end">{fmt(label)}</text>')
-        for i, (label, s) in enumerate(series.items()):
-            s = sorted((x, y) for x, y in s if x and y and x > 0 and y > 0)
-            c = colors[i % len(colors)]
-            if s:
-                out.append(f'<polyline fill="none" stroke="{c}" stroke-width="2" points="{" ".join(f"{X(x):.1f},{Y(y):.1f}" for x, y in s)}"/>')
-                out += [f'<circle cx="{X(x):.1f}" cy="{Y(y):.1f}" r="3" fill="{c}"/>' for x, y in s]
-            out.append(f'<text x="{w - m + 5 - 120}" y="{m + 14 * i}" fill="{c}">{label}</text>')
-    out.append(f'<text x="{w / 2}" y="{h - 15}" text-anchor="middle">{xlabel}</text>')
-    out.append(f'<text x="15" y="{h / 2}" transform="rotate(-90 15 {h / 2})" text-anchor="middle">{ylabel}</text></svg>')
-    open(path, "w").write("\n".join(out))
+def chart(path, title, series, xlabel, ylabel):
+    """A line chart on log axes through matplotlib (Debian's python3-matplotlib,
+    tools/setup), written as SVG and PNG. series: {label: [(x, y)]}; one colour
+    a series, the legend outside the axes."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from matplotlib import ticker
+    except ImportError:
+        print("stress: no plots: python3-matplotlib is not installed (tools/setup installs it)", file=sys.stderr)
+        return
+    series = {k: sorted((x, y) for x, y in v if x and y and x > 0 and y > 0) for k, v in series.items()}
+    series = {k: v for k, v in series.items() if v}
+    fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
+    colors = plt.get_cmap("tab10" if len(series) <= 10 else "tab20").colors
+    markers = "osD^v<>ph*"
+    for i, (label, pts) in enumerate(series.items()):
+        ax.plot([x for x, _ in pts], [y for _, y in pts], color=colors[i % len(colors)],
+                marker=markers[i % len(markers)], markersize=5, linewidth=1.8, label=label)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    for axis in (ax.xaxis, ax.yaxis):
+        # Real values at every tick, decades and the steps between them when
+        # the data spans few decades, in the units of the summary (k, M, G).
+        axis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0), numticks=15))
+        axis.set_minor_locator(ticker.LogLocator(base=10, subs=tuple(range(1, 10)), numticks=15))
+        axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: fmt(v)))
+        axis.set_minor_formatter(ticker.NullFormatter())
+    ax.grid(True, which="major", color="0.85")
+    ax.grid(True, which="minor", color="0.94", linewidth=0.6)
+    ax.set_title(title)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if series:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0, frameon=False)
+    else:
+        ax.text(0.5, 0.5, "no runs", transform=ax.transAxes, ha="center", va="center")
+    for ext in ("svg", "png"):
+        fig.savefig(os.path.splitext(path)[0] + "." + ext, dpi=110)
+    plt.close(fig)
 
 
 def write_plots(out, rows, methods):
@@ -251,12 +261,12 @@ def write_plots(out, rows, methods):
     def series(metric, filt=lambda r: True):
         return {f"{m} @{q}": [(r["slices"], metric(r)) for r in ok if r["method"] == m and r["resolution"] == q and filt(r)]
                 for m in methods for q in res}
-    svg_chart(os.path.join(out, "time.svg"), "End-to-end time", series(lambda r: r["wall_seconds"]), "slices", "seconds")
-    svg_chart(os.path.join(out, "memory.svg"), "Peak host memory", series(lambda r: r["peak_host_bytes"]), "slices", "bytes")
-    svg_chart(os.path.join(out, "throughput.svg"), "Throughput per stage (gl)",
-              {**{f"raster frag/s @{q}": [(r["slices"], r["raster_fragments_per_second"]) for r in ok if r["method"] == "gl" and r["resolution"] == q] for q in res},
-               **{f"brick frag/s @{q}": [(r["slices"], r["brick_fragments_per_second"]) for r in ok if r["method"] == "gl" and r["resolution"] == q] for q in res}},
-              "slices", "fragments / s")
+    chart(os.path.join(out, "time.svg"), "End-to-end time", series(lambda r: r["wall_seconds"]), "slices", "seconds")
+    chart(os.path.join(out, "memory.svg"), "Peak host memory", series(lambda r: r["peak_host_bytes"]), "slices", "bytes")
+    chart(os.path.join(out, "throughput.svg"), "Throughput per stage (gl)",
+          {**{f"raster frag/s @{q}": [(r["slices"], r["raster_fragments_per_second"]) for r in ok if r["method"] == "gl" and r["resolution"] == q] for q in res},
+           **{f"brick frag/s @{q}": [(r["slices"], r["brick_fragments_per_second"]) for r in ok if r["method"] == "gl" and r["resolution"] == q] for q in res}},
+          "slices", "fragments / s")
     index = {(r["size"], r["resolution"], r["method"]): r for r in ok}
     ratio = {}
     for (size, q, m), r in index.items():
@@ -265,7 +275,7 @@ def write_plots(out, rows, methods):
                 b = index.get((size, q, base))
                 if b:
                     ratio.setdefault(f"{base}/gl time @{q}", []).append((r["slices"], b["wall_seconds"] / r["wall_seconds"]))
-    svg_chart(os.path.join(out, "ratio.svg"), "Baseline time / yarnvox time", ratio, "slices", "ratio")
+    chart(os.path.join(out, "ratio.svg"), "Baseline time / yarnvox time", ratio, "slices", "ratio")
 
 
 if __name__ == "__main__":
