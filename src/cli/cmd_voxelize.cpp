@@ -5,6 +5,7 @@
 #include "cli/option_checks.h"
 #include "cli/output_format.h"
 #include "core/error.h"
+#include "core/voxelize_settings.h"
 #include "core/world_units.h"
 #include "pipeline/cluster.h"
 #include "pipeline/voxelize_run.h"
@@ -124,7 +125,7 @@ void addVoxelizeCommand(CLI::App& app) {
         ->check(CLI::Range(0, 20));
     cmd->add_option("--supersample", a->supersample, "Samples per voxel face along each axis")
         ->capture_default_str()
-        ->check(CLI::Range(1, 16));
+        ->check(CLI::Range(1, kMaxSupersample));
     cmd->add_option("--device", a->device, "GL backend: EGL device index (default: first GPU, else llvmpipe)")
         ->check(CLI::Range(0, 1023));
     // The GL append counter is 32 bits, and a pass that reaches 2^31 counts as overflowed.

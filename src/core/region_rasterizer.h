@@ -8,6 +8,8 @@
 #include "core/error.h"
 #include "core/packed_bricks.h"
 #include "core/progress.h"
+#include "core/stage_seconds.h"
+#include "core/stats.h"
 #include "core/zoom_region.h"
 
 #include <string>
@@ -73,6 +75,16 @@ class RegionRasterizer {
     /// Lets another thread destroy the backend (the pipeline frees the GPU's
     /// buffers and context while it writes the .vdb).
     virtual void releaseThread() {}
+
+    /// What the backend counted, for --stats' "backend_stats" (its own keys;
+    /// the pipeline sets "zoom_regions", "regions_computed" and
+    /// "regions_resumed" to the run's totals afterwards).
+    virtual JsonObject stats() const = 0;
+    /// Samples that landed on fibre (the GL backend's fragments), for --stats' "samples".
+    virtual std::uint64_t samples() const = 0;
+    /// Parts of the voxelize stage the backend timed on its own, for the
+    /// work directory's manifest ("voxelize.NAME"; none by default).
+    virtual StageSeconds voxelizeParts() const { return {}; }
 };
 
 } // namespace yv

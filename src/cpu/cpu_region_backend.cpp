@@ -33,4 +33,15 @@ void CpuRegionBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& s
     });
 }
 
+JsonObject CpuRegionBackend::stats() const {
+    JsonObject out;
+    out.set("samples", counters_.sampling.samples)
+        .set("threads", counters_.sampling.threads)
+        .set("zoom_regions", counters_.regions + counters_.resumedRegions)
+        .set("regions_computed", counters_.regions)
+        .set("regions_resumed", counters_.resumedRegions)
+        .set("fragment_budget", budget_);
+    return out;
+}
+
 } // namespace yv

@@ -36,6 +36,9 @@ class CpuRegionBackend : public RegionRasterizer {
     /// Largest region edge in voxels (as the GL backend's, so both plan alike).
     int maxRegionSize() const override { return 1024; }
     void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) override;
+    /// samples, threads, zoom_regions, regions_computed, regions_resumed, fragment_budget.
+    JsonObject stats() const override;
+    std::uint64_t samples() const override { return counters_.sampling.samples; }
 
   private:
     const SlicePlan& plan_;

@@ -59,8 +59,7 @@ void accumulateSample(Reduce reduce, std::uint32_t* words, int v, double volumeF
 std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                                             const VoxelizeSettings& settings, std::span<const std::uint32_t> segments,
                                             glm::ivec3 boxMin, glm::ivec3 boxMax, CpuVoxelizeCounters* counters) {
-    if (settings.supersample < 1 || settings.supersample > 16)
-        throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.supersample) + ")");
+    checkSupersample(settings.supersample);
     const Reduce reduce = settings.reduce;
     const bool albedo = xs.hasAlbedo();
     if (albedo && reduce != Reduce::Mean)

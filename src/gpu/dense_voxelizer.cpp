@@ -104,7 +104,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     DenseVoxelizeCounters local;
     DenseVoxelizeCounters& c = counters ? *counters : local;
     const int S = settings.base.supersample;
-    if (S < 1 || S > 16) throw Error("--supersample must be 1 to 16 (got " + std::to_string(S) + ")");
+    checkSupersample(S);
 
     GlContext context(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr});
     const GlInfo& info = context.info();

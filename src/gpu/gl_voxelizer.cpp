@@ -784,9 +784,9 @@ class GlBackend::Impl {
 
 GlBackend::GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                      const GlVoxelizeSettings& settings, GlVoxelizeCounters& counters,
-                     std::unique_ptr<GlContext> context) {
-    if (settings.base.supersample < 1 || settings.base.supersample > 16)
-        throw Error("--supersample must be 1 to 16 (got " + std::to_string(settings.base.supersample) + ")");
+                     std::unique_ptr<GlContext> context)
+    : counters_(counters) {
+    checkSupersample(settings.base.supersample);
     impl_ = std::make_unique<Impl>(plan, xs, grid, settings, counters, std::move(context));
 }
 GlBackend::~GlBackend() = default;
@@ -795,6 +795,47 @@ int GlBackend::maxRegionSize() const { return impl_->maxRegionSize(); }
 void GlBackend::prepare() { impl_->prepare(); }
 void GlBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& sink) { impl_->run(regions, sink); }
 void GlBackend::releaseThread() { impl_->releaseThread(); }
+
+JsonObject GlBackend::stats() const {
+    const GlVoxelizeCounters& c = counters_;
+    JsonObject out;
+    out.set("renderer", c.renderer)
+        .set("platform", c.platform)
+        .set("slice_primitive", c.slicePrimitive)
+        .set("fragments", c.fragments)
+        .set("raster_passes", c.passes)
+        .set("overflow_retries", c.overflows)
+        .set("fragment_list_growths", c.listGrowths)
+        .set("bricks_summed_on_host", c.hostSummedBricks)
+        .set("zoom_regions", c.plannedRegions)
+        .set("regions_computed", c.regions)
+        .set("regions_resumed", c.resumedRegions)
+        .set("fragment_budget", c.fragmentCapacity)
+        .set("gpu_slice_data_bytes", c.sliceDataBytes)
+        .set("gpu_peak_bytes", c.peakGpuBytes)
+        .set("gl_context_seconds", c.contextSeconds)
+        .set("gl_program_seconds", c.programSeconds)
+        .set("gpu_raster_seconds", c.rasterSeconds)
+        .set("gpu_place_seconds", c.placeSeconds)
+        .set("sample_items", c.sampleItems)
+        .set("slices_drawn", c.slicesDrawn)
+        .set("primitives_drawn", c.primitivesDrawn)
+        .set("gpu_sample_seconds", c.sampleSeconds)
+        .set("gpu_brick_seconds", c.brickSeconds)
+        .set("gpu_resolve_seconds", c.resolveSeconds)
+        .set("readback_seconds", c.readbackSeconds)
+        .set("readback_bytes", c.readbackBytes);
+    return out;
+}
+
+StageSeconds GlBackend::voxelizeParts() const {
+    const GlVoxelizeCounters& c = counters_;
+    return {{"voxelize.gpu_raster", c.rasterSeconds},
+            {"voxelize.gpu_sample", c.sampleSeconds},
+            {"voxelize.gpu_bricks", c.brickSeconds},
+            {"voxelize.gpu_resolve", c.resolveSeconds},
+            {"voxelize.readback", c.readbackSeconds}};
+}
 
 namespace {
 

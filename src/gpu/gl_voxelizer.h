@@ -120,10 +120,16 @@ class GlBackend : public RegionRasterizer {
     /// Releases the GL context from this thread; the destructor, on any
     /// thread, makes it current there.
     void releaseThread() override;
+    /// GlVoxelizeCounters under --stats' names, in the order they have always had.
+    JsonObject stats() const override;
+    std::uint64_t samples() const override { return counters_.fragments; }
+    /// The raster, sample, brick, resolve and readback times.
+    StageSeconds voxelizeParts() const override;
 
   private:
     class Impl;
     std::unique_ptr<Impl> impl_;
+    const GlVoxelizeCounters& counters_;
 };
 
 /// Voxelizes on the GPU with the same sampling rule and reductions as

@@ -526,6 +526,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 const InterruptScope interruptible;
                 rasterizer.run(zoom.regions, sink);
             }
+            backendStats = rasterizer.stats();
             if (backend.isGl) freeing = freeInBackground(std::move(backend.rasterizer));
             const std::vector<RegionInfo> regions = writer.finish();
             for (const RegionInfo& r : regions) {
@@ -574,6 +575,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 const InterruptScope interruptible;
                 rasterizer.run(group ? order : zoom.regions, sink);
             }
+            backendStats = rasterizer.stats();
             if (backend.isGl) freeing = freeInBackground(std::move(backend.rasterizer));
             writer.finish(); // every region handed over is on disk before the run stops
             writerStats = writer.stats();
@@ -631,46 +633,11 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         }
 
         samples = backend.samples();
-        if (backend.isGl) {
+        if (a.verbose && backend.isGl) {
             const GlVoxelizeCounters& counters = backend.gl;
-            backendStats.set("renderer", counters.renderer)
-                .set("platform", counters.platform)
-                .set("slice_primitive", counters.slicePrimitive)
-                .set("fragments", counters.fragments)
-                .set("raster_passes", counters.passes)
-                .set("overflow_retries", counters.overflows)
-                .set("fragment_list_growths", counters.listGrowths)
-                .set("bricks_summed_on_host", counters.hostSummedBricks)
-                .set("zoom_regions", counters.plannedRegions)
-                .set("regions_computed", counters.regions)
-                .set("regions_resumed", counters.resumedRegions)
-                .set("fragment_budget", counters.fragmentCapacity)
-                .set("gpu_slice_data_bytes", counters.sliceDataBytes)
-                .set("gpu_peak_bytes", counters.peakGpuBytes)
-                .set("gl_context_seconds", counters.contextSeconds)
-                .set("gl_program_seconds", counters.programSeconds)
-                .set("gpu_raster_seconds", counters.rasterSeconds)
-                .set("gpu_place_seconds", counters.placeSeconds)
-                .set("sample_items", counters.sampleItems)
-                .set("slices_drawn", counters.slicesDrawn)
-                .set("primitives_drawn", counters.primitivesDrawn)
-                .set("gpu_sample_seconds", counters.sampleSeconds)
-                .set("gpu_brick_seconds", counters.brickSeconds)
-                .set("gpu_resolve_seconds", counters.resolveSeconds)
-                .set("readback_seconds", counters.readbackSeconds)
-                .set("readback_bytes", counters.readbackBytes);
-            if (a.verbose)
-                tell("renderer: " + counters.renderer + " (" + counters.platform + "); " +
-                     std::to_string(counters.plannedRegions) + " regions (" + std::to_string(counters.resumedRegions) +
-                     " resumed), " + std::to_string(counters.overflows) + " overflow retries");
-        } else {
-            const CpuRegionCounters& counters = backend.cpu;
-            backendStats.set("samples", counters.sampling.samples)
-                .set("threads", counters.sampling.threads)
-                .set("zoom_regions", static_cast<std::uint64_t>(zoom.regions.size()))
-                .set("regions_computed", counters.regions)
-                .set("regions_resumed", counters.resumedRegions)
-                .set("fragment_budget", rasterizer.fragmentBudget());
+            tell("renderer: " + counters.renderer + " (" + counters.platform + "); " +
+                 std::to_string(counters.plannedRegions) + " regions (" + std::to_string(counters.resumedRegions) +
+                 " resumed), " + std::to_string(counters.overflows) + " overflow retries");
         }
         backendStats.set("zoom_plan_seconds", zoomPlanSeconds).set("regions_damaged_recomputed", recomputed)
             .set("store_bytes_on_disk", storeBytes)
