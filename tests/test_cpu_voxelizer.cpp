@@ -216,10 +216,9 @@ TEST_CASE("CPU backend out of core: many zoom regions give the whole-volume refe
     const CrossSection xs = makeFiberCrossSection();
     for (Reduce r : {Reduce::Mean, Reduce::Max}) {
         const BrickVolume whole = voxelizeCpu(plan, xs, grid, settings(r));
-        CpuRegionCounters counters;
         // A budget far below the garment's samples: dozens of regions, and
         // segments that cross region boundaries are sampled in each.
-        CpuRegionBackend backend(plan, xs, grid, settings(r), counters, 40000);
+        CpuRegionBackend backend(plan, xs, grid, settings(r), 40000);
         const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), 1});
         ResolvingSink sink(r);
         backend.run(zoom.regions, sink);
@@ -227,7 +226,7 @@ TEST_CASE("CPU backend out of core: many zoom regions give the whole-volume refe
                          << whole.bricks.size());
         CHECK(zoom.regions.size() >= 16);
         CHECK(sink.regions == zoom.regions.size());
-        CHECK(counters.regions == zoom.regions.size());
+        CHECK(backend.counters().regions == zoom.regions.size());
         CHECK(sink.inside);
         CHECK(sink.largestRegion < whole.bricks.size() / 4);
         std::sort(sink.bricks.begin(), sink.bricks.end(), [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });

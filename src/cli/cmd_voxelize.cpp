@@ -1,5 +1,5 @@
-// `yarnvox voxelize`: the options, into a VoxelizeRequest for the pipeline
-// (src/pipeline/voxelize_run.h), and the summary it prints.
+// `yarnvox voxelize`: the options, parsed once into a typed VoxelizeJob for
+// the pipeline (src/pipeline/voxelize_run.h), and the summary it prints.
 #include "cli/commands.h"
 #include "cli/garment_list.h"
 #include "cli/option_checks.h"
@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -22,7 +23,19 @@
 namespace yv {
 namespace {
 
-void voxelizeAndReport(const VoxelizeRequest& request) {
+/// Option words to the job's enums: CLI11 refuses any other word with the list.
+const std::map<std::string, BackendRequest> kBackends{
+    {"auto", BackendRequest::Auto}, {"gl", BackendRequest::Gl}, {"cpu", BackendRequest::Cpu}};
+const std::map<std::string, VoxelizeMethod> kMethods{{"sparse", VoxelizeMethod::Sparse}, {"dense", VoxelizeMethod::Dense}};
+const std::map<std::string, Reduce> kReductions{{"mean", Reduce::Mean}, {"max", Reduce::Max}};
+const std::map<std::string, Overlap> kOverlaps{{"clamp", Overlap::Clamp}, {"sum", Overlap::Sum}};
+const std::map<std::string, VdbCompression> kCompressions{{"blosc", VdbCompression::Blosc},
+                                                          {"zip", VdbCompression::Zip},
+                                                          {"mask", VdbCompression::ActiveMask},
+                                                          {"none", VdbCompression::None}};
+const std::map<std::string, VdbPrecision> kPrecisions{{"float", VdbPrecision::Float}, {"half", VdbPrecision::Half}};
+
+void voxelizeAndReport(const VoxelizeJob& request) {
     const VoxelizeReport r = runVoxelize(request, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
     if (request.quiet || r.rankOnly) return;
     std::printf("%s: %llu slices -> %llu active voxels in %llu bricks (grid %dx%dx%d, voxel %.4g), %.2f s voxelize\n"
@@ -41,7 +54,7 @@ void voxelizeAndReport(const VoxelizeRequest& request) {
 } // namespace
 
 void addVoxelizeCommand(CLI::App& app) {
-    auto a = std::make_shared<VoxelizeRequest>();
+    auto a = std::make_shared<VoxelizeJob>();
     auto format = std::make_shared<std::string>();
     auto inputs = std::make_shared<std::vector<std::string>>();
     auto list = std::make_shared<std::string>();
@@ -67,13 +80,13 @@ void addVoxelizeCommand(CLI::App& app) {
     cmd->add_option("--backend", a->backend,
                     "auto (gl on a GPU and for --method dense, else cpu), gl (OpenGL 4.5 through EGL: a GPU, or "
                     "Mesa's llvmpipe) or cpu (the TBB reference; out of core like gl)")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"auto", "gl", "cpu"}));
+        ->default_str("auto")
+        ->transform(CLI::CheckedTransformer(kBackends));
     cmd->add_option("--method", a->method,
                     "sparse: fragment list, bricks, zoom regions; dense: the paper's dense 3D textures "
                     "(a benchmark baseline, limited to one texture, max reduction)")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"sparse", "dense"}));
+        ->default_str("sparse")
+        ->transform(CLI::CheckedTransformer(kMethods));
     auto* res = cmd->add_option("--resolution", a->resolution, "Voxels on the longest axis of the padded garment box")
                     ->check(CLI::Range(8, 1 << 20));
     cmd->add_option("--voxel-size", a->voxelSize, "Voxel edge length, world units (instead of --resolution)")
@@ -101,23 +114,23 @@ void addVoxelizeCommand(CLI::App& app) {
                   "reduction (either backend); not with --method dense. With --lod, albedo_lod1..N too "
                   "(mass-weighted)");
     cmd->add_option("--reduce", a->reduce, "mean: fibre volume fraction and mean axis; max: the paper's max density")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"mean", "max"}));
+        ->default_str("mean")
+        ->transform(CLI::CheckedTransformer(kReductions));
     cmd->add_option("--overlap", a->overlap,
                     "Where yarns interpenetrate (mean): clamp keeps every voxel's fibre fraction at or below 1; "
                     "sum adds them up")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"clamp", "sum"}));
+        ->default_str("clamp")
+        ->transform(CLI::CheckedTransformer(kOverlaps));
     cmd->add_option("--vdb-compression", a->compression,
                     "How the .vdb's leaves are compressed: mask (active values only, no codec: the fastest), "
                     "blosc (OpenVDB's default: smaller, slower), zip (the orientation grid only) or none")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"blosc", "zip", "mask", "none"}));
+        ->default_str("mask")
+        ->transform(CLI::CheckedTransformer(kCompressions));
     cmd->add_option("--precision", a->precision,
                     "How the .vdb's values are stored: float, or half (16-bit: about half the bytes; density "
                     "within 2^-11 relative)")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"float", "half"}));
+        ->default_str("float")
+        ->transform(CLI::CheckedTransformer(kPrecisions));
     cmd->add_option("--lod", a->lod,
                     "Level-of-detail grids: adds density_lod1..N and orientation_lod1..N (and albedo_lod1..N with --albedo), each level half the "
                     "resolution of the one before (mean density, structure-tensor axis)")
@@ -163,7 +176,7 @@ void addVoxelizeCommand(CLI::App& app) {
         Cluster* const group = cluster() && cluster()->size() > 1 ? cluster() : nullptr;
         const auto voxelizeJob = [&](const GarmentJob& job, bool alone) {
             voxelizeInFormat(*format, job.output, job.input, a->quiet, [&](const std::string& vdbPath) {
-                VoxelizeRequest run = *a;
+                VoxelizeJob run = *a;
                 run.input = job.input;
                 run.output = vdbPath;
                 run.workDir = job.workDir;

@@ -31,21 +31,30 @@ std::string jsonQuote(const std::string& s) {
     return out + "\"";
 }
 
+void JsonObject::put(const std::string& key, std::string encoded) {
+    for (auto& [k, v] : fields_)
+        if (k == key && v.front() != '\x01' && v.front() != '\x02') {
+            v = std::move(encoded);
+            return;
+        }
+    fields_.emplace_back(key, std::move(encoded));
+}
+
 JsonObject& JsonObject::set(const std::string& key, double value) {
     char buf[64];
     if (std::isfinite(value))
         std::snprintf(buf, sizeof buf, "%.9g", value);
     else
         std::snprintf(buf, sizeof buf, "null");
-    fields_.emplace_back(key, buf);
+    put(key, buf);
     return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, std::int64_t value) {
-    fields_.emplace_back(key, std::to_string(value));
+    put(key, std::to_string(value));
     return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, const std::string& value) {
-    fields_.emplace_back(key, jsonQuote(value));
+    put(key, jsonQuote(value));
     return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, bool value) {

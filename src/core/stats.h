@@ -8,7 +8,9 @@
 
 namespace yv {
 
-/// An ordered JSON object of numbers, strings, nested objects and arrays of objects.
+/// An ordered JSON object of numbers, strings, nested objects and arrays of
+/// objects. Setting a number or string under a key already there replaces
+/// its value in place.
 class JsonObject {
   public:
     JsonObject& set(const std::string& key, double value);
@@ -23,6 +25,8 @@ class JsonObject {
     std::string dump(int indent = 0) const;
 
   private:
+    /// A number or string under `key`: replaces the value of a key already there, in place.
+    void put(const std::string& key, std::string encoded);
     std::vector<std::pair<std::string, std::string>> fields_; // key, encoded value
     std::vector<JsonObject> nested_;
     std::vector<std::vector<JsonObject>> arrays_;

@@ -7,9 +7,9 @@
 namespace yv {
 
 CpuRegionBackend::CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
-                                   const VoxelizeSettings& settings, CpuRegionCounters& counters,
+                                   const VoxelizeSettings& settings,
                                    std::uint64_t sampleBudget)
-    : plan_(plan), xs_(xs), grid_(grid), settings_(settings), counters_(counters), quiet_(settings.quiet) {
+    : plan_(plan), xs_(xs), grid_(grid), settings_(settings), quiet_(settings.quiet) {
     const std::uint64_t physical = physicalMemoryBytes();
     // Filled yarns give about two samples a voxel and fill the bricks they
     // touch about a quarter (14 KiB of accumulator words a brick): some 60

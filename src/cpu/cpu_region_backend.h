@@ -28,7 +28,7 @@ class CpuRegionBackend : public RegionRasterizer {
     /// `sampleBudget`: samples one region may produce (0: from physical
     /// memory; at most what a quarter of physical memory holds).
     CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
-                     const VoxelizeSettings& settings, CpuRegionCounters& counters, std::uint64_t sampleBudget = 0);
+                     const VoxelizeSettings& settings, std::uint64_t sampleBudget = 0);
     /// Samples one region may produce (the zoom planner's budget): by default
     /// its accumulators stay within about a sixteenth of physical memory.
     /// (store_peak_queued_bytes in --stats shows what regions held.)
@@ -39,13 +39,14 @@ class CpuRegionBackend : public RegionRasterizer {
     /// samples, threads, zoom_regions, regions_computed, regions_resumed, fragment_budget.
     JsonObject stats() const override;
     std::uint64_t samples() const override { return counters_.sampling.samples; }
+    const CpuRegionCounters& counters() const { return counters_; }
 
   private:
     const SlicePlan& plan_;
     const CrossSection& xs_;
     const VoxelGrid& grid_;
     VoxelizeSettings settings_;
-    CpuRegionCounters& counters_;
+    CpuRegionCounters counters_;
     std::uint64_t budget_ = 0;
     bool quiet_ = true; ///< no progress line
 };

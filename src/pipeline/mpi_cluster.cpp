@@ -12,6 +12,7 @@
 #include <mpi.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -25,6 +26,25 @@ namespace yv {
 namespace {
 
 constexpr int kClaimTag = 1, kItemTag = 2;
+
+/// A fault for the tests of a rank that dies, set only by them:
+/// YARNVOX_TEST_KILL_RANK=R:K makes rank R kill itself (SIGKILL, as a crashed
+/// node would end) when the hand-out gives it its (K+1)-th item (a region, or
+/// a whole garment), so tests can check what the other ranks and --resume
+/// make of it. Never set in real runs; unset, it never fires.
+struct InjectedFault {
+    int rank = -1;
+    std::uint64_t dieAtClaim = 0; ///< 1-based claim that kills (0: none)
+    static InjectedFault fromEnvironment() {
+        InjectedFault fault;
+        unsigned long long after = 0;
+        if (const char* text = std::getenv("YARNVOX_TEST_KILL_RANK"); text && std::sscanf(text, "%d:%llu", &fault.rank, &after) == 2)
+            fault.dieAtClaim = after + 1;
+        else
+            fault.rank = -1;
+        return fault;
+    }
+};
 
 /// Waits for `request` without spinning: Open MPI's blocking calls poll at
 /// full speed, which would take a core from the ranks still rasterizing on
@@ -72,6 +92,31 @@ class MpiCluster : public Cluster {
     }
 
     std::optional<std::uint64_t> claim() override {
+        const std::optional<std::uint64_t> item = next();
+        if (item && ++claimed_ == faults_.dieAtClaim && rank_ == faults_.rank) std::raise(SIGKILL);
+        return item;
+    }
+
+    std::vector<double> endHandout(const std::vector<double>& values) override {
+        while (next()) {
+        }
+        if (server_.joinable()) server_.join();
+        std::vector<double> sums(values.size());
+        MPI_Request request;
+        MPI_Ireduce(values.data(), sums.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, 0, comm_,
+                    &request);
+        waitPolitely(request);
+        return rank_ == 0 ? sums : values;
+    }
+
+    [[noreturn]] void abort(int exitCode) override {
+        MPI_Abort(comm_, exitCode);
+        std::_Exit(exitCode);
+    }
+
+  private:
+    /// The next item of the hand-out for this rank, or nothing once all are out.
+    std::optional<std::uint64_t> next() {
         if (exhausted_) return std::nullopt;
         std::int64_t item = -1;
         if (rank_ == 0) {
@@ -90,24 +135,6 @@ class MpiCluster : public Cluster {
         return static_cast<std::uint64_t>(item);
     }
 
-    std::vector<double> endHandout(const std::vector<double>& values) override {
-        while (claim()) {
-        }
-        if (server_.joinable()) server_.join();
-        std::vector<double> sums(values.size());
-        MPI_Request request;
-        MPI_Ireduce(values.data(), sums.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, 0, comm_,
-                    &request);
-        waitPolitely(request);
-        return rank_ == 0 ? sums : values;
-    }
-
-    [[noreturn]] void abort(int exitCode) override {
-        MPI_Abort(comm_, exitCode);
-        std::_Exit(exitCode);
-    }
-
-  private:
     /// The next item in order, or -1 once all are out.
     std::int64_t take() {
         const std::lock_guard lock(mutex_);
@@ -134,6 +161,8 @@ class MpiCluster : public Cluster {
     std::mutex mutex_;
     std::uint64_t count_ = 0, next_ = 0;
     bool exhausted_ = false;
+    std::uint64_t claimed_ = 0; ///< items this rank was given, over every hand-out
+    InjectedFault faults_ = InjectedFault::fromEnvironment();
     std::thread server_;
 };
 

@@ -1,0 +1,67 @@
+// Regions straight into the .vdb's leaves: no work dir, nothing to resume.
+#include "pipeline/region_destination.h"
+
+#include "core/error.h"
+#include "core/interrupt.h"
+#include "pipeline/region_sinks.h"
+#include "vdb/merge.h"
+
+namespace yv {
+namespace {
+
+class MemoryDestination : public RegionDestination {
+  public:
+    explicit MemoryDestination(const DestinationSetup& setup)
+        : job_(setup.job), regions_(setup.regions), assembler_(setup.job.output, setup.grid, setup.settings.reduce, setup.writeOptions),
+          writer_([this](std::uint64_t id, std::vector<VoxelBrick>&& resolved) { assembler_.add(resolved, regionName(id)); },
+                  [this](std::uint64_t id, const PackedBricks& packed) { assembler_.add(packed, regionName(id)); },
+                  setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), writerThreads()),
+          sink_(writer_) {}
+
+    const std::vector<ZoomRegion>& regionOrder() const override { return regions_; }
+    RegionSink& sink() override { return sink_; }
+
+    std::optional<RunTotals> collect() override {
+        RunTotals totals;
+        written_ = writer_.finish();
+        for (const RegionInfo& r : written_) {
+            totals.activeVoxels += r.activeVoxels;
+            totals.bricks += r.brickCount;
+        }
+        if (interruptSignal())
+            throw Error("interrupted by " + interruptSignalName() + " after " + std::to_string(sink_.consumed) + " of " +
+                        std::to_string(regions_.size()) + " regions: nothing was written (" + job_.output +
+                        " is untouched; a run with --work-dir DIR can be resumed)");
+        totals.regionsRasterized = sink_.consumed;
+        totals.writer = writer_.stats();
+        return totals;
+    }
+
+    void writeVdb(VolumeMetadata& meta, RunTotals& totals, const StageSeconds&, StageTimer& timer,
+                  const RefuseEmpty& refuseEmpty) override {
+        meta.regions = recordedRegions(written_); // as a merge of the same regions records them
+        refuseEmpty(totals.activeVoxels);
+        assembler_.write(meta);
+        timer.lap("write");
+    }
+
+    const char* kind() const override { return "memory"; }
+
+  private:
+    static std::string regionName(std::uint64_t id) { return "region " + std::to_string(id); }
+
+    const VoxelizeJob& job_;
+    const std::vector<ZoomRegion>& regions_;
+    VdbAssembler assembler_;
+    RegionWriter writer_;
+    QueueSink sink_;
+    std::vector<RegionInfo> written_; ///< what the writer put into the leaves, by region
+};
+
+} // namespace
+
+std::unique_ptr<RegionDestination> makeMemoryDestination(const DestinationSetup& setup) {
+    return std::make_unique<MemoryDestination>(setup);
+}
+
+} // namespace yv

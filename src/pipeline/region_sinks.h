@@ -1,0 +1,62 @@
+// The sinks the destinations give the rasterizer: each hands finished
+// regions to a RegionWriter and counts what it was given.
+#pragma once
+
+#include "core/interrupt.h"
+#include "core/region_rasterizer.h"
+#include "store/brick_store.h"
+#include "store/region_writer.h"
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace yv {
+
+/// Hands finished regions to the RegionWriter, which resolves or unpacks them
+/// on its threads and puts them into the .vdb's leaves or a work directory.
+class QueueSink : public RegionSink {
+  public:
+    explicit QueueSink(RegionWriter& writer) : writer_(writer) {}
+    void consume(const ZoomRegion& r, PackedBricks&& bricks) override {
+        writer_.submitResolved(r.id, r.min, r.max, std::move(bricks));
+        ++consumed;
+    }
+    void consumeAccumulators(const ZoomRegion& r, std::vector<BrickAccumulator>&& accumulators) override {
+        writer_.submit(r.id, r.min, r.max, std::move(accumulators));
+        ++consumed;
+    }
+    PackedBricks emptyPackedBricks() override { return writer_.recycledPackedBricks(); }
+    /// SIGINT or SIGTERM: stop at this region boundary.
+    bool stopRequested() override { return interruptSignal() != 0; }
+    std::uint64_t consumed = 0; ///< regions handed to the writer
+
+  private:
+    RegionWriter& writer_;
+};
+
+/// Feeds a work directory; on --resume, skips regions whose files are
+/// complete and verified.
+class StoreSink : public QueueSink {
+  public:
+    StoreSink(BrickStore& store, RegionWriter& writer, bool resume) : QueueSink(writer), store_(store), resume_(resume) {}
+    bool alreadyDone(const ZoomRegion& r) override {
+        if (!resume_) return false;
+        std::string why;
+        if (store_.hasVerifiedRegion(r.id, r.min, r.max, &why)) {
+            ++resumed;
+            return true;
+        }
+        if (!why.empty()) ++recomputed;
+        return false;
+    }
+    std::uint64_t resumed = 0;    ///< regions found complete and verified
+    std::uint64_t recomputed = 0; ///< damaged region files found on resume
+
+  private:
+    BrickStore& store_;
+    bool resume_;
+};
+
+} // namespace yv

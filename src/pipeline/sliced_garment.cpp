@@ -1,0 +1,71 @@
+#include "pipeline/sliced_garment.h"
+
+#include "bcc.h"
+#include "core/error.h"
+#include "core/trace.h"
+#include "core/world_units.h"
+#include "garment/curve_check.h"
+#include "plan/feasibility.h"
+#include "plan/grid.h"
+#include "plan/resource_estimate.h"
+
+#include <filesystem>
+
+namespace yv {
+namespace {
+
+/// Refuses a run that needs more disk than the output's (and the work
+/// dir's) file system has, before minutes of work.
+void checkDiskNeeds(const VoxelizeJob& job, bool throughWorkDir, const Garment& garment, double radius,
+                    double voxelSize, const std::string& voxelSource) {
+    const std::string outputDir = std::filesystem::path(job.output).parent_path().string();
+    const RunPlace place{outputDir, throughWorkDir ? (job.workDir.empty() ? outputDir : job.workDir) : ""};
+    const TraceSpan span("estimate what the run needs");
+    const std::string problem = checkNeeds(
+        estimateNeeds(garment, radius, voxelSize, job.precision == VdbPrecision::Half), place, voxelSource);
+    if (!problem.empty()) throw Error(job.input + ": " + problem);
+}
+
+} // namespace
+
+SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Tell& tell, StageTimer& timer) {
+    SlicedGarment s;
+    s.garment = readBcc(job.input);
+    // Real files repeat points and mislabel loops: tidied here, said once.
+    const CurveCheckReport curveReport = checkCurves(s.garment, job.input);
+    if (const std::string dropped = curveReport.droppedText(job.input); !dropped.empty()) tell(dropped);
+    for (const std::string& w : curveReport.warnings) tell("warning: " + w);
+    timer.lap("read");
+
+    s.xs = makeCrossSection(job.crossSection, job.albedo);
+    s.radius = chooseYarnRadius(job.yarnRadius, s.xs, s.garment, job.input);
+    if (!s.radius.note.empty()) tell(s.radius.note);
+    s.sliceOptions.twist = job.twist;
+    s.sliceOptions.radius = s.radius.radius;
+    // Slices follow the voxel size, not the garment's control points: one
+    // slice per (supersampled) voxel along the yarn, unless asked otherwise.
+    const double voxelSize = voxelSizeFor(s.garment, s.radius.radius, job.resolution, job.voxelSize);
+    // A run that would leave no voxels is refused before any slicing.
+    const RunScale scale{s.radius.radius, s.radius.description, voxelSize,
+                         job.resolution > 0 ? "--resolution " + std::to_string(job.resolution)
+                                            : "--voxel-size " + numberText(job.voxelSize),
+                         job.supersample, job.spacing};
+    for (const std::string& w : checkRunScale(scale, s.xs)) tell("warning: " + w);
+    checkDiskNeeds(job, throughWorkDir, s.garment, s.radius.radius, voxelSize, scale.voxelSource);
+
+    s.explicitSpacing = job.slicesPerSegment > 0 || job.spacing > 0.0;
+    s.sliceOptions.slicesPerSegment = job.slicesPerSegment;
+    s.sliceOptions.spacing = s.explicitSpacing ? job.spacing : defaultSliceSpacing(voxelSize, job.supersample);
+    s.plan = [&] {
+        const TraceSpan span("plan the slices");
+        try {
+            return planSlices(s.garment, s.sliceOptions);
+        } catch (const Error& e) {
+            throw Error(job.input + ": " + e.what());
+        }
+    }();
+    timer.lap("slices");
+    return s;
+}
+
+} // namespace yv

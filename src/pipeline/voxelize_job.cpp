@@ -1,0 +1,41 @@
+#include "pipeline/voxelize_job.h"
+
+#include "core/error.h"
+#include "core/output_path.h"
+#include "core/voxelize_settings.h"
+
+namespace yv {
+
+void checkJob(const VoxelizeJob& job, bool sharedByRanks) {
+    // Where the results go is checked before minutes of work, not after.
+    checkOutputPath(job.output, "-o", {job.input});
+    if (!job.statsPath.empty()) {
+        checkOutputPath(job.statsPath, "--stats", {job.input, job.output});
+        if (job.statsPath == job.output)
+            throw Error("--stats " + job.statsPath + ": is the same file as -o: refusing to overwrite it");
+    }
+    const bool dense = job.method == VoxelizeMethod::Dense;
+    if (dense && sharedByRanks) throw Error("--method dense runs in one process, not under mpirun -np 2 or more");
+    if (dense && job.backend == BackendRequest::Cpu) throw Error("--method dense needs --backend gl");
+    if (dense && (!job.workDir.empty() || job.resume)) throw Error("--work-dir and --resume need the sparse method");
+    // --albedo's limits: the sparse method with the mean reduction carries the colour (on either backend).
+    if (job.albedo && dense) throw Error("--albedo: the dense method has no albedo; use --method sparse");
+    if (job.albedo && job.reduce != Reduce::Mean)
+        throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
+    if (job.resolution == 0 && job.voxelSize == 0.0)
+        throw Error("give --resolution N (voxels on the longest axis) or --voxel-size H");
+    checkSupersample(job.supersample);
+}
+
+const char* toString(BackendRequest b) {
+    switch (b) {
+    case BackendRequest::Gl: return "gl";
+    case BackendRequest::Cpu: return "cpu";
+    case BackendRequest::Auto: break;
+    }
+    return "auto";
+}
+
+const char* toString(VoxelizeMethod m) { return m == VoxelizeMethod::Dense ? "dense" : "sparse"; }
+
+} // namespace yv

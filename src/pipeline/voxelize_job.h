@@ -1,0 +1,68 @@
+// What `yarnvox voxelize` is asked, typed and checked once: the CLI parses
+// its options into a VoxelizeJob (src/cli/cmd_voxelize.cpp), checkJob states
+// every rule between them, and the pipeline (voxelize_run.h) only reads it.
+#pragma once
+
+#include "core/sampling.h"
+#include "vdb/vdb_writer.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace yv {
+
+/// Where a run's warnings and notes go, one line at a time.
+using Tell = std::function<void(const std::string&)>;
+
+/// --backend: which rasterizer runs the zoom regions (chooseBackend settles Auto).
+enum class BackendRequest { Auto, Gl, Cpu };
+/// --method: yarnvox's sparse bricks, or the paper's dense 3D textures (a benchmark baseline).
+enum class VoxelizeMethod { Sparse, Dense };
+
+/// One garment's voxelization (option names in the comments).
+struct VoxelizeJob {
+    std::string input, output;                          ///< INPUT, -o
+    BackendRequest backend = BackendRequest::Auto;      ///< --backend
+    VoxelizeMethod method = VoxelizeMethod::Sparse;     ///< --method
+    std::string crossSection = "fibers";                ///< --cross-section: fibers, disk or FILE.png
+    Reduce reduce = Reduce::Mean;                       ///< --reduce
+    Overlap overlap = Overlap::Clamp;                   ///< --overlap
+    VdbCompression compression = VdbCompression::ActiveMask; ///< --vdb-compression
+    VdbPrecision precision = VdbPrecision::Float;       ///< --precision
+    std::string statsPath, workDir;                     ///< --stats, --work-dir
+    int resolution = 0;                                 ///< --resolution (0: --voxel-size)
+    double voxelSize = 0.0;                             ///< --voxel-size
+    double yarnRadius = 0.0;                            ///< --yarn-radius (0: from the files, else estimated)
+    int slicesPerSegment = 0;                           ///< --slices-per-segment
+    double spacing = 0.0;                               ///< --slice-spacing
+    double twist = 0.0;                                 ///< --twist
+    int supersample = 1;                                ///< --supersample
+    int device = -1;                                    ///< --device (-1: first GPU, else llvmpipe)
+    std::uint64_t fragmentCapacity = 0;                 ///< --fragment-budget (0: from the machine)
+    int lod = 0;                                        ///< --lod: level-of-detail grids in the .vdb
+    bool albedo = false;  ///< --albedo: the cross-section PNG's colour as an "albedo" grid
+    bool resume = false, keepWorkDir = false;           ///< --resume, --keep-work-dir
+    bool quiet = false, verbose = false;                ///< --quiet, --verbose
+    /// Under mpirun: this rank voxelizes the garment by itself, as one
+    /// process would (whole garments handed out to ranks), on its own GPU.
+    bool alone = false;
+
+    /// The regions go through a work directory (asked for, kept, resumed, or
+    /// shared by the ranks of an MPI run) rather than straight into the .vdb.
+    bool throughWorkDir(bool sharedByRanks) const { return !workDir.empty() || keepWorkDir || resume || sharedByRanks; }
+};
+
+/// Every rule between a job's options, each stated here once, checked
+/// before any work: where the results go (-o and --stats writable and
+/// distinct from the input), a grid size given, the supersample range, what
+/// the dense method and --albedo need. `sharedByRanks`: the run's regions are
+/// shared by the ranks of an MPI run. Throws yv::Error with one line.
+void checkJob(const VoxelizeJob& job, bool sharedByRanks);
+
+/// "auto", "gl" or "cpu", as the option is spelled.
+const char* toString(BackendRequest b);
+/// "sparse" or "dense".
+const char* toString(VoxelizeMethod m);
+
+} // namespace yv

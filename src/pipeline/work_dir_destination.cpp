@@ -1,0 +1,63 @@
+#include "pipeline/work_dir_destination.h"
+
+#include "core/error.h"
+#include "core/interrupt.h"
+#include "vdb/merge.h"
+
+namespace yv {
+
+std::string workDirOf(const VoxelizeJob& job) { return job.workDir.empty() ? job.output + ".work" : job.workDir; }
+
+WorkDirDestination::WorkDirDestination(const DestinationSetup& setup)
+    : WorkDirDestination(setup, std::make_unique<BrickStore>(workDirOf(setup.job), setup.manifest, setup.job.resume)) {
+    sink_ = std::make_unique<StoreSink>(*store_, *writer_, job_.resume);
+}
+
+WorkDirDestination::WorkDirDestination(const DestinationSetup& setup, std::unique_ptr<BrickStore> store)
+    : job_(setup.job), regions_(setup.regions), workDir_(workDirOf(setup.job)), writeOptions_(setup.writeOptions), store_(std::move(store)) {
+    writer_.emplace(*store_, setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), writerThreads());
+}
+
+RunTotals WorkDirDestination::localTotals() {
+    writer_->finish(); // every region handed over is on disk before the run stops
+    RunTotals totals;
+    totals.regionsRasterized = sink_->consumed;
+    totals.regionsResumed = sink_->resumed;
+    totals.regionsRecomputed = sink_->recomputed;
+    totals.writer = writer_->stats();
+    return totals;
+}
+
+std::string WorkDirDestination::interruptedMessage(const std::string& signal, std::uint64_t regionsDone) const {
+    const std::string& line = commandLine();
+    const bool resuming = line.find(" --resume") != std::string::npos;
+    return "interrupted by " + signal + " after " + std::to_string(regionsDone) + " of " +
+           std::to_string(regions_.size()) + " regions, all of them kept in " + workDir_ + "; go on with: " + line +
+           (resuming ? "" : " --resume");
+}
+
+std::optional<RunTotals> WorkDirDestination::collect() {
+    RunTotals totals = localTotals();
+    if (interruptSignal())
+        throw Error(interruptedMessage(interruptSignalName(), totals.regionsRasterized + totals.regionsResumed));
+    return totals;
+}
+
+void WorkDirDestination::writeVdb(VolumeMetadata& meta, RunTotals& totals, const StageSeconds& stages,
+                                  StageTimer& timer, const RefuseEmpty& refuseEmpty) {
+    store_->markComplete(regions_.size(), stages);
+    for (const RegionInfo& r : store_->listRegions()) {
+        totals.activeVoxels += r.activeVoxels;
+        totals.bricks += r.brickCount;
+    }
+    refuseEmpty(totals.activeVoxels);
+    mergeStoreToVdb(*store_, job_.output, meta, writeOptions_);
+    timer.lap("merge");
+    totals.storeBytes = store_->bytesOnDisk();
+}
+
+std::unique_ptr<RegionDestination> makeWorkDirDestination(const DestinationSetup& setup) {
+    return std::make_unique<WorkDirDestination>(setup);
+}
+
+} // namespace yv
