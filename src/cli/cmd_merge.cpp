@@ -1,6 +1,7 @@
 // `yarnvox merge`: a finished work directory to one .vdb (voxelize does this
 // itself at its end; this re-runs it, e.g. after a merge failed for disk space).
 #include "cli/commands.h"
+#include "cli/option_words.h"
 #include "pipeline/run_fingerprint.h"
 #include "core/output_path.h"
 #include "store/brick_store.h"
@@ -16,7 +17,9 @@ namespace yv {
 
 void addMergeCommand(CLI::App& app) {
     struct Args {
-        std::string workDir, output, compression = "mask", precision = "float";
+        std::string workDir, output;
+        VdbCompression compression = VdbCompression::ActiveMask;
+        VdbPrecision precision = VdbPrecision::Float;
         int lod = 0;
         bool quiet = false;
     };
@@ -25,11 +28,11 @@ void addMergeCommand(CLI::App& app) {
     cmd->add_option("workdir", args->workDir, "Work directory of a voxelize run (--work-dir)")->required()->check(CLI::ExistingDirectory);
     cmd->add_option("-o,--output", args->output, "Output .vdb file")->required();
     cmd->add_option("--vdb-compression", args->compression, "mask, blosc, zip or none (as voxelize's option)")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"blosc", "zip", "mask", "none"}));
+        ->default_str("mask")
+        ->transform(oneOf(kCompressionWords));
     cmd->add_option("--precision", args->precision, "float or half: how the grids' values are stored (as voxelize's option)")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"float", "half"}));
+        ->default_str("float")
+        ->transform(oneOf(kPrecisionWords));
     cmd->add_option("--lod", args->lod, "Level-of-detail grids density_lod1..N and orientation_lod1..N (as voxelize's option)")
         ->capture_default_str()
         ->check(CLI::Range(0, 20));
@@ -39,8 +42,8 @@ void addMergeCommand(CLI::App& app) {
         checkOutputPath(args->output, "-o", {});
         const StoreManifest manifest = readManifest(args->workDir);
         VdbWriteOptions options;
-        options.compression = parseVdbCompression(args->compression);
-        options.precision = parseVdbPrecision(args->precision);
+        options.compression = args->compression;
+        options.precision = args->precision;
         options.lodLevels = args->lod; // checked against the store's grid by the writer, before any region is read
         const VolumeMetadata metadata = decodeMetadata(manifest.runMetadata);
         options.albedo = metadata.albedo; // the run's bricks carry it: so does the merged file

@@ -3,6 +3,7 @@
 #include "cli/commands.h"
 #include "cli/garment_list.h"
 #include "cli/option_checks.h"
+#include "cli/option_words.h"
 #include "cli/output_format.h"
 #include "core/error.h"
 #include "core/voxelize_settings.h"
@@ -13,7 +14,6 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
-#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -22,18 +22,6 @@
 
 namespace yv {
 namespace {
-
-/// Option words to the job's enums: CLI11 refuses any other word with the list.
-const std::map<std::string, BackendRequest> kBackends{
-    {"auto", BackendRequest::Auto}, {"gl", BackendRequest::Gl}, {"cpu", BackendRequest::Cpu}};
-const std::map<std::string, VoxelizeMethod> kMethods{{"sparse", VoxelizeMethod::Sparse}, {"dense", VoxelizeMethod::Dense}};
-const std::map<std::string, Reduce> kReductions{{"mean", Reduce::Mean}, {"max", Reduce::Max}};
-const std::map<std::string, Overlap> kOverlaps{{"clamp", Overlap::Clamp}, {"sum", Overlap::Sum}};
-const std::map<std::string, VdbCompression> kCompressions{{"blosc", VdbCompression::Blosc},
-                                                          {"zip", VdbCompression::Zip},
-                                                          {"mask", VdbCompression::ActiveMask},
-                                                          {"none", VdbCompression::None}};
-const std::map<std::string, VdbPrecision> kPrecisions{{"float", VdbPrecision::Float}, {"half", VdbPrecision::Half}};
 
 void voxelizeAndReport(const VoxelizeJob& request) {
     const VoxelizeReport r = runVoxelize(request, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
@@ -81,12 +69,12 @@ void addVoxelizeCommand(CLI::App& app) {
                     "auto (gl on a GPU and for --method dense, else cpu), gl (OpenGL 4.5 through EGL: a GPU, or "
                     "Mesa's llvmpipe) or cpu (the TBB reference; out of core like gl)")
         ->default_str("auto")
-        ->transform(CLI::CheckedTransformer(kBackends));
+        ->transform(oneOf(kBackendWords));
     cmd->add_option("--method", a->method,
                     "sparse: fragment list, bricks, zoom regions; dense: the paper's dense 3D textures "
                     "(a benchmark baseline, limited to one texture, max reduction)")
         ->default_str("sparse")
-        ->transform(CLI::CheckedTransformer(kMethods));
+        ->transform(oneOf(kMethodWords));
     auto* res = cmd->add_option("--resolution", a->resolution, "Voxels on the longest axis of the padded garment box")
                     ->check(CLI::Range(8, 1 << 20));
     cmd->add_option("--voxel-size", a->voxelSize, "Voxel edge length, world units (instead of --resolution)")
@@ -115,22 +103,22 @@ void addVoxelizeCommand(CLI::App& app) {
                   "(mass-weighted)");
     cmd->add_option("--reduce", a->reduce, "mean: fibre volume fraction and mean axis; max: the paper's max density")
         ->default_str("mean")
-        ->transform(CLI::CheckedTransformer(kReductions));
+        ->transform(oneOf(kReduceWords));
     cmd->add_option("--overlap", a->overlap,
                     "Where yarns interpenetrate (mean): clamp keeps every voxel's fibre fraction at or below 1; "
                     "sum adds them up")
         ->default_str("clamp")
-        ->transform(CLI::CheckedTransformer(kOverlaps));
+        ->transform(oneOf(kOverlapWords));
     cmd->add_option("--vdb-compression", a->compression,
                     "How the .vdb's leaves are compressed: mask (active values only, no codec: the fastest), "
                     "blosc (OpenVDB's default: smaller, slower), zip (the orientation grid only) or none")
         ->default_str("mask")
-        ->transform(CLI::CheckedTransformer(kCompressions));
+        ->transform(oneOf(kCompressionWords));
     cmd->add_option("--precision", a->precision,
                     "How the .vdb's values are stored: float, or half (16-bit: about half the bytes; density "
                     "within 2^-11 relative)")
         ->default_str("float")
-        ->transform(CLI::CheckedTransformer(kPrecisions));
+        ->transform(oneOf(kPrecisionWords));
     cmd->add_option("--lod", a->lod,
                     "Level-of-detail grids: adds density_lod1..N and orientation_lod1..N (and albedo_lod1..N with --albedo), each level half the "
                     "resolution of the one before (mean density, structure-tensor axis)")
