@@ -39,6 +39,150 @@ void voxelizeAndReport(const VoxelizeJob& request) {
                                                 : "kept as sums (--overlap sum)");
 }
 
+/// The grid, the slices and the cross-section.
+void addGeometryOptions(CLI::App* cmd, VoxelizeJob& a) {
+    auto* res = cmd->add_option("--resolution", a.resolution, "Voxels on the longest axis of the padded garment box")
+                    ->check(CLI::Range(8, 1 << 20));
+    cmd->add_option("--voxel-size", a.voxelSize, "Voxel edge length, world units (instead of --resolution)")
+        ->check(worldLength())
+        ->excludes(res);
+    cmd->add_option("--yarn-radius", a.yarnRadius, "Yarn radius, world units (default: from the cross-section PNG or the garment file, else "
+                    "estimated from the distances between touching yarns)")
+        ->check(worldLength());
+    auto* perSegment =
+        cmd->add_option("--slices-per-segment", a.slicesPerSegment,
+                        "Slices per curve segment (the paper uses 25 and 50; default: one slice per voxel along the yarn)")
+            ->check(CLI::Range(1, 100000));
+    cmd->add_option("--slice-spacing", a.spacing,
+                    "Distance between slices, world units (default: the voxel size over --supersample)")
+        ->check(worldLength())
+        ->excludes(perSegment);
+    cmd->add_option("--twist", a.twist, "Yarn twist, radians per world unit of yarn length")
+        ->capture_default_str()
+        ->check(finiteNumber(kMaxTwist));
+    cmd->add_option("--cross-section", a.crossSection, "Fibre density on each slice: fibers, disk, or FILE.png (alpha = density)")
+        ->capture_default_str();
+    cmd->add_flag("--albedo", a.albedo,
+                  "Also write the fibres' colour: an 'albedo' grid (linear RGB) from the RGB of the --cross-section PNG "
+                  "(read as sRGB), the density-weighted mean of each voxel's samples. Needs a colour PNG and the mean "
+                  "reduction (either backend); not with --method dense. With --lod, albedo_lod1..N too "
+                  "(mass-weighted)");
+}
+
+/// What the voxels hold and how the .vdb stores them.
+void addVolumeOptions(CLI::App* cmd, VoxelizeJob& a) {
+    cmd->add_option("--reduce", a.reduce, "mean: fibre volume fraction and mean axis; max: the paper's max density")
+        ->default_str("mean")
+        ->transform(oneOf(kReduceWords));
+    cmd->add_option("--overlap", a.overlap,
+                    "Where yarns interpenetrate (mean): clamp keeps every voxel's fibre fraction at or below 1; "
+                    "sum adds them up")
+        ->default_str("clamp")
+        ->transform(oneOf(kOverlapWords));
+    cmd->add_option("--vdb-compression", a.compression,
+                    "How the .vdb's leaves are compressed: mask (active values only, no codec: the fastest), "
+                    "blosc (OpenVDB's default: smaller, slower), zip (the orientation grid only) or none")
+        ->default_str("mask")
+        ->transform(oneOf(kCompressionWords));
+    cmd->add_option("--precision", a.precision,
+                    "How the .vdb's values are stored: float, or half (16-bit: about half the bytes; density "
+                    "within 2^-11 relative)")
+        ->default_str("float")
+        ->transform(oneOf(kPrecisionWords));
+    cmd->add_option("--lod", a.lod,
+                    "Level-of-detail grids: adds density_lod1..N and orientation_lod1..N (and albedo_lod1..N with --albedo), each level half the "
+                    "resolution of the one before (mean density, structure-tensor axis)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 20));
+}
+
+/// Sampling, the GPU, the work dir and what the run prints.
+void addRunOptions(CLI::App* cmd, VoxelizeJob& a) {
+    cmd->add_option("--supersample", a.supersample, "Samples per voxel face along each axis")
+        ->capture_default_str()
+        ->check(CLI::Range(1, kMaxSupersample));
+    cmd->add_option("--device", a.device, "GL backend: EGL device index (default: first GPU, else llvmpipe)")
+        ->check(CLI::Range(0, 1023));
+    // The GL append counter is 32 bits, and a pass that reaches 2^31 counts as overflowed.
+    cmd->add_option("--fragment-budget", a.fragmentCapacity,
+                    "Fragments (samples) one zoom region may produce (default: from GPU limits and free memory; "
+                    "for the CPU backend from host memory, and at most what a quarter of it holds); zoom regions "
+                    "are sized to it")
+        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(0x7fffffffu)));
+    cmd->add_option("--work-dir", a.workDir,
+                    "Directory for the per-region brick files (default: OUT.vdb.work, removed after the merge)");
+    cmd->add_flag("--resume", a.resume, "Re-use the complete, verified regions in --work-dir and compute the rest");
+    cmd->add_flag("--keep-work-dir", a.keepWorkDir, "Keep the default work directory after the merge");
+    cmd->add_option("--stats", a.statsPath, "Write run statistics (JSON) to this file");
+    cmd->add_flag("-q,--quiet", a.quiet, "No progress and no summary");
+    cmd->add_flag("-v,--verbose", a.verbose, "Name the renderer and print GPU limits");
+}
+
+/// The garments asked for: INPUT files then those --list names.
+std::vector<std::string> garmentsAsked(const std::vector<std::string>& inputs, const std::string& list) {
+    std::vector<std::string> garments = inputs;
+    if (!list.empty())
+        for (const std::string& path : readGarmentList(list)) garments.push_back(path);
+    if (garments.empty()) throw Error("give a garment file (INPUT) or --list FILE");
+    return garments;
+}
+
+/// At least as many garments as ranks: whole garments go to whichever rank
+/// asks next, largest file first, each voxelized by its rank alone (as one
+/// process would, so the same file).
+template <class VoxelizeOne>
+void handOutWholeGarments(Cluster& group, const std::vector<GarmentJob>& jobs, bool quiet, VoxelizeOne&& voxelizeOne) {
+    std::vector<std::size_t> order(jobs.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+        return std::filesystem::file_size(jobs[x].input) > std::filesystem::file_size(jobs[y].input);
+    });
+    group.beginHandout(jobs.size());
+    double done = 0.0;
+    while (const std::optional<std::uint64_t> item = group.claim()) {
+        const GarmentJob& job = jobs[order[*item]];
+        if (!quiet)
+            std::printf("rank %d: %s, whole (%zu garments over %d ranks)\n", group.rank(), job.input.c_str(),
+                        jobs.size(), group.size());
+        voxelizeOne(job, true);
+        done += 1.0;
+    }
+    group.endHandout({done});
+}
+
+/// Voxelizes each garment asked for into its output, in its format.
+void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std::vector<std::string>& inputs,
+                      const std::string& list) {
+    const std::vector<std::string> garments = garmentsAsked(inputs, list);
+    std::vector<GarmentJob> jobs;
+    if (garments.size() == 1 && list.empty()) {
+        jobs.push_back({garments[0], a.output, a.workDir, a.statsPath});
+    } else {
+        const OutputFormat f = resolveOutputFormat(format, "", true);
+        const char* extension = f == OutputFormat::Vol ? ".vol" : f == OutputFormat::Nvdb ? ".nvdb" : ".vdb";
+        jobs = planGarmentJobs(garments, a.output, extension, a.workDir, a.statsPath);
+    }
+    Cluster* const group = cluster() && cluster()->size() > 1 ? cluster() : nullptr;
+    const auto voxelizeOne = [&](const GarmentJob& job, bool alone) {
+        voxelizeInFormat(format, job.output, job.input, a.quiet, [&](const std::string& vdbPath) {
+            VoxelizeJob run = a;
+            run.input = job.input;
+            run.output = vdbPath;
+            run.workDir = job.workDir;
+            run.statsPath = job.statsPath;
+            run.alone = alone;
+            voxelizeAndReport(run);
+        });
+    };
+    if (group && jobs.size() >= std::size_t(group->size())) return handOutWholeGarments(*group, jobs, a.quiet, voxelizeOne);
+    for (const GarmentJob& job : jobs) {
+        if (group && resolveOutputFormat(format, job.output, true) != OutputFormat::Vdb)
+            throw Error("-o " + job.output + ": under mpirun the output is a .vdb; convert it afterwards with `yarnvox export`");
+        // Fewer garments than ranks: one after another, all ranks sharing each one's regions.
+        voxelizeOne(job, false);
+    }
+}
+
 } // namespace
 
 void addVoxelizeCommand(CLI::App& app) {
@@ -75,133 +219,16 @@ void addVoxelizeCommand(CLI::App& app) {
                     "(a benchmark baseline, limited to one texture, max reduction)")
         ->default_str("sparse")
         ->transform(oneOf(kMethodWords));
-    auto* res = cmd->add_option("--resolution", a->resolution, "Voxels on the longest axis of the padded garment box")
-                    ->check(CLI::Range(8, 1 << 20));
-    cmd->add_option("--voxel-size", a->voxelSize, "Voxel edge length, world units (instead of --resolution)")
-        ->check(worldLength())
-        ->excludes(res);
-    cmd->add_option("--yarn-radius", a->yarnRadius, "Yarn radius, world units (default: from the cross-section PNG or the garment file, else "
-                    "estimated from the distances between touching yarns)")
-        ->check(worldLength());
-    auto* perSegment =
-        cmd->add_option("--slices-per-segment", a->slicesPerSegment,
-                        "Slices per curve segment (the paper uses 25 and 50; default: one slice per voxel along the yarn)")
-            ->check(CLI::Range(1, 100000));
-    cmd->add_option("--slice-spacing", a->spacing,
-                    "Distance between slices, world units (default: the voxel size over --supersample)")
-        ->check(worldLength())
-        ->excludes(perSegment);
-    cmd->add_option("--twist", a->twist, "Yarn twist, radians per world unit of yarn length")
-        ->capture_default_str()
-        ->check(finiteNumber(kMaxTwist));
-    cmd->add_option("--cross-section", a->crossSection, "Fibre density on each slice: fibers, disk, or FILE.png (alpha = density)")
-        ->capture_default_str();
-    cmd->add_flag("--albedo", a->albedo,
-                  "Also write the fibres' colour: an 'albedo' grid (linear RGB) from the RGB of the --cross-section PNG "
-                  "(read as sRGB), the density-weighted mean of each voxel's samples. Needs a colour PNG and the mean "
-                  "reduction (either backend); not with --method dense. With --lod, albedo_lod1..N too "
-                  "(mass-weighted)");
-    cmd->add_option("--reduce", a->reduce, "mean: fibre volume fraction and mean axis; max: the paper's max density")
-        ->default_str("mean")
-        ->transform(oneOf(kReduceWords));
-    cmd->add_option("--overlap", a->overlap,
-                    "Where yarns interpenetrate (mean): clamp keeps every voxel's fibre fraction at or below 1; "
-                    "sum adds them up")
-        ->default_str("clamp")
-        ->transform(oneOf(kOverlapWords));
-    cmd->add_option("--vdb-compression", a->compression,
-                    "How the .vdb's leaves are compressed: mask (active values only, no codec: the fastest), "
-                    "blosc (OpenVDB's default: smaller, slower), zip (the orientation grid only) or none")
-        ->default_str("mask")
-        ->transform(oneOf(kCompressionWords));
-    cmd->add_option("--precision", a->precision,
-                    "How the .vdb's values are stored: float, or half (16-bit: about half the bytes; density "
-                    "within 2^-11 relative)")
-        ->default_str("float")
-        ->transform(oneOf(kPrecisionWords));
-    cmd->add_option("--lod", a->lod,
-                    "Level-of-detail grids: adds density_lod1..N and orientation_lod1..N (and albedo_lod1..N with --albedo), each level half the "
-                    "resolution of the one before (mean density, structure-tensor axis)")
-        ->capture_default_str()
-        ->check(CLI::Range(0, 20));
-    cmd->add_option("--supersample", a->supersample, "Samples per voxel face along each axis")
-        ->capture_default_str()
-        ->check(CLI::Range(1, kMaxSupersample));
-    cmd->add_option("--device", a->device, "GL backend: EGL device index (default: first GPU, else llvmpipe)")
-        ->check(CLI::Range(0, 1023));
-    // The GL append counter is 32 bits, and a pass that reaches 2^31 counts as overflowed.
-    cmd->add_option("--fragment-budget", a->fragmentCapacity,
-                    "Fragments (samples) one zoom region may produce (default: from GPU limits and free memory; "
-                    "for the CPU backend from host memory, and at most what a quarter of it holds); zoom regions "
-                    "are sized to it")
-        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(0x7fffffffu)));
-    cmd->add_option("--work-dir", a->workDir,
-                    "Directory for the per-region brick files (default: OUT.vdb.work, removed after the merge)");
-    cmd->add_flag("--resume", a->resume, "Re-use the complete, verified regions in --work-dir and compute the rest");
-    cmd->add_flag("--keep-work-dir", a->keepWorkDir, "Keep the default work directory after the merge");
-    cmd->add_option("--stats", a->statsPath, "Write run statistics (JSON) to this file");
-    cmd->add_flag("-q,--quiet", a->quiet, "No progress and no summary");
-    cmd->add_flag("-v,--verbose", a->verbose, "Name the renderer and print GPU limits");
+    addGeometryOptions(cmd, *a);
+    addVolumeOptions(cmd, *a);
+    addRunOptions(cmd, *a);
     cmd->footer(clusterSupport()
                     ? "MPI: `mpirun -np N yarnvox voxelize ...` shares the zoom regions of one run among N processes "
                       "(each on its own GPU, by local rank, unless --device is given) through one work dir on a "
                       "file system they all see (--work-dir, default OUT.vdb.work); rank 0 merges. See README, "
                       "\"Scale-out with MPI\"."
                     : "");
-    cmd->callback([a, format, inputs, list] {
-        std::vector<std::string> garments = *inputs;
-        if (!list->empty())
-            for (const std::string& path : readGarmentList(*list)) garments.push_back(path);
-        if (garments.empty()) throw Error("give a garment file (INPUT) or --list FILE");
-        std::vector<GarmentJob> jobs;
-        if (garments.size() == 1 && list->empty()) {
-            jobs.push_back({garments[0], a->output, a->workDir, a->statsPath});
-        } else {
-            const OutputFormat f = resolveOutputFormat(*format, "", true);
-            const char* extension = f == OutputFormat::Vol ? ".vol" : f == OutputFormat::Nvdb ? ".nvdb" : ".vdb";
-            jobs = planGarmentJobs(garments, a->output, extension, a->workDir, a->statsPath);
-        }
-        Cluster* const group = cluster() && cluster()->size() > 1 ? cluster() : nullptr;
-        const auto voxelizeJob = [&](const GarmentJob& job, bool alone) {
-            voxelizeInFormat(*format, job.output, job.input, a->quiet, [&](const std::string& vdbPath) {
-                VoxelizeJob run = *a;
-                run.input = job.input;
-                run.output = vdbPath;
-                run.workDir = job.workDir;
-                run.statsPath = job.statsPath;
-                run.alone = alone;
-                voxelizeAndReport(run);
-            });
-        };
-        if (group && jobs.size() >= std::size_t(group->size())) {
-            // At least as many garments as ranks: whole garments go to
-            // whichever rank asks next, largest file first, each voxelized by
-            // its rank alone (as one process would, so the same file).
-            std::vector<std::size_t> order(jobs.size());
-            std::iota(order.begin(), order.end(), std::size_t{0});
-            std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-                return std::filesystem::file_size(jobs[x].input) > std::filesystem::file_size(jobs[y].input);
-            });
-            group->beginHandout(jobs.size());
-            double done = 0.0;
-            while (const std::optional<std::uint64_t> item = group->claim()) {
-                const GarmentJob& job = jobs[order[*item]];
-                if (!a->quiet)
-                    std::printf("rank %d: %s, whole (%zu garments over %d ranks)\n", group->rank(), job.input.c_str(),
-                                jobs.size(), group->size());
-                voxelizeJob(job, true);
-                done += 1.0;
-            }
-            group->endHandout({done});
-            return;
-        }
-        for (const GarmentJob& job : jobs) {
-            if (group && resolveOutputFormat(*format, job.output, true) != OutputFormat::Vdb)
-                throw Error("-o " + job.output + ": under mpirun the output is a .vdb; convert it afterwards with `yarnvox export`");
-            // Fewer garments than ranks: one after another, all ranks sharing each one's regions.
-            voxelizeJob(job, false);
-        }
-    });
+    cmd->callback([a, format, inputs, list] { voxelizeGarments(*a, *format, *inputs, *list); });
 }
 
 } // namespace yv

@@ -95,6 +95,80 @@ glm::dvec3 rotateMinimal(const glm::dvec3& v, const glm::dvec3& from, const glm:
     return v + glm::cross(k, v) + glm::cross(k, glm::cross(k, v)) / (1.0 + c);
 }
 
+namespace {
+
+/// One segment's slice count (from the spacing where one is asked for),
+/// length, bounds of its slice centres and how far from its centre a slice's
+/// samples reach: the square's half-diagonal in its plane, plus half the
+/// slab's depth along the projection axis, which a bend thickens on its
+/// outer side by up to kappa r sqrt(2). Each slice's geometry is found once,
+/// without its frame, which the bounds do not need. Returns the largest
+/// slice thickness; `flat`: a slice has no tangent (repeated control points).
+double measureSegment(SegmentRecord& rec, const SliceOptions& options, double halfDiagonal, bool& flat) {
+    std::uint32_t k = static_cast<std::uint32_t>(options.slicesPerSegment);
+    if (options.spacing > 0.0) {
+        // Slices sit at uniform t, and the curve's speed varies along a
+        // segment: K from the fastest part (sampled at 17 points) keeps
+        // every slice's thickness within the spacing.
+        double fastest = 0.0;
+        for (int j = 0; j <= 16; ++j)
+            fastest = std::max(fastest, glm::length(evalCatmullRomDerivative(rec.points, j / 16.0)));
+        k = static_cast<std::uint32_t>(std::clamp(std::ceil(fastest / options.spacing * (1.0 - 1e-12)), 1.0, 1.0e6));
+    }
+    rec.sliceCount = k;
+    glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
+    double len = 0.0, reach = halfDiagonal, spacing = 0.0;
+    for (std::uint32_t j = 0; j < k; ++j) {
+        const SliceOnCurve g = sliceOnCurve(rec, j);
+        len += g.thickness;
+        lo = glm::min(lo, g.center);
+        hi = glm::max(hi, g.center);
+        spacing = std::max(spacing, g.thickness);
+        if (!g.hasTangent) {
+            flat = true;
+            continue;
+        }
+        const glm::dvec3 t = glm::abs(g.tangent);
+        const double dominant = std::max({t.x, t.y, t.z});
+        const double depth = (1.0 + glm::length(g.curvature) * halfDiagonal) * g.thickness / dominant;
+        reach = std::max(reach, halfDiagonal + 0.5 * depth);
+    }
+    rec.length = len;
+    rec.centerMin = lo;
+    rec.centerMax = hi;
+    rec.reach = reach;
+    return spacing;
+}
+
+/// The plan's bounds of slice centres, largest reach and largest spacing.
+struct Extremes {
+    glm::dvec3 lo{HUGE_VAL}, hi{-HUGE_VAL};
+    double reach = 0.0, spacing = 0.0;
+};
+
+/// Over every segment, on every core: min and max are exact, so any split
+/// gives the same answers.
+Extremes planExtremes(std::span<const SegmentRecord> segments, const std::vector<double>& spacingOf) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, segments.size()), Extremes{},
+        [&](const tbb::blocked_range<std::size_t>& range, Extremes acc) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const SegmentRecord& rec = segments[i];
+                acc.lo = glm::min(acc.lo, rec.centerMin);
+                acc.hi = glm::max(acc.hi, rec.centerMax);
+                acc.reach = std::max(acc.reach, rec.reach);
+                acc.spacing = std::max(acc.spacing, spacingOf[i]);
+            }
+            return acc;
+        },
+        [](const Extremes& a, const Extremes& b) {
+            return Extremes{glm::min(a.lo, b.lo), glm::max(a.hi, b.hi), std::max(a.reach, b.reach),
+                            std::max(a.spacing, b.spacing)};
+        });
+}
+
+} // namespace
+
 SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
     if (options.slicesPerSegment < 1 && options.spacing <= 0.0)
         throw Error("slices per segment must be at least 1 (got " + std::to_string(options.slicesPerSegment) + ")");
@@ -127,53 +201,20 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
         }
     });
 
-    // Per segment, independently: the slice count, the length, the bounds of
-    // the slice centres (for culling) and how far from its centre a slice's
-    // samples reach: the square's half-diagonal in its plane, plus half the
-    // slab's depth along the projection axis, which a bend thickens on its
-    // outer side by up to kappa r sqrt(2). Each slice's geometry is found
-    // once, without its frame, which the bounds do not need.
+    // Per segment, independently: its slices, length, bounds (for culling)
+    // and reach (measureSegment).
     const double halfDiagonal = options.radius * std::sqrt(2.0);
     std::vector<double> spacingOf(plan.segments.size(), 0.0);
     // A slice without a tangent (repeated control points) is reported after
     // the knots' frames are, as placeSlice would report it.
     std::atomic<std::size_t> firstFlatSegment{plan.segments.size()};
     tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t i) {
-        SegmentRecord& rec = plan.segments[i];
-        std::uint32_t k = static_cast<std::uint32_t>(options.slicesPerSegment);
-        if (options.spacing > 0.0) {
-            // Slices sit at uniform t, and the curve's speed varies along a
-            // segment: K from the fastest part (sampled at 17 points) keeps
-            // every slice's thickness within the spacing.
-            double fastest = 0.0;
-            for (int j = 0; j <= 16; ++j)
-                fastest = std::max(fastest, glm::length(evalCatmullRomDerivative(rec.points, j / 16.0)));
-            k = static_cast<std::uint32_t>(std::clamp(std::ceil(fastest / options.spacing * (1.0 - 1e-12)), 1.0, 1.0e6));
+        bool flat = false;
+        spacingOf[i] = measureSegment(plan.segments[i], options, halfDiagonal, flat);
+        if (flat) {
+            std::size_t seen = firstFlatSegment.load();
+            while (i < seen && !firstFlatSegment.compare_exchange_weak(seen, i)) {}
         }
-        rec.sliceCount = k;
-        glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
-        double len = 0.0, reach = halfDiagonal, spacing = 0.0;
-        for (std::uint32_t j = 0; j < k; ++j) {
-            const SliceOnCurve g = sliceOnCurve(rec, j);
-            len += g.thickness;
-            lo = glm::min(lo, g.center);
-            hi = glm::max(hi, g.center);
-            spacing = std::max(spacing, g.thickness);
-            if (!g.hasTangent) {
-                std::size_t seen = firstFlatSegment.load();
-                while (i < seen && !firstFlatSegment.compare_exchange_weak(seen, i)) {}
-                continue;
-            }
-            const glm::dvec3 t = glm::abs(g.tangent);
-            const double dominant = std::max({t.x, t.y, t.z});
-            const double depth = (1.0 + glm::length(g.curvature) * halfDiagonal) * g.thickness / dominant;
-            reach = std::max(reach, halfDiagonal + 0.5 * depth);
-        }
-        rec.length = len;
-        rec.centerMin = lo;
-        rec.centerMax = hi;
-        rec.reach = reach;
-        spacingOf[i] = spacing;
     });
 
     // Slice offsets run over the whole garment.
@@ -201,26 +242,7 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
 
     if (const std::size_t flat = firstFlatSegment.load(); flat < plan.segments.size())
         throw noTangent(plan.segments[flat].yarn);
-    // Min and max are exact, so any split gives the same answers.
-    struct Extremes {
-        glm::dvec3 lo{HUGE_VAL}, hi{-HUGE_VAL};
-        double reach = 0.0, spacing = 0.0;
-    };
-    const Extremes all = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, plan.segments.size()), Extremes{},
-        [&](const tbb::blocked_range<std::size_t>& range, Extremes acc) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                const SegmentRecord& rec = plan.segments[i];
-                acc.lo = glm::min(acc.lo, rec.centerMin);
-                acc.hi = glm::max(acc.hi, rec.centerMax);
-                acc.reach = std::max(acc.reach, rec.reach);
-                acc.spacing = std::max(acc.spacing, spacingOf[i]);
-            }
-            return acc;
-        },
-        [](const Extremes& a, const Extremes& b) {
-            return Extremes{glm::min(a.lo, b.lo), glm::max(a.hi, b.hi), std::max(a.reach, b.reach), std::max(a.spacing, b.spacing)};
-        });
+    const Extremes all = planExtremes(plan.segments, spacingOf);
     plan.centerMin = all.lo;
     plan.centerMax = all.hi;
     plan.maxReach = all.reach;
