@@ -73,12 +73,15 @@ std::pair<int, int> parseSize(const std::string& text) {
     return {w, h};
 }
 
+/// The modes' names, as --render takes them.
 std::vector<std::string> renderKindNames() {
     std::vector<std::string> names;
     for (const RenderKind kind : renderKinds()) names.push_back(renderKindName(kind));
     return names;
 }
 
+/// The options as requests, each checked as the old command checked them, in the same order (so that
+/// the first of several mistakes is the one named).
 StoreReportRequest storeRequest(const InspectArgs& a) {
     StoreReportRequest r;
     r.dir = a.path;
@@ -195,6 +198,7 @@ void runInspect(const InspectArgs& a) {
     if (!report.failure.empty()) throw Error(report.failure);
 }
 
+/// The input and the options of the text and JSON reports.
 void addReportOptions(CLI::App* cmd, InspectArgs& a) {
     cmd->add_option("path", a.path, "A work directory (--work-dir, --keep-work-dir) or an OpenVDB file with a float 'density' grid (or, "
                     "for --render volumetric-triangles, a .bcc garment)")
@@ -212,6 +216,7 @@ void addReportOptions(CLI::App* cmd, InspectArgs& a) {
         ->capture_default_str();
 }
 
+/// --render and the options every picture takes.
 void addPictureOptions(CLI::App* cmd, InspectArgs& a) {
     cmd->add_option("--render", a.render,
                     "Draw a picture to -o instead of printing numbers: raycast (transfer function), mip (maximum "
@@ -254,6 +259,7 @@ void addPictureOptions(CLI::App* cmd, InspectArgs& a) {
         ->capture_default_str();
 }
 
+/// The options of single modes, the mesh and the garment previews.
 void addModeOptions(CLI::App* cmd, InspectArgs& a) {
     cmd->add_option("--slices", a.slices,
                     "--render texture-slicing|half-angle: slices through the box (0: one per voxel of the drawn "
@@ -290,6 +296,7 @@ void addModeOptions(CLI::App* cmd, InspectArgs& a) {
     cmd->add_option("--cut", a.cut, "--render cut: the plane, x|y|z:INDEX (voxel index)");
 }
 
+/// The GPU's budget and device, timing, and the HTML report.
 void addDeviceAndReportOptions(CLI::App* cmd, InspectArgs& a) {
     cmd->add_option("--gpu-budget", a.budget,
                     "--render: GPU memory for the brick atlas (K, M, G); a volume that needs more is drawn at a "

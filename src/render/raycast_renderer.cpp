@@ -89,10 +89,13 @@ void RaycastRenderer::setMarchUniforms(const Camera& camera) const {
     glUniform3fv(p.uniform("lightDirection"), 1, glm::value_ptr(light));
 }
 
-void RaycastRenderer::draw(const Frame& frame) {
-    const Camera& camera = frame.camera;
+void RaycastRenderer::prepare(const Camera& camera) {
     if (!entry_ || entry_->width() != camera.width || entry_->height() != camera.height)
         entry_.emplace(camera.width, camera.height, std::vector<GLenum>{GL_RG32F});
+}
+
+void RaycastRenderer::draw(const Frame& frame) {
+    const Camera& camera = frame.camera;
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     if (settings_.skipEmpty) {

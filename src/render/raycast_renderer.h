@@ -35,6 +35,8 @@ class RaycastRenderer : public Renderer {
 
     /// Colour over black, and the samples taken per pixel.
     std::vector<GLenum> targetFormats() const override { return {GL_RGBA8, GL_R32F}; }
+    /// The entry and exit target, the camera's size.
+    void prepare(const Camera& camera) override;
     void draw(const Frame& frame) override;
     /// Reads the samples too (samples(), meanSamples()).
     RgbImage picture(const Frame& frame) override;

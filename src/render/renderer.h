@@ -31,7 +31,9 @@ struct RenderReport {
     std::uint64_t budgetBytes = 0; ///< the budget the level was chosen for
     double meanSamples = 0.0, loadSeconds = 0.0;
     double frameSeconds = 0.0, bestFrameSeconds = 0.0; ///< median and fastest of the repeated frames
-    double sortSeconds = 0.0, bestSortSeconds = 0.0;   ///< Slices: the back-to-front sort (frame: the draw)
+    /// The host work before each frame's draw (Renderer::prepare): for
+    /// slices, the back-to-front sort (their frame time is the draw alone).
+    double sortSeconds = 0.0, bestSortSeconds = 0.0;
 };
 
 /// One frame as a renderer draws it: from `camera`, into `target`.
@@ -47,7 +49,8 @@ class Renderer {
     /// The formats of the frame's colour textures; the first holds the picture.
     virtual std::vector<GLenum> targetFormats() const = 0;
     /// What a frame needs before its draw that its time leaves out (the
-    /// slices' back-to-front sort, reported apart; per-camera geometry).
+    /// slices' back-to-front sort, reported apart; per-camera geometry and
+    /// scratch targets). drawFrames calls it before every draw().
     virtual void prepare(const Camera&) {}
     /// Draws one frame into `frame.target`. It may bind other targets of its
     /// own but leaves the frame's bound when it returns.
