@@ -1,5 +1,6 @@
 // Volumes the inspect tests draw: a straight disk yarn whose silhouette is
-// known, and a generated knit cylinder (shells of yarn around empty space).
+// known, and a generated knit cylinder (shells of yarn around empty space);
+// and one frame of the ray caster, as the renders draw it.
 #pragma once
 
 #include "core/bricks.h"
@@ -8,6 +9,7 @@
 #include "garment/generate.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
+#include "render/raycast_renderer.h"
 #include "test_helpers.h"
 
 namespace yv::test {
@@ -48,6 +50,22 @@ inline BrickVolume knitCylinderVolume(int resolution) {
     opt.radius = garment.yarnRadius;
     const SlicePlan plan = planSlices(garment, opt);
     return voxelizeCpu(plan, makeFiberCrossSection(), makeGrid(plan, resolution, 0.0), VoxelizeSettings{});
+}
+
+/// What one frame of the ray caster drew.
+struct RayCast {
+    RgbImage image;
+    std::vector<float> samples; ///< per pixel, rows top first
+    double meanSamples = 0.0;
+    std::uint64_t proxyTriangles = 0;
+};
+
+/// One frame of `atlas` in `mode` from `camera` (the context must be current).
+inline RayCast rayCast(const BrickAtlas& atlas, RenderMode mode, const Camera& camera, const RaycastSettings& settings = {}) {
+    RaycastRenderer renderer(atlas, mode, settings);
+    RenderReport report;
+    drawFrames(renderer, camera, 1, report);
+    return RayCast{report.image, renderer.samples(), renderer.meanSamples(), renderer.proxyTriangles()};
 }
 
 } // namespace yv::test

@@ -6,9 +6,9 @@
 #include "garment/generate.h"
 #include "garment/slices.h"
 #include "gpu/egl_context.h"
-#include "inspect/inspect_render.h"
+#include "render/render_volume.h"
 #include "inspect/slice_stack.h"
-#include "inspect/slicing_renderer.h"
+#include "render/slicing_renderer.h"
 #include "run_cli.h"
 #include "inspect_test_volumes.h"
 #include "test_helpers.h"
@@ -53,7 +53,8 @@ RenderReport render(const VolumeSource& source, RenderKind kind, const ViewAngle
     r.view = view;
     r.width = w, r.height = h;
     r.gpuBudgetBytes = budget;
-    return renderVolume(source, r);
+    RenderContext context; // as the command makes one for its pictures
+    return renderVolume(context, source, r);
 }
 
 /// Pixels brighter than a faint trace (the splat kernel's far tail, a slice's rounding).
@@ -230,6 +231,7 @@ TEST_CASE("inspect modes: splatting agrees with the ray caster on a coarse level
 
 TEST_CASE("inspect modes: half-angle is brighter lit from the eye's side than from behind", "[inspect][gl]") {
     YV_REQUIRE_GL();
+    RenderContext context;
     const BrickVolume volume = garmentVolume(96);
     const auto source = memorySource(volume);
     RenderRequest r;
@@ -237,9 +239,9 @@ TEST_CASE("inspect modes: half-angle is brighter lit from the eye's side than fr
     r.view = ViewAngles{30.0, 20.0, 3.0};
     r.width = 96, r.height = 72;
     r.light = LightAngles{30.0, 20.0}; // over the eye's shoulder: lit faces seen
-    const RenderReport front = renderVolume(*source, r);
+    const RenderReport front = renderVolume(context, *source, r);
     r.light = LightAngles{210.0, -20.0}; // behind the garment: the eye sees the shadowed side
-    const RenderReport back = renderVolume(*source, r);
+    const RenderReport back = renderVolume(context, *source, r);
     const RenderReport ray = render(*source, RenderKind::Raycast, r.view, r.width, r.height);
     std::printf("half-angle: brightness %.2f lit from the front, %.2f from behind\n", meanBrightness(front.image),
                 meanBrightness(back.image));

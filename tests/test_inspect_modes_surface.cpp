@@ -6,14 +6,14 @@
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "gpu/egl_context.h"
-#include "inspect/brick_atlas.h"
+#include "render/brick_atlas.h"
 #include "inspect/brick_level.h"
-#include "inspect/inspect_render.h"
+#include "render/render_volume.h"
 #include "inspect/isosurface_mesh.h"
 #include "inspect/png_image.h"
-#include "inspect/raycast_renderer.h"
+#include "render/raycast_renderer.h"
 #include "inspect/transfer_function.h"
-#include "inspect/volumetric_triangles.h"
+#include "render/volumetric_triangles.h"
 #include "run_cli.h"
 #include "inspect_test_volumes.h"
 #include "test_helpers.h"
@@ -118,11 +118,10 @@ TEST_CASE("isosurface: a straight yarn seen side-on covers its silhouette and is
     BrickAtlas atlas(plan, false, context.info().max3dTextureSize);
     streamLevelBricks(*source, box, plan, false, [&](const LevelBrick& b) { atlas.upload(b); });
     atlas.finish();
-    RaycastRenderer renderer(atlas, RenderMode::Isosurface);
     RaycastSettings settings;
     settings.isoValue = 0.5;
     const Camera camera = frameBox(box, ViewAngles{90.0, 0.0, 2.5}, 96, 64); // from +y, z up: the yarn runs across
-    const RaycastResult r = renderer.render(camera, settings);
+    const test::RayCast r = test::rayCast(atlas, RenderMode::Isosurface, camera, settings);
 
     int inside = 0, outside = 0, wrongInside = 0, wrongOutside = 0;
     double upper = 0.0, lower = 0.0;
@@ -161,6 +160,7 @@ TEST_CASE("isosurface: a straight yarn seen side-on covers its silhouette and is
 
 TEST_CASE("isosurface: a higher iso value draws a thinner yarn", "[inspect][gl]") {
     YV_REQUIRE_GL();
+    RenderContext context;
     const StraightYarn yarn = straightYarnVolume();
     const auto source = memorySource(yarn.volume);
     RenderRequest request;
@@ -170,7 +170,7 @@ TEST_CASE("isosurface: a higher iso value draws a thinner yarn", "[inspect][gl]"
     request.height = 64;
     const auto coveredPixels = [&](double iso) {
         request.isoValue = iso;
-        const RenderReport rep = renderVolume(*source, request);
+        const RenderReport rep = renderVolume(context, *source, request);
         int n = 0;
         for (int y = 0; y < rep.image.height; ++y)
             for (int x = 0; x < rep.image.width; ++x) n += brightness(rep.image, x, y) > 0.0;
@@ -262,6 +262,7 @@ TEST_CASE("isosurface mesh: the command line writes .ply and .obj and refuses ba
 
 TEST_CASE("volumetric triangles: a straight yarn covers its band and agrees with the ray caster", "[inspect][gl]") {
     YV_REQUIRE_GL();
+    RenderContext context;
     const StraightYarn yarn = straightYarnVolume();
     const auto source = memorySource(yarn.volume);
     RenderRequest request;
@@ -269,9 +270,9 @@ TEST_CASE("volumetric triangles: a straight yarn covers its band and agrees with
     request.width = 96;
     request.height = 64;
     request.kind = RenderKind::Raycast;
-    const RenderReport raycast = renderVolume(*source, request);
+    const RenderReport raycast = renderVolume(context, *source, request);
     request.kind = RenderKind::VolumetricTriangles;
-    const RenderReport soft = renderVolumetricTriangles(yarn.plan, yarn.grid, source->bounds(), request);
+    const RenderReport soft = renderVolumetricTriangles(context, yarn.plan, yarn.grid, source->bounds(), request);
     const Camera camera = frameBox(source->bounds(), request.view, request.width, request.height);
 
     const double length = glm::length(yarn.end - yarn.start);

@@ -6,11 +6,11 @@
 #include "garment/generate.h"
 #include "garment/slices.h"
 #include "gpu/egl_context.h"
-#include "inspect/brick_atlas.h"
+#include "render/brick_atlas.h"
 #include "inspect/brick_level.h"
-#include "inspect/inspect_render.h"
+#include "render/render_volume.h"
 #include "inspect/proxy_geometry.h"
-#include "inspect/raycast_renderer.h"
+#include "render/raycast_renderer.h"
 #include "inspect/transfer_function.h"
 #include "run_cli.h"
 #include "store/brick_store.h"
@@ -80,11 +80,10 @@ TEST_CASE("inspect render: the ray cast of a straight yarn seen side-on covers t
     const VoxelBox box = source->bounds();
     GlVolume gl(*source, box, false);
     REQUIRE(gl.plan.level == 0);
-    RaycastRenderer renderer(*gl.atlas, RenderMode::Raycast);
     RaycastSettings settings;
     settings.transferFunction = loadTransferFunction("fibre");
     const Camera camera = frameBox(box, ViewAngles{90.0, 0.0, 2.5}, 96, 64); // from +y: the yarn runs across
-    const RaycastResult r = renderer.render(camera, settings);
+    const test::RayCast r = test::rayCast(*gl.atlas, RenderMode::Raycast, camera, settings);
 
     // Distance between the pixel's ray and the yarn's axis, where their
     // closest points lie inside the yarn's length (away from the caps).
@@ -124,14 +123,13 @@ TEST_CASE("inspect render: empty-space skipping takes fewer samples and draws th
     // The second view puts the eye inside the volume's box: rays start at the near plane.
     for (const double distance : {3.0, 0.3})
     for (RenderMode mode : {RenderMode::Raycast, RenderMode::Mip, RenderMode::Orientation}) {
-        RaycastRenderer renderer(*gl.atlas, mode);
         RaycastSettings settings;
         settings.transferFunction = loadTransferFunction("fibre");
         const Camera camera = frameBox(box, ViewAngles{30.0, 20.0, distance}, 96, 72);
         settings.skipEmpty = false;
-        const RaycastResult full = renderer.render(camera, settings);
+        const test::RayCast full = test::rayCast(*gl.atlas, mode, camera, settings);
         settings.skipEmpty = true;
-        const RaycastResult skipped = renderer.render(camera, settings);
+        const test::RayCast skipped = test::rayCast(*gl.atlas, mode, camera, settings);
 
         int worst = 0, coveredPixels = 0, fewer = 0, more = 0, muchMore = 0;
         for (int y = 0; y < camera.height; ++y)
@@ -197,8 +195,7 @@ TEST_CASE("inspect render: MIP seen from above is each voxel column's largest de
         CHECK(box.min == glm::ivec3(0));
         CHECK(box.max == glm::ivec3(32, 32, 24));
         GlVolume gl(*source, box, false);
-        RaycastRenderer renderer(*gl.atlas, RenderMode::Mip);
-        const RaycastResult r = renderer.render(camera, RaycastSettings{});
+        const test::RayCast r = test::rayCast(*gl.atlas, RenderMode::Mip, camera);
         int wrong = 0;
         for (int y = 0; y < 32; ++y)
             for (int x = 0; x < 32; ++x) {
@@ -312,6 +309,7 @@ TEST_CASE("inspect render: colour map files", "[inspect]") {
 
 TEST_CASE("inspect render: --region frames one zoom region and draws only its bricks", "[inspect][gl]") {
     YV_REQUIRE_GL();
+    RenderContext context;
     const BrickVolume volume = garmentVolume(64);
     const auto whole = memorySource(volume);
     const VoxelBox all = whole->bounds();
@@ -324,7 +322,7 @@ TEST_CASE("inspect render: --region frames one zoom region and draws only its br
         request.region = id;
         request.width = 80, request.height = 60;
         request.view = ViewAngles{-60.0, 25.0, 4.0};
-        const RenderReport rep = renderVolume(*source, request);
+        const RenderReport rep = renderVolume(context, *source, request);
         // The region's box, projected: every drawn pixel lies inside it.
         const Camera camera = frameBox(regions[id], request.view, request.width, request.height);
         glm::dvec2 lo(1e9), hi(-1e9);
@@ -351,21 +349,22 @@ TEST_CASE("inspect render: --region frames one zoom region and draws only its br
     }
     RenderRequest bad;
     bad.region = 7;
-    CHECK_THROWS_AS(renderVolume(*source, bad), Error);
+    CHECK_THROWS_AS(renderVolume(context, *source, bad), Error);
 }
 
 TEST_CASE("inspect render: a budget too small for full resolution renders a coarser level, the same silhouette", "[inspect][gl]") {
     YV_REQUIRE_GL();
+    RenderContext context;
     const BrickVolume volume = garmentVolume(96);
     const auto source = memorySource(volume);
     RenderRequest request;
     request.width = 64, request.height = 48;
     request.view = ViewAngles{20.0, 10.0, 3.0};
     request.kind = RenderKind::Mip;
-    const RenderReport full = renderVolume(*source, request);
+    const RenderReport full = renderVolume(context, *source, request);
     REQUIRE(full.level == 0);
     request.gpuBudgetBytes = full.gpuBytes / 3;
-    const RenderReport coarse = renderVolume(*source, request);
+    const RenderReport coarse = renderVolume(context, *source, request);
     CHECK(coarse.level >= 1);
     CHECK(coarse.gpuBytes <= request.gpuBudgetBytes);
     CHECK(coarse.levelBricks < full.levelBricks);
@@ -475,8 +474,7 @@ TEST_CASE("inspect render: an 8192-voxel domain renders within the default budge
     // inside bricks, never on their faces: the ray through pixel column k
     // (x = 32k + 20) meets brick 4k + 2, which lies under the same row from
     // the bottom only: a MIP of 1 on the diagonal, 0 elsewhere.
-    RaycastRenderer renderer(*gl.atlas, RenderMode::Mip);
-    const RaycastResult r = renderer.render(topDownOrthographic(4, 8196, 4, 8196, 0, 8192, 256, 256), RaycastSettings{});
+    const test::RayCast r = test::rayCast(*gl.atlas, RenderMode::Mip, topDownOrthographic(4, 8196, 4, 8196, 0, 8192, 256, 256));
     int wrong = 0;
     for (int y = 0; y < 256; ++y)
         for (int x = 0; x < 256; ++x) wrong += r.image.at(x, y)[0] != (x == 255 - y ? 255 : 0);

@@ -6,12 +6,12 @@
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "gpu/egl_context.h"
-#include "inspect/brick_atlas.h"
+#include "render/brick_atlas.h"
 #include "inspect/brick_level.h"
-#include "inspect/inspect_render.h"
-#include "inspect/raycast_renderer.h"
+#include "render/render_volume.h"
+#include "render/raycast_renderer.h"
 #include "inspect/region_outlines.h"
-#include "inspect/slice_renderer.h"
+#include "render/slice_renderer.h"
 #include "inspect/transfer_function.h"
 #include "inspect_test_volumes.h"
 #include "run_cli.h"
@@ -87,6 +87,7 @@ TEST_CASE("inspect slices: the parallel sort orders slices back to front", "[ins
 
 TEST_CASE("inspect slices: a straight yarn seen side-on covers the pixels its radius says and what the ray cast covers", "[inspect][gl]") {
     YV_REQUIRE_GL();
+    RenderContext context;
     const double radius = 0.3, h = radius / 8.0;
     const glm::dvec3 start(0.1, 0.2, 0.3);
     const int length = 5;
@@ -108,7 +109,7 @@ TEST_CASE("inspect slices: a straight yarn seen side-on covers the pixels its ra
     const SliceInstances slices = sliceInstances(plan, grid);
     REQUIRE(slices.count() == plan.sliceCount);
     request.slices = &slices;
-    const RenderReport rep = renderVolume(*source, request);
+    const RenderReport rep = renderVolume(context, *source, request);
     CHECK(rep.slices == plan.sliceCount);
     CHECK(rep.sortSeconds >= 0.0);
     const Camera camera = frameBox(box, request.view, request.width, request.height);
@@ -141,7 +142,7 @@ TEST_CASE("inspect slices: a straight yarn seen side-on covers the pixels its ra
 
     // The same camera's ray cast covers the same pixels, give or take the edge.
     request.kind = RenderKind::Raycast;
-    const RenderReport ray = renderVolume(*source, request);
+    const RenderReport ray = renderVolume(context, *source, request);
     int both = 0, either = 0;
     for (int y = 0; y < camera.height; ++y)
         for (int x = 0; x < camera.width; ++x) {
@@ -155,7 +156,7 @@ TEST_CASE("inspect slices: a straight yarn seen side-on covers the pixels its ra
     // Seen along the yarn the slabs are disks: the picture is a disk too, not empty.
     request.kind = RenderKind::Slices;
     request.view = ViewAngles{0.0, 0.0, 2.5};
-    const RenderReport endOn = renderVolume(*source, request);
+    const RenderReport endOn = renderVolume(context, *source, request);
     int endOnCovered = 0;
     for (int y = 0; y < request.height; ++y)
         for (int x = 0; x < request.width; ++x) endOnCovered += covered(endOn.image, x, y);
@@ -164,6 +165,7 @@ TEST_CASE("inspect slices: a straight yarn seen side-on covers the pixels its ra
 
 TEST_CASE("inspect regions: outlines appear at the projected box edges in the colour of each region's heat", "[inspect][gl]") {
     YV_REQUIRE_GL();
+    RenderContext context;
     const BrickVolume volume = test::knitCylinderVolume(64);
     const VoxelBox all = memorySource(volume)->bounds();
     // Three boxes apart from each other (no shared edges), hot, cool and between.
@@ -179,9 +181,9 @@ TEST_CASE("inspect regions: outlines appear at the projected box edges in the co
     request.kind = RenderKind::Mip;
     request.width = 160, request.height = 120;
     request.view = ViewAngles{35.0, 25.0, 3.5};
-    const RenderReport plain = renderVolume(*memorySource(volume), request);
+    const RenderReport plain = renderVolume(context, *memorySource(volume), request);
     request.outlines = regions;
-    const RenderReport outlined = renderVolume(*memorySource(volume), request);
+    const RenderReport outlined = renderVolume(context, *memorySource(volume), request);
     const Camera camera = frameBox(all, request.view, request.width, request.height);
 
     const auto colourAt = [&](int x, int y) {

@@ -55,4 +55,17 @@ ViewAngles parseView(const std::string& text) {
     return v;
 }
 
+LightAngles parseLight(const std::string& text) {
+    const std::optional<std::vector<double>> numbers = parseNumberList(text, 2);
+    if (!numbers) throw Error("--light '" + text + "': expected azimuth,elevation (degrees, degrees)");
+    LightAngles l{(*numbers)[0], (*numbers)[1]};
+    if (l.elevation < -90.0 || l.elevation > 90.0) throw Error("--light '" + text + "': elevation must lie in [-90, 90] degrees");
+    return l;
+}
+
+glm::dvec3 towardsLight(const LightAngles& light) {
+    const double az = glm::radians(light.azimuth), el = glm::radians(light.elevation);
+    return {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+}
+
 } // namespace yv

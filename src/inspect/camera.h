@@ -9,6 +9,8 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include <string>
+
 namespace yv {
 
 struct ViewAngles {
@@ -36,5 +38,17 @@ Camera topDownOrthographic(double x0, double x1, double y0, double y1, double bo
 
 /// Parses "azimuth,elevation,distance"; throws yv::Error saying what is wrong.
 ViewAngles parseView(const std::string& text);
+
+/// Where a directional light comes from (the half-angle render's): degrees
+/// about +z from +x, degrees above the xy plane.
+struct LightAngles {
+    double azimuth = 75.0, elevation = 45.0;
+};
+
+/// Parses "azimuth,elevation"; throws yv::Error saying what is wrong.
+LightAngles parseLight(const std::string& text);
+
+/// The unit vector from the volume towards the light.
+glm::dvec3 towardsLight(const LightAngles& light);
 
 } // namespace yv

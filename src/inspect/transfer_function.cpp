@@ -54,6 +54,8 @@ const std::vector<std::string>& transferFunctionPresets() {
     return names;
 }
 
+TransferFunction defaultTransferFunction() { return interpolate(presets().front().second); }
+
 TransferFunction parseColourMap(const std::string& text, const std::string& name) {
     std::vector<ControlPoint> points;
     std::istringstream in(text);

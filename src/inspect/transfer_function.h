@@ -17,6 +17,9 @@ using TransferFunction = std::array<glm::vec4, 256>;
 /// Names of the presets, the default first.
 const std::vector<std::string>& transferFunctionPresets();
 
+/// The default preset (the first, "fibre").
+TransferFunction defaultTransferFunction();
+
 /// A preset by name, or, when `nameOrPath` is no preset, the colour map file
 /// at that path. Throws yv::Error naming the file and line on a bad file.
 TransferFunction loadTransferFunction(const std::string& nameOrPath);

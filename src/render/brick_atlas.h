@@ -4,9 +4,8 @@
 // arrive one at a time (streamLevelBricks) and go straight to the GPU.
 #pragma once
 
+#include "gpu/gl_objects.h"
 #include "inspect/brick_level.h"
-
-#include <epoxy/gl.h>
 
 #include <cstdint>
 #include <vector>
@@ -21,9 +20,6 @@ class BrickAtlas {
     /// Allocates room for `plan.bricks.size()` bricks; needs a current GL
     /// context. Throws yv::Error when the driver refuses the textures.
     BrickAtlas(const LevelPlan& plan, bool withOrientation, int max3dTextureSize);
-    ~BrickAtlas();
-    BrickAtlas(const BrickAtlas&) = delete;
-    BrickAtlas& operator=(const BrickAtlas&) = delete;
 
     /// Puts one brick in the next free slot (throws when the atlas is full).
     void upload(const LevelBrick& brick);
@@ -33,9 +29,9 @@ class BrickAtlas {
     const LevelPlan& plan() const { return plan_; }
     glm::ivec3 slotsPerAxis() const { return slots_; }
     std::uint64_t bricksUploaded() const { return used_; }
-    GLuint densityTexture() const { return density_; }
-    GLuint orientationTexture() const { return orientation_; }
-    GLuint indirectionTexture() const { return indirection_; }
+    GLuint densityTexture() const { return density_.id(); }
+    GLuint orientationTexture() const { return orientation_.id(); } ///< 0 without orientation
+    GLuint indirectionTexture() const { return indirection_.id(); }
 
   private:
     LevelPlan plan_;
@@ -43,7 +39,7 @@ class BrickAtlas {
     glm::ivec3 slots_{1};
     std::uint64_t used_ = 0;
     std::vector<std::uint32_t> slotOf_; ///< the indirection grid on the host, uploaded by finish()
-    GLuint density_ = 0, orientation_ = 0, indirection_ = 0;
+    GlTexture density_, orientation_, indirection_;
 };
 
 } // namespace yv

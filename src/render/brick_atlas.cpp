@@ -1,4 +1,4 @@
-#include "inspect/brick_atlas.h"
+#include "render/brick_atlas.h"
 
 #include "core/error.h"
 #include "gpu/gl_program.h"
@@ -26,25 +26,20 @@ BrickAtlas::BrickAtlas(const LevelPlan& plan, bool withOrientation, int max3dTex
     slotOf_.assign(std::size_t(plan.brickDims.x) * std::size_t(plan.brickDims.y) * std::size_t(plan.brickDims.z), 0u);
 
     const glm::ivec3 texels = slots_ * kBrickSize;
-    glCreateTextures(GL_TEXTURE_3D, 1, &density_);
-    glTextureStorage3D(density_, 1, GL_R16F, texels.x, texels.y, texels.z);
+    density_ = createTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(density_.id(), 1, GL_R16F, texels.x, texels.y, texels.z);
     if (withOrientation) {
-        glCreateTextures(GL_TEXTURE_3D, 1, &orientation_);
-        glTextureStorage3D(orientation_, 1, GL_RGBA8, texels.x, texels.y, texels.z);
+        orientation_ = createTexture(GL_TEXTURE_3D);
+        glTextureStorage3D(orientation_.id(), 1, GL_RGBA8, texels.x, texels.y, texels.z);
     }
-    glCreateTextures(GL_TEXTURE_3D, 1, &indirection_);
-    glTextureStorage3D(indirection_, 1, GL_R32UI, plan.brickDims.x, plan.brickDims.y, plan.brickDims.z);
-    for (GLuint t : {density_, orientation_, indirection_}) {
+    indirection_ = createTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(indirection_.id(), 1, GL_R32UI, plan.brickDims.x, plan.brickDims.y, plan.brickDims.z);
+    for (GLuint t : {density_.id(), orientation_.id(), indirection_.id()}) {
         if (!t) continue;
         glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
     checkGlError("allocating the brick atlas (lower --gpu-budget?)");
-}
-
-BrickAtlas::~BrickAtlas() {
-    for (GLuint t : {density_, orientation_, indirection_})
-        if (t) glDeleteTextures(1, &t);
 }
 
 void BrickAtlas::upload(const LevelBrick& brick) {
@@ -59,7 +54,7 @@ void BrickAtlas::upload(const LevelBrick& brick) {
     slot = std::uint32_t(s + 1);
     const glm::ivec3 at = glm::ivec3(int(s % std::uint64_t(slots_.x)), int((s / std::uint64_t(slots_.x)) % std::uint64_t(slots_.y)),
                                      int(s / (std::uint64_t(slots_.x) * std::uint64_t(slots_.y)))) * kBrickSize;
-    glTextureSubImage3D(density_, 0, at.x, at.y, at.z, 8, 8, 8, GL_RED, GL_FLOAT, brick.density.data());
+    glTextureSubImage3D(density_.id(), 0, at.x, at.y, at.z, 8, 8, 8, GL_RED, GL_FLOAT, brick.density.data());
     if (withOrientation_) {
         std::array<std::uint8_t, 4 * 512> rgba;
         for (std::size_t v = 0; v < 512; ++v) {
@@ -69,14 +64,14 @@ void BrickAtlas::upload(const LevelBrick& brick) {
             rgba[4 * v + 2] = std::uint8_t(std::lround(255.0f * a.z));
             rgba[4 * v + 3] = 255;
         }
-        glTextureSubImage3D(orientation_, 0, at.x, at.y, at.z, 8, 8, 8, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+        glTextureSubImage3D(orientation_.id(), 0, at.x, at.y, at.z, 8, 8, 8, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     }
 }
 
 void BrickAtlas::finish() {
     const glm::ivec3 d = plan_.brickDims;
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage3D(indirection_, 0, 0, 0, 0, d.x, d.y, d.z, GL_RED_INTEGER, GL_UNSIGNED_INT, slotOf_.data());
+    glTextureSubImage3D(indirection_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED_INTEGER, GL_UNSIGNED_INT, slotOf_.data());
     checkGlError("uploading the brick atlas");
 }
 

@@ -1,0 +1,59 @@
+// What one picture of `yarnvox inspect --render` asks for: the render mode,
+// the view, the picture's size and what each mode takes (transfer function,
+// cut plane, iso value, slices, light, region outlines), typed as the
+// command line parsed them.
+#pragma once
+
+#include "inspect/camera.h"
+#include "inspect/region_outlines.h"
+#include "inspect/slice_instances.h"
+#include "inspect/transfer_function.h"
+#include "inspect/volume_cut.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// The render modes (README, "Using it").
+enum class RenderKind {
+    Raycast, Mip, Cut, Orientation, Slices, TextureSlicing, HalfAngle, Splatting, Isosurface, VolumetricTriangles
+};
+
+/// The mode's name as --render takes it ("raycast", "texture-slicing", ...).
+const char* renderKindName(RenderKind kind);
+
+/// Every mode, in the order --help lists them.
+const std::vector<RenderKind>& renderKinds();
+
+/// Parses a mode's name; throws yv::Error listing the names otherwise.
+RenderKind parseRenderKind(const std::string& text);
+
+/// The modes that march rays (raycast, mip, orientation, isosurface): the
+/// ones that skip empty space and count samples.
+bool marchesRays(RenderKind kind);
+
+/// The modes that draw planes through the volume (texture-slicing, half-angle).
+bool drawsPlanes(RenderKind kind);
+
+struct RenderRequest {
+    RenderKind kind = RenderKind::Raycast;
+    ViewAngles view;
+    int width = 800, height = 600;
+    std::optional<std::uint64_t> region; ///< frame (and draw) only this zoom region
+    TransferFunction transferFunction = defaultTransferFunction();
+    bool skipEmpty = true;
+    bool showSamples = false; ///< the picture shows samples per pixel instead
+    CutPlane cut;
+    double isoValue = 0.5; ///< isosurface: the density the surface lies at
+    std::uint64_t gpuBudgetBytes = 512ull << 20; ///< capped at half the free GPU memory where the driver tells
+    int repeat = 1; ///< frames drawn (the same picture), for timing
+    const SliceInstances* slices = nullptr; ///< Slices: the run's slices (in the source's voxel coordinates)
+    std::vector<RegionHeat> outlines;       ///< region boxes drawn over the picture (not over a cut)
+    int slicePlanes = 0; ///< texture-slicing, half-angle: 0 is one per level voxel along the slicing direction
+    LightAngles light;   ///< half-angle
+};
+
+} // namespace yv

@@ -1,0 +1,45 @@
+// Off-screen GL targets the renders draw into (the picture's frame, a ray
+// caster's entry distances, the half-angle light buffer), and reading one
+// back (the context must be current).
+#pragma once
+
+#include "gpu/gl_objects.h"
+#include "inspect/png_image.h"
+
+#include <epoxy/gl.h>
+
+#include <vector>
+
+namespace yv {
+
+/// A framebuffer with one colour texture per given format (linear
+/// filtering, clamped at the edges), all deleted with it.
+class RenderTarget {
+  public:
+    /// Throws yv::Error when the driver does not complete the framebuffer.
+    RenderTarget(int width, int height, const std::vector<GLenum>& formats);
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    GLuint framebuffer() const { return framebuffer_.id(); }
+    GLuint texture(std::size_t attachment) const { return textures_[attachment].id(); }
+
+    /// Binds it for drawing, the viewport its size.
+    void bind() const;
+    /// Sets every colour texture to `rgba`.
+    void clear(const float rgba[4]) const;
+
+  private:
+    int width_, height_;
+    GlFramebuffer framebuffer_;
+    std::vector<GlTexture> textures_;
+};
+
+/// The RGB of an RGBA texture, as unsigned bytes, rows top first (GL's run
+/// bottom to top).
+RgbImage readRgbImage(GLuint texture, int width, int height);
+
+/// The red channel of a float texture, rows top first.
+std::vector<float> readRedFloats(GLuint texture, int width, int height);
+
+} // namespace yv

@@ -1,0 +1,152 @@
+#include "render/render_volume.h"
+
+#include "core/error.h"
+#include "render/raycast_renderer.h"
+#include "render/slice_renderer.h"
+#include "render/slicing_renderer.h"
+#include "render/splat_renderer.h"
+#include "render/volumetric_triangles.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace yv {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+RenderMode raycastMode(RenderKind kind) {
+    switch (kind) {
+    case RenderKind::Mip: return RenderMode::Mip;
+    case RenderKind::Orientation: return RenderMode::Orientation;
+    case RenderKind::Isosurface: return RenderMode::Isosurface;
+    default: return RenderMode::Raycast;
+    }
+}
+
+const BrickAtlas& atlasOf(const RenderInput& input) {
+    if (!input.atlas) throw Error("this render draws a volume's voxels: it needs a brick atlas");
+    return *input.atlas;
+}
+
+/// The level the budget allows (capped at half the free GPU memory where the
+/// driver tells), its bricks streamed into an atlas; the report gets the
+/// level, its bricks and bytes.
+std::unique_ptr<BrickAtlas> loadAtlas(const GlContext& gl, const VolumeSource& source, const VoxelBox& box,
+                                      const RenderRequest& request, RenderReport& report) {
+    const bool orientation = request.kind == RenderKind::Orientation;
+    report.budgetBytes = request.gpuBudgetBytes;
+    if (const long long free = gl.queryFreeMemoryBytes(); free > 0)
+        report.budgetBytes = std::min(report.budgetBytes, std::uint64_t(free) / 2);
+    const LevelPlan plan =
+        planLevel(source, box, report.budgetBytes, atlasBytesPerVoxel(orientation), gl.info().max3dTextureSize);
+    if (plan.bricks.empty()) throw Error("nothing to render: no active voxel inside the framed box");
+    auto atlas = std::make_unique<BrickAtlas>(plan, orientation, gl.info().max3dTextureSize);
+    streamLevelBricks(source, box, plan, orientation, [&](const LevelBrick& b) { atlas->upload(b); });
+    atlas->finish();
+    report.level = plan.level;
+    report.fineBricks = plan.fineBricks;
+    report.levelBricks = plan.bricks.size();
+    report.gpuBytes = plan.gpuBytes;
+    return atlas;
+}
+
+/// The garment's slices, framed like the volume renders.
+RenderReport renderSlices(RenderContext& context, const VoxelBox& box, const RenderRequest& request) {
+    if (!request.slices) throw Error("--render slices needs the run's garment (--garment FILE.bcc)");
+    RenderReport report;
+    report.renderer = context.gl().info().renderer;
+    const auto start = std::chrono::steady_clock::now();
+    const std::unique_ptr<Renderer> renderer = makeRenderer(request, RenderInput{.slices = request.slices});
+    report.loadSeconds = secondsSince(start);
+    const Camera camera = frameBox(box, request.view, request.width, request.height);
+    drawFrames(*renderer, camera, request.repeat, report);
+    drawRegionOutlines(report.image, camera, request.outlines);
+    return report;
+}
+
+} // namespace
+
+std::unique_ptr<Renderer> makeRenderer(const RenderRequest& request, const RenderInput& input) {
+    switch (request.kind) {
+    case RenderKind::Raycast:
+    case RenderKind::Mip:
+    case RenderKind::Orientation:
+    case RenderKind::Isosurface: {
+        RaycastSettings settings;
+        settings.skipEmpty = request.skipEmpty;
+        settings.showSamples = request.showSamples;
+        settings.transferFunction = request.transferFunction;
+        settings.isoValue = request.isoValue;
+        return std::make_unique<RaycastRenderer>(atlasOf(input), raycastMode(request.kind), settings);
+    }
+    case RenderKind::TextureSlicing:
+    case RenderKind::HalfAngle: {
+        SlicingSettings settings;
+        settings.transferFunction = request.transferFunction;
+        settings.slices = request.slicePlanes;
+        settings.light = request.light;
+        const SlicingMode mode = request.kind == RenderKind::HalfAngle ? SlicingMode::HalfAngle : SlicingMode::TextureSlicing;
+        return std::make_unique<SlicingRenderer>(atlasOf(input), mode, settings);
+    }
+    case RenderKind::Splatting: {
+        SplatSettings settings;
+        settings.transferFunction = request.transferFunction;
+        return std::make_unique<SplatRenderer>(atlasOf(input), settings);
+    }
+    case RenderKind::Slices:
+        if (!input.slices) throw Error("--render slices needs the run's garment (--garment FILE.bcc)");
+        return std::make_unique<SliceRenderer>(*input.slices);
+    case RenderKind::VolumetricTriangles:
+        if (!input.plan || !input.grid)
+            throw Error("--render volumetric-triangles draws a garment's slices (renderVolumetricTriangles), not a volume's voxels");
+        return std::make_unique<VolumetricTriangleRenderer>(*input.plan, *input.grid, request.transferFunction,
+                                                            input.yarnDensity);
+    case RenderKind::Cut: break;
+    }
+    throw Error("--render cut is read on the host (renderCut), not drawn");
+}
+
+RenderReport renderVolume(RenderContext& context, const VolumeSource& source, const RenderRequest& request) {
+    if (source.occupiedBricks().empty()) throw Error("nothing to render: the volume has no active voxels");
+    const VoxelBox box = request.region ? source.regionBounds(*request.region) : source.bounds();
+    RenderReport report;
+    if (request.kind == RenderKind::Cut) {
+        report.image = renderCut(source, box, request.cut);
+        return report;
+    }
+    if (request.kind == RenderKind::Slices) return renderSlices(context, box, request);
+    if (request.kind == RenderKind::VolumetricTriangles)
+        throw Error("--render volumetric-triangles draws a garment's slices (renderVolumetricTriangles), not a volume's voxels");
+    if (request.kind == RenderKind::Orientation && !source.hasOrientation())
+        throw Error("--render orientation: the volume has no orientation grid");
+
+    const GlContext& gl = context.gl();
+    report.renderer = gl.info().renderer;
+    const auto start = std::chrono::steady_clock::now();
+    const std::unique_ptr<BrickAtlas> atlas = loadAtlas(gl, source, box, request, report);
+    report.loadSeconds = secondsSince(start);
+    const std::unique_ptr<Renderer> renderer = makeRenderer(request, RenderInput{.atlas = atlas.get()});
+    const Camera camera = frameBox(box, request.view, request.width, request.height);
+    drawFrames(*renderer, camera, request.repeat, report);
+    drawRegionOutlines(report.image, camera, request.outlines);
+    return report;
+}
+
+RenderReport renderVolumetricTriangles(RenderContext& context, const SlicePlan& plan, const VoxelGrid& grid,
+                                       const VoxelBox& box, const RenderRequest& request, double yarnDensity) {
+    if (plan.sliceCount == 0) throw Error("nothing to render: the garment has no slices");
+    if (box.empty()) throw Error("nothing to render: the slices reach no voxel of the grid");
+    RenderReport report;
+    report.renderer = context.gl().info().renderer;
+    RenderRequest drawn = request;
+    drawn.kind = RenderKind::VolumetricTriangles;
+    const std::unique_ptr<Renderer> renderer =
+        makeRenderer(drawn, RenderInput{.plan = &plan, .grid = &grid, .yarnDensity = yarnDensity});
+    drawFrames(*renderer, frameBox(box, request.view, request.width, request.height), request.repeat, report);
+    return report;
+}
+
+} // namespace yv

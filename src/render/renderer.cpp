@@ -1,0 +1,69 @@
+#include "render/renderer.h"
+
+#include "gpu/gl_program.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace yv {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The median and the fastest of `seconds`.
+std::pair<double, double> medianAndBest(std::vector<double> seconds) {
+    std::sort(seconds.begin(), seconds.end());
+    return {seconds[seconds.size() / 2], seconds.front()};
+}
+
+/// The state the renders change, back to GL's defaults, so that the next
+/// picture on the same context starts from where a fresh context would.
+void resetDrawState() {
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDisable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ZERO);
+    glDisable(GL_PROGRAM_POINT_SIZE);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+} // namespace
+
+RgbImage Renderer::picture(const Frame& frame) {
+    return readRgbImage(frame.target.texture(0), frame.target.width(), frame.target.height());
+}
+
+void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderReport& report) {
+    const RenderTarget target(camera.width, camera.height, renderer.targetFormats());
+    const Frame frame{camera, target};
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    std::vector<double> sorts, draws;
+    try {
+        for (int i = 0; i < std::max(1, repeat); ++i) {
+            auto start = std::chrono::steady_clock::now();
+            renderer.prepare(camera);
+            sorts.push_back(secondsSince(start));
+            target.bind();
+            target.clear(zero);
+            glFinish();
+            start = std::chrono::steady_clock::now();
+            renderer.draw(frame);
+            glFinish();
+            draws.push_back(secondsSince(start));
+            checkGlError("drawing a frame");
+        }
+        report.image = renderer.picture(frame);
+    } catch (...) {
+        resetDrawState();
+        throw;
+    }
+    resetDrawState();
+    std::tie(report.frameSeconds, report.bestFrameSeconds) = medianAndBest(draws);
+    std::tie(report.sortSeconds, report.bestSortSeconds) = medianAndBest(sorts);
+    renderer.describe(report);
+}
+
+} // namespace yv

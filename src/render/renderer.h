@@ -1,0 +1,71 @@
+// The one interface of inspect's GL renderers (ray casting, slicing,
+// splatting, the run's slices, volumetric triangles). A renderer is made for
+// what it draws and how (its mode's settings) on the context it is given;
+// drawFrames then owns everything a frame shares: the picture's render
+// target, binding and clearing it, the timing to glFinish, the readback and
+// leaving the context as it found it for the next picture.
+#pragma once
+
+#include "inspect/camera.h"
+#include "inspect/png_image.h"
+#include "render/render_target.h"
+
+#include <epoxy/gl.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// What a picture's renders report beside the picture, each renderer the
+/// fields it knows (the others stay 0).
+struct RenderReport {
+    RgbImage image;
+    std::string renderer;        ///< the GL renderer's name (empty for a cut)
+    int level = 0;               ///< 0: full resolution; L: means of 2^L voxels a side
+    std::uint64_t fineBricks = 0, levelBricks = 0, gpuBytes = 0, proxyTriangles = 0;
+    /// Slices drawn (slices: the garment's; texture-slicing and half-angle:
+    /// planes) and splats drawn (splatting).
+    std::uint64_t slices = 0, splats = 0;
+    std::uint64_t budgetBytes = 0; ///< the budget the level was chosen for
+    double meanSamples = 0.0, loadSeconds = 0.0;
+    double frameSeconds = 0.0, bestFrameSeconds = 0.0; ///< median and fastest of the repeated frames
+    /// The host work before each frame's draw (Renderer::prepare): for
+    /// slices, the back-to-front sort (their frame time is the draw alone).
+    double sortSeconds = 0.0, bestSortSeconds = 0.0;
+};
+
+/// One frame as a renderer draws it: from `camera`, into `target`.
+struct Frame {
+    const Camera& camera;
+    const RenderTarget& target; ///< bound, its viewport set and cleared to zero when draw() is called
+};
+
+class Renderer {
+  public:
+    virtual ~Renderer() = default;
+
+    /// The formats of the frame's colour textures; the first holds the picture.
+    virtual std::vector<GLenum> targetFormats() const = 0;
+    /// What a frame needs before its draw that its time leaves out (the
+    /// slices' back-to-front sort, reported apart; per-camera geometry and
+    /// scratch targets). drawFrames calls it before every draw().
+    virtual void prepare(const Camera&) {}
+    /// Draws one frame into `frame.target`. It may bind other targets of its
+    /// own but leaves the frame's bound when it returns.
+    virtual void draw(const Frame& frame) = 0;
+    /// The picture of the frame drawn last: by default the first texture's
+    /// RGB, over black.
+    virtual RgbImage picture(const Frame& frame);
+    /// Adds what the renderer counted (slices, splats, samples) to `report`.
+    virtual void describe(RenderReport&) const {}
+};
+
+/// Draws `repeat` frames (at least one, the same picture each time) from
+/// `camera`, and fills the report's picture, its frame and sort times
+/// (median and fastest) and what the renderer counted. Throws yv::Error on
+/// a GL error or a target the driver refuses.
+void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderReport& report);
+
+} // namespace yv
