@@ -474,6 +474,9 @@ def main():
     lines = run_all(args, skip)
     print(f"# {len(lines)} outputs digested in {time.monotonic() - t:.1f} s", file=sys.stderr)
     if not args.compare:
+        print("# yarnvox output digests (tests/output_digests.py, docs/same-bytes.md): NAME  BYTES  SHA-256 of the")
+        print("# normalised content, one line per file the runs write" +
+              (f"; skipped: {' '.join(sorted(skip))}" if skip else ""))
         print("\n".join(lines))
         return 0
 
