@@ -277,6 +277,13 @@ def partial(work):
     return apply
 
 
+def write_text(name, text):
+    def apply(case_dir):
+        with open(os.path.join(case_dir, name), "w") as f:
+            f.write(text)
+    return apply
+
+
 def copy_dir(src, dst):
     def apply(case_dir):
         shutil.copytree(os.path.join(case_dir, src), os.path.join(case_dir, dst))
@@ -341,6 +348,18 @@ for be in ("cpu", "gl"):
          [f"voxelize {G}plain-cylinder.bcc -o out.vol {B} --stats vol.json",
           f"voxelize {G}plain-cylinder.bcc -o out.nvdb {B} --stats nvdb.json"],
          ["out.vol", "out.orientation.vol", "vol.json", "out.nvdb", "nvdb.json"]),
+        # Options given another way: --voxel-size, --slice-spacing,
+        # --yarn-radius; several garments into a folder (and --stats into
+        # one); --list, --slices-per-segment, and the defaults written out;
+        # export --bbox-world with --format.
+        (f"{be}-options", needs,
+         [f"voxelize {G}knit-cylinder.bcc {G}plain-cylinder.bcc -o multi --backend {be} --voxel-size 0.25 "
+          "--slice-spacing 0.1 --yarn-radius 0.35 --twist 1 --fragment-budget 60000 --quiet --stats multi-stats",
+          write_text("garments.txt", f"{G}twill-flat.bcc\n{G}plain-cylinder.bcc\n"),
+          f"voxelize --list garments.txt -o listed --backend {be} --resolution 64 --slices-per-segment 3 "
+          "--cross-section fibers --reduce mean --overlap clamp --precision float --vdb-compression mask --quiet",
+          "export multi/knit-cylinder.vdb -o world.vol --format vol --bbox-world -2,-2,-1,2,2,1 --quiet"],
+         ["multi", "multi-stats", "listed", "world.vol", "world.orientation.vol"], ["garments.txt"]),
     ]
 
 CASES += [
