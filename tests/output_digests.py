@@ -482,8 +482,6 @@ def run_all(args, skip):
         extra = [f for f in os.listdir(d) if f not in listed]
         if extra:
             raise SystemExit(f"{case}: outputs not digested: {extra}")
-    if not args.keep:
-        shutil.rmtree(scratch)
     return lines
 
 
@@ -494,7 +492,7 @@ def main():
     ap.add_argument("--mpiexec", default="", help="mpirun, for the MPI runs (left out without it)")
     ap.add_argument("--compare", help="golden file: exit 1 with a diff when any line differs")
     ap.add_argument("--only", help="only the cases whose name matches this regex (no --compare)")
-    ap.add_argument("--keep", action="store_true", help="keep the scratch folder")
+    ap.add_argument("--keep", action="store_true", help="keep the scratch folder (kept anyway when a digest differs)")
     ap.add_argument("-v", "--verbose", action="store_true", help="time each command (on stderr)")
     args = ap.parse_args()
     # Notes (stderr) and results (stdout) in the order they are made, when CTest joins them.
@@ -510,6 +508,8 @@ def main():
     lines = run_all(args, skip)
     print(f"# {len(lines)} outputs digested in {time.monotonic() - t:.1f} s", file=sys.stderr)
     if not args.compare:
+        if not args.keep:
+            shutil.rmtree(args.scratch)
         print("# yarnvox output digests (tests/output_digests.py, docs/same-bytes.md): NAME  BYTES  SHA-256 of the")
         print("# normalised content, one line per file the runs write" +
               (f"; skipped: {' '.join(sorted(skip))}" if skip else ""))
@@ -528,8 +528,10 @@ def main():
         print(f"# not compared (skipped above): {' '.join(sorted(skipped_cases))}", file=sys.stderr)
     if golden == lines:
         print(f"# all {len(lines)} digests equal those of {os.path.basename(args.compare)}")
+        if not args.keep:
+            shutil.rmtree(args.scratch)
         return 0
-    print(f"# outputs differ from {args.compare} (- golden, + this binary):")
+    print(f"# outputs differ from {args.compare} (- golden, + this binary); the outputs are kept in {args.scratch}:")
     sys.stdout.writelines(difflib.unified_diff([l + "\n" for l in golden], [l + "\n" for l in lines],
                                                "golden", "this binary", n=0))
     return 1
