@@ -105,11 +105,16 @@ GLuint compileShaderStage(GLenum stage, const std::string& name, const std::vect
         throw Error("shader " + name + ": not among the embedded shaders (add shaders/" + name +
                     " to YV_SHADERS in CMakeLists.txt)");
     const char* common = commonOverride ? commonOverride->c_str() : shaderSource("common.glsl");
+    // The binding points' names, always the built-in list: the C++ that binds
+    // the buffers was compiled with it (gl_bindings.h).
+    const char* bindings = shaderSource("bindings.glsl");
 
     std::string src = "#version 450 core\n";
     for (const std::string& d : defines) src += "#define " + d + "\n";
-    // Source-string numbers 1 and 2 let driver logs tell the two files apart.
-    src += "#line 1 1\n";
+    // Source-string numbers 1, 2 and 3 let driver logs tell the files apart.
+    src += "#line 1 3\n";
+    if (bindings) src += bindings;
+    src += "\n#line 1 1\n";
     if (common) src += common;
     src += "\n#line 1 2\n";
     src += text;
@@ -125,7 +130,7 @@ GLuint compileShaderStage(GLenum stage, const std::string& name, const std::vect
         std::string log = shaderLog(shader);
         glDeleteShader(shader);
         throw Error("shader " + name + ": compile failed (source-string 1 is common.glsl, 2 is " + name +
-                    "):\n" + log);
+                    ", 3 is bindings.glsl):\n" + log);
     }
     return shader;
 }

@@ -10,7 +10,8 @@
 namespace yv {
 
 /// A linked GL program. Sources are composed as: "#version 450 core", the
-/// given #define lines, shaders/common.glsl, then the shader file itself, each
+/// given #define lines, shaders/bindings.glsl (the binding points' names,
+/// gl_bindings.h), shaders/common.glsl, then the shader file itself, each
 /// part behind a #line marker so driver logs point at the right file.
 class GlProgram {
   public:

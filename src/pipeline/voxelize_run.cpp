@@ -444,9 +444,10 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         // The paper's method, kept as a benchmark baseline: one dense 3D texture set.
         GlVoxelizeSettings gl;
         gl.base = settings;
-        gl.device = a.device;
+        const GlContext context(
+            GlContextOptions{a.device, std::getenv("YV_GL_DEBUG") != nullptr, cluster() ? cluster()->localRank() : 0});
         DenseVoxelizeCounters counters;
-        const BrickVolume volume = voxelizeDense(plan, xs, grid, gl, &counters);
+        const BrickVolume volume = voxelizeDense(plan, xs, grid, gl, context, &counters);
         report.voxelizeSeconds = timer.lap("voxelize");
         meta.backend = "gl-dense";
         report.activeVoxels = volume.activeVoxelCount();
@@ -455,14 +456,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         timer.lap("write");
         report.bricks = volume.bricks.size();
         report.tally = volume.tally;
-        backendStats.set("renderer", counters.renderer)
-            .set("platform", counters.platform)
-            .set("method", "dense")
-            .set("gpu_peak_bytes", counters.textureBytes)
-            .set("slices_drawn", counters.instances)
-            .set("gpu_clear_seconds", counters.clearSeconds)
-            .set("gpu_raster_seconds", counters.rasterSeconds)
-            .set("readback_seconds", counters.readbackSeconds);
+        backendStats = toJson(counters);
     } else {
         // Either backend rasterizes zoom regions one after another into the same writer.
         Backend backend;
@@ -470,13 +464,11 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         if (backend.isGl) {
             GlVoxelizeSettings& gl = backend.glSettings;
             gl.base = settings;
-            gl.device = a.device;
-            gl.spreadIndex = cluster() ? cluster()->localRank() : 0; // each rank its own GPU, alone or not
             gl.fragmentCapacity = a.fragmentCapacity;
             gl.verbose = a.verbose && !a.quiet;
-            backend.gl.contextSeconds = glContextSeconds;
+            gl.contextSeconds = glContextSeconds;
             const TraceSpan span("set up the GL backend");
-            backend.rasterizer = std::make_unique<GlBackend>(plan, xs, grid, gl, backend.gl, std::move(glContext));
+            backend.rasterizer = std::make_unique<GlBackend>(plan, xs, grid, gl, std::move(glContext));
         } else {
             backend.rasterizer = std::make_unique<CpuRegionBackend>(plan, xs, grid, settings, backend.cpu, a.fragmentCapacity);
         }
@@ -496,7 +488,6 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
         });
         rasterizer.prepare();
         const ZoomPlan zoom = pendingZoom.get();
-        backend.gl.plannedRegions = zoom.regions.size();
         timer.lap("plan");
         if (a.verbose)
             tell("plan: " + std::to_string(zoom.regions.size()) + " zoom regions, " + numberText(zoom.estimatedFragments) +
@@ -527,6 +518,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 rasterizer.run(zoom.regions, sink);
             }
             backendStats = rasterizer.stats();
+            if (backend.isGl) backend.gl = static_cast<const GlBackend&>(rasterizer).counters();
             if (backend.isGl) freeing = freeInBackground(std::move(backend.rasterizer));
             const std::vector<RegionInfo> regions = writer.finish();
             for (const RegionInfo& r : regions) {
@@ -576,6 +568,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
                 rasterizer.run(group ? order : zoom.regions, sink);
             }
             backendStats = rasterizer.stats();
+            if (backend.isGl) backend.gl = static_cast<const GlBackend&>(rasterizer).counters();
             if (backend.isGl) freeing = freeInBackground(std::move(backend.rasterizer));
             writer.finish(); // every region handed over is on disk before the run stops
             writerStats = writer.stats();
