@@ -1,8 +1,11 @@
 // GL shader programs built from the shaders embedded from shaders/.
 #pragma once
 
+#include "gpu/gl_objects.h"
+
 #include <epoxy/gl.h>
 
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +40,8 @@ class GlProgram {
 
   private:
     explicit GlProgram(GLuint id) : id_(id) {}
+    /// Attaches, links and checks; `names` is what a link error reports.
+    static GlProgram link(std::initializer_list<GLuint> stages, const std::string& names);
     GLuint id_ = 0;
 };
 
@@ -48,7 +53,7 @@ std::optional<std::string> shaderText(const std::string& name);
 
 /// Compiles one stage. A failure throws yv::Error with the shader's name and
 /// the driver's log.
-GLuint compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines);
+GlShader compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines);
 
 /// Throws yv::Error naming `where` when glGetError reports an error.
 void checkGlError(const char* where);
