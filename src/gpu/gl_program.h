@@ -48,7 +48,8 @@ class GlProgram {
 /// The text compiled for shader file `name`: the file of that name in
 /// YV_SHADER_DIR where the variable is set and the file is there (for trying
 /// a shader change without rebuilding), else the copy built into the binary;
-/// nullopt when neither exists.
+/// nullopt when neither exists. (bindings.glsl is compiled from the built-in
+/// copy always: the C++ that binds the buffers was built with it.)
 std::optional<std::string> shaderText(const std::string& name);
 
 /// Compiles one stage. A failure throws yv::Error with the shader's name and
