@@ -20,6 +20,7 @@
 #include "cpu/cpu_voxelizer.h"
 #include "garment/cross_section.h"
 #include "garment/generate.h"
+#include "gpu/egl_context.h"
 #include "gpu/gl_voxelizer.h"
 
 #include <chrono>
@@ -109,10 +110,10 @@ int main(int argc, char** argv) try {
             s.supersample = args.supersample;
             GlVoxelizeSettings gs;
             gs.base = s;
-            gs.device = args.device;
             GlVoxelizeCounters glc;
             const BrickVolume cpu = voxelizeCpu(plan, xs, grid, s);
-            const BrickVolume gl = voxelizeGl(plan, xs, grid, gs, &glc);
+            const GlContext context(GlContextOptions{args.device});
+            const BrickVolume gl = voxelizeGl(plan, xs, grid, gs, context, &glc);
             const VolumeComparison c = compareVolumes(cpu, gl);
             std::printf("{ \"compare\": \"gl vs cpu\", \"renderer\": %s, \"input\": %s, \"pattern\": \"%s\", "
                         "\"shape\": \"%s\", \"crossings\": %llu, \"slices\": %llu, \"resolution\": %d, \"twist\": %g, "
@@ -143,8 +144,9 @@ int main(int argc, char** argv) try {
                 } else {
                     GlVoxelizeSettings gs;
                     gs.base = s;
-                    gs.device = args.device;
-                    v = voxelizeGl(plan, xs, grid, gs, &glc);
+                    // A context of each run's own, within its time, as a run of yarnvox makes one.
+                    const GlContext context(GlContextOptions{args.device});
+                    v = voxelizeGl(plan, xs, grid, gs, context, &glc);
                 }
                 const double total = seconds(start);
                 const std::uint64_t active = v.activeVoxelCount();

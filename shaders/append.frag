@@ -6,12 +6,12 @@
 // the cross-section's support, widened a little, so that float rounding in
 // this stage never drops a sample that sample.comp would keep.
 
-layout(binding = 0, offset = 0) uniform atomic_uint uItemCount;
+layout(binding = kItemCountAtomic, offset = 0) uniform atomic_uint uItemCount;
 // x: the slice (its instance in the draw), y: the pixel on the region's face, x | y << 16.
-layout(std430, binding = 6) writeonly buffer Items { uvec2 items[]; };
+layout(std430, binding = kItemsBinding) writeonly buffer Items { uvec2 items[]; };
 // The counter's own word, then a flag set once a slot reaches 2^31 (as for
 // the fragment list, sample.comp).
-layout(std430, binding = 7) buffer ItemCounter { uint itemWord; uint itemWrapped; };
+layout(std430, binding = kItemCounterBinding) buffer ItemCounter { uint itemWord; uint itemWrapped; };
 
 uniform uint uItemCapacity;   // items the list holds; the counter goes on past it
 uniform int uMargin;          // pixels around the region's face in the viewport (slice.vert)

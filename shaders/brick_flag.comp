@@ -1,8 +1,8 @@
 // Brick pass 1: flag every brick of the region that a fragment touches.
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 2) readonly buffer Fragments { Fragment fragments[]; };
-layout(std430, binding = 3) buffer Flags { uint flags[]; };
+layout(std430, binding = kFragmentsBinding) readonly buffer Fragments { Fragment fragments[]; };
+layout(std430, binding = kBrickSlotsBinding) buffer Flags { uint flags[]; };
 
 uniform uint uCount;
 

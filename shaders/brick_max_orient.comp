@@ -2,9 +2,9 @@
 // max density, the largest axis code wins, as in the CPU reduction.
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 2) readonly buffer Fragments { Fragment fragments[]; };
-layout(std430, binding = 3) readonly buffer Slots { uint slots[]; };
-layout(std430, binding = 7) buffer BrickWords { uint words[]; };
+layout(std430, binding = kFragmentsBinding) readonly buffer Fragments { Fragment fragments[]; };
+layout(std430, binding = kBrickSlotsBinding) readonly buffer Slots { uint slots[]; };
+layout(std430, binding = kBrickWordsBinding) buffer BrickWords { uint words[]; };
 
 uniform uint uCount;
 

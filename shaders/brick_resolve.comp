@@ -33,21 +33,21 @@ struct PackedBrickHeader {
     double excessOverOne;
 };
 
-layout(std430, binding = 0) readonly buffer BrickWords { uint words[]; };
-layout(std430, binding = 1) buffer Places { uvec2 places[]; };
+layout(std430, binding = kBrickWordsBinding) readonly buffer BrickWords { uint words[]; };
+layout(std430, binding = kResolvePlacesBinding) buffer Places { uvec2 places[]; };
 #ifndef COUNT_ONLY
 // Region mode: slot -> region brick index (brick_scan.comp's slotBrick);
 // else two words of brickKey per slot.
-layout(std430, binding = 2) readonly buffer Keys { uint keyWords[]; };
+layout(std430, binding = kResolveKeysBinding) readonly buffer Keys { uint keyWords[]; };
 // One buffer bound twice: headers from its start, voxels from uVoxelBase.
-layout(std430, binding = 3) writeonly buffer Headers { PackedBrickHeader headers[]; };
-layout(std430, binding = 4) writeonly buffer Voxels { vec4 voxels[]; };
+layout(std430, binding = kPackedHeadersBinding) writeonly buffer Headers { PackedBrickHeader headers[]; };
+layout(std430, binding = kPackedVoxelsBinding) writeonly buffer Voxels { vec4 voxels[]; };
 uniform bool uKeysFromRegion;
 uniform ivec3 uBrickMin;      // the region's first brick
 uniform ivec3 uRegionBricks;  // bricks along each axis of the region
 uniform uint uVoxelBase;      // in vec4s
 #ifdef ALBEDO
-layout(std430, binding = 5) writeonly buffer Albedo { float albedo[]; };
+layout(std430, binding = kPackedAlbedoBinding) writeonly buffer Albedo { float albedo[]; };
 uniform uint uAlbedoBase;     // in floats
 #endif
 #endif

@@ -8,9 +8,9 @@
 //   2: each work group rescans its slots and adds its block offset
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 1) buffer Places { uvec2 places[]; };
-layout(std430, binding = 5) buffer BlockSums { uvec2 blockSums[]; };
-layout(std430, binding = 6) writeonly buffer Totals { uvec2 totals[]; };
+layout(std430, binding = kResolvePlacesBinding) buffer Places { uvec2 places[]; };
+layout(std430, binding = kResolveBlockSumsBinding) buffer BlockSums { uvec2 blockSums[]; };
+layout(std430, binding = kResolveTotalsBinding) writeonly buffer Totals { uvec2 totals[]; };
 
 uniform uint uBrickCount;
 uniform uint uBlockCount;

@@ -6,10 +6,10 @@
 //      slots (in place of the flags) and the inverse map slot -> brick.
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 3) buffer Flags { uint flags[]; };
-layout(std430, binding = 4) buffer BlockSums { uint blockSums[]; };
-layout(std430, binding = 5) buffer Counts { uint counts[]; };
-layout(std430, binding = 6) writeonly buffer SlotBricks { uint slotBrick[]; };
+layout(std430, binding = kBrickSlotsBinding) buffer Flags { uint flags[]; };
+layout(std430, binding = kBrickBlockSumsBinding) buffer BlockSums { uint blockSums[]; };
+layout(std430, binding = kBrickCountsBinding) buffer Counts { uint counts[]; };
+layout(std430, binding = kSlotBricksBinding) writeonly buffer SlotBricks { uint slotBrick[]; };
 
 uniform uint uBrickCount;
 uniform uint uBlockCount;

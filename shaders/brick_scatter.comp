@@ -5,11 +5,11 @@
 // fragments' volume fraction times colour from the second fragment list.
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 2) readonly buffer Fragments { Fragment fragments[]; };
-layout(std430, binding = 3) readonly buffer Slots { uint slots[]; };
-layout(std430, binding = 7) buffer BrickWords { uint words[]; };
+layout(std430, binding = kFragmentsBinding) readonly buffer Fragments { Fragment fragments[]; };
+layout(std430, binding = kBrickSlotsBinding) readonly buffer Slots { uint slots[]; };
+layout(std430, binding = kBrickWordsBinding) buffer BrickWords { uint words[]; };
 #ifdef ALBEDO
-layout(std430, binding = 4) readonly buffer AlbedoFragments { uvec4 albedoFragments[]; };
+layout(std430, binding = kAlbedoFragmentsBinding) readonly buffer AlbedoFragments { uvec4 albedoFragments[]; };
 const uint kWords = 10u;
 #else
 const uint kWords = 7u;

@@ -2,7 +2,7 @@
 // memory bandwidth, where some drivers fill glClearNamedBufferSubData's
 // large ranges far slower (5 GB/s measured on an H100 for the brick words).
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) writeonly buffer Words { uint words[]; };
+layout(std430, binding = kClearedWordsBinding) writeonly buffer Words { uint words[]; };
 uniform uint uWords;
 void main() {
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;

@@ -11,10 +11,10 @@
 // different sample than the density. That race is the baseline's nature (r8
 // images have no atomics); it is measured, not fixed.
 
-layout(binding = 0) uniform usampler2D uCrossSection; // R8UI, texel 255 = solid fibre
-layout(binding = 0, r8) uniform image3D uDensity;
-layout(binding = 1, r8) uniform writeonly image3D uTheta;
-layout(binding = 2, r8) uniform writeonly image3D uPhi;
+layout(binding = kCrossSectionUnit) uniform usampler2D uCrossSection; // R8UI, texel 255 = solid fibre
+layout(binding = kDenseDensityImage, r8) uniform image3D uDensity;
+layout(binding = kDenseThetaImage, r8) uniform writeonly image3D uTheta;
+layout(binding = kDensePhiImage, r8) uniform writeonly image3D uPhi;
 
 uniform float uRadius;        // yarn radius, voxel units
 // CROSS_SECTION_DISK (a #define, 1 or 0): the uniform disk, coverage computed

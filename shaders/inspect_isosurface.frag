@@ -9,9 +9,9 @@ uniform mat4 inverseViewProjection;
 uniform vec2 viewport;
 uniform bool skipEmpty;          // entry and exit from pass 1, else the box
 uniform bool startAtNearPlane;   // the eye may sit inside an occupied brick
-layout(binding = 0) uniform sampler2D entryExitTexture;
-layout(binding = 1) uniform usampler3D indirection;  // level brick -> atlas slot + 1, 0: empty
-layout(binding = 2) uniform sampler3D densityAtlas;
+layout(binding = kEntryExitUnit) uniform sampler2D entryExitTexture;
+layout(binding = kIndirectionUnit) uniform usampler3D indirection;  // level brick -> atlas slot + 1, 0: empty
+layout(binding = kDensityAtlasUnit) uniform sampler3D densityAtlas;
 uniform ivec3 atlasSlots;        // slots along x, y (z follows)
 uniform vec3 originVoxel;        // voxel of the level's corner
 uniform float levelScale;        // voxels per level voxel

@@ -8,10 +8,10 @@
 //  between the light and this slice) lets through, plus an ambient share.
 //  LIGHT_PASS: only the opacity, for the light buffer.
 in vec3 voxelPosition;
-layout(binding = 1) uniform usampler3D indirection;  // level brick -> atlas slot + 1, 0: empty
-layout(binding = 2) uniform sampler3D densityAtlas;
-layout(binding = 4) uniform sampler1D transferFunction;
-layout(binding = 5) uniform sampler2D lightBuffer;
+layout(binding = kIndirectionUnit) uniform usampler3D indirection;  // level brick -> atlas slot + 1, 0: empty
+layout(binding = kDensityAtlasUnit) uniform sampler3D densityAtlas;
+layout(binding = kTransferFunctionUnit) uniform sampler1D transferFunction;
+layout(binding = kLightBufferUnit) uniform sampler2D lightBuffer;
 uniform ivec3 atlasSlots;        // slots along x, y (z follows)
 uniform vec3 originVoxel;        // voxel of the level's corner
 uniform float levelScale;        // voxels per level voxel

@@ -5,7 +5,7 @@
 // ray with the yarn's disk (inspect_slices.frag). 14 vertices a box: one
 // triangle strip, corners from the bits of gl_VertexID.
 layout(location = 0) in uint sliceIndex;
-layout(binding = 0) uniform samplerBuffer slices; // per slice: (centre, thickness), (tangent, radius)
+layout(binding = kSliceTableUnit) uniform samplerBuffer slices; // per slice: (centre, thickness), (tangent, radius)
 uniform mat4 viewProjection;
 uniform vec3 eye;
 uniform vec3 lightDirection; // unit, towards the light

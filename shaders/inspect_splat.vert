@@ -2,11 +2,11 @@
 // of the (i / 512)-th brick in back-to-front order; within a brick, voxels
 // run plane by plane from the side away from the eye. Empty voxels are
 // moved outside the clip volume.
-layout(std430, binding = 0) readonly buffer BrickOrder {
+layout(std430, binding = kBrickOrderBinding) readonly buffer BrickOrder {
     ivec4 bricks[]; // level brick (xyz) and atlas slot (w), farthest first
 };
-layout(binding = 2) uniform sampler3D densityAtlas;
-layout(binding = 4) uniform sampler1D transferFunction;
+layout(binding = kDensityAtlasUnit) uniform sampler3D densityAtlas;
+layout(binding = kTransferFunctionUnit) uniform sampler1D transferFunction;
 uniform mat4 viewProjection;
 uniform vec3 eye;
 uniform ivec3 atlasSlots;

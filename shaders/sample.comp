@@ -10,23 +10,23 @@
 // took most of the raster pass (bench/results/sample-pass-2026-11-24-h100).
 layout(local_size_x = 128) in;
 
-layout(binding = 0) uniform usampler2D uCrossSection; // R8UI, texel 255 = solid fibre
-layout(binding = 0, offset = 0) uniform atomic_uint uFragmentCount;
-layout(std430, binding = 2) writeonly buffer Fragments { Fragment fragments[]; };
+layout(binding = kCrossSectionUnit) uniform usampler2D uCrossSection; // R8UI, texel 255 = solid fibre
+layout(binding = kFragmentCountAtomic, offset = 0) uniform atomic_uint uFragmentCount;
+layout(std430, binding = kFragmentsBinding) writeonly buffer Fragments { Fragment fragments[]; };
 // The counter's own word, then a flag set once a slot reaches 2^31: the list
 // never holds that many, and a count that wrapped past 2^32 would look small.
-layout(std430, binding = 3) buffer CounterState { uint counterWord; uint counterWrapped; };
-layout(std430, binding = 5) readonly buffer Slices { SliceRecord slices[]; };
+layout(std430, binding = kFragmentCounterBinding) buffer CounterState { uint counterWord; uint counterWrapped; };
+layout(std430, binding = kSlicesBinding) readonly buffer Slices { SliceRecord slices[]; };
 // x: the slice (its instance in the draw), y: the pixel on the region's face, x | y << 16.
-layout(std430, binding = 6) readonly buffer Items { uvec2 items[]; };
-layout(std430, binding = 7) readonly buffer ItemCounter { uint itemCount; };
+layout(std430, binding = kItemsBinding) readonly buffer Items { uvec2 items[]; };
+layout(std430, binding = kItemCounterBinding) readonly buffer ItemCounter { uint itemCount; };
 #ifdef ALBEDO
 // --albedo (a program of its own, so the default one stays as it is): the
 // fibres' linear colour times their density (CrossSection::albedo, RGB32F),
 // and per fragment its fixed-point volume fraction times the sample's colour
 // (R, G, B, 0), at the fragment's own slot of a second list.
-layout(binding = 1) uniform sampler2D uAlbedo;
-layout(std430, binding = 4) writeonly buffer AlbedoFragments { uvec4 albedoFragments[]; };
+layout(binding = kAlbedoUnit) uniform sampler2D uAlbedo;
+layout(std430, binding = kAlbedoFragmentsBinding) writeonly buffer AlbedoFragments { uvec4 albedoFragments[]; };
 #endif
 
 uniform uint uCapacity;       // fragments the list holds; the counter goes on past it

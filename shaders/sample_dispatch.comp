@@ -1,7 +1,7 @@
 // Sizes the sampling pass from the raster's item count on the GPU
 // (glDispatchComputeIndirect), so the host never waits between the two.
 layout(local_size_x = 1) in;
-layout(std430, binding = 7) buffer ItemCounter {
+layout(std430, binding = kItemCounterBinding) buffer ItemCounter {
     uint itemCount;
     uint itemWrapped;
     uint unused[2];

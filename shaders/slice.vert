@@ -9,10 +9,10 @@
 // of them covers every pixel whose sample can hold fibre; what is sampled
 // there depends on the pixel alone, so what is written never depends on the
 // shape drawn, the runs or the region.
-layout(std430, binding = 5) readonly buffer Slices { SliceRecord slices[]; };
+layout(std430, binding = kSlicesBinding) readonly buffer Slices { SliceRecord slices[]; };
 #if SLICE_POINTS && SLICE_RUN > 1
 // x: a run's first slice, y: its slices, all with one projection axis.
-layout(std430, binding = 4) readonly buffer Runs { uvec2 runs[]; };
+layout(std430, binding = kRunsBinding) readonly buffer Runs { uvec2 runs[]; };
 #endif
 
 uniform float uRadius;         // yarn radius, voxel units

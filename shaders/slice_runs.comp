@@ -11,12 +11,12 @@
 // each slice of its run.
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 5) readonly buffer Slices { SliceRecord slices[]; };
+layout(std430, binding = kSlicesBinding) readonly buffer Slices { SliceRecord slices[]; };
 // x: the run's first slice (its record), y: its slices (1 to kRunSlices).
-layout(std430, binding = 4) writeonly buffer Runs { uvec2 runs[]; };
+layout(std430, binding = kRunsBinding) writeonly buffer Runs { uvec2 runs[]; };
 // glDrawArraysIndirect's command: the runs (points to draw), 1 instance,
 // from 0; the host sets it to (0, 1, 0, 0) before this pass.
-layout(std430, binding = 3) buffer RunDraw { uint runCount; uint drawInstances; uint drawFirst; uint drawBaseInstance; };
+layout(std430, binding = kRunDrawBinding) buffer RunDraw { uint runCount; uint drawInstances; uint drawFirst; uint drawBaseInstance; };
 
 uniform uint uInstances;   // slices of the draw
 uniform int uSupersample;

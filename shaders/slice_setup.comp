@@ -4,11 +4,11 @@
 // vertex shaders, where this curve work was a fifth of the raster's time.
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 0) readonly buffer Segments { GpuSegment segments[]; };
+layout(std430, binding = kSegmentsBinding) readonly buffer Segments { GpuSegment segments[]; };
 // Segments this draw covers (indices into `segments`), and the first
 // instance of each, for the search from instance to segment.
-layout(std430, binding = 1) readonly buffer DrawList { uvec2 drawList[]; }; // x: segment, y: first instance
-layout(std430, binding = 5) writeonly buffer Slices { SliceRecord slices[]; };
+layout(std430, binding = kDrawListBinding) readonly buffer DrawList { uvec2 drawList[]; }; // x: segment, y: first instance
+layout(std430, binding = kSlicesBinding) writeonly buffer Slices { SliceRecord slices[]; };
 
 uniform int uDrawCount;        // entries in drawList
 uniform uint uUniformSlices;   // slices of every segment when all have the same count, else 0

@@ -466,12 +466,13 @@ GlVoxelizeSettings glAlbedoSettings(std::uint64_t capacity = 0) {
 
 TEST_CASE("Albedo (GL): a two-colour cross-section on a generated garment agrees with the CPU voxel by voxel", "[albedo][gl]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     const int size = 32;
     const fs::path png = writeRgbaPng("gl-halves.png", size, [](int x, int) { return x < size / 2 ? kRed : kBlue; });
     const CrossSection xs = loadCrossSectionPng(png.string(), true);
     const test::GeneratedRun run = test::generatedRun(WeavePattern::Knit, GarmentShape::Flat, 16, 1.0, 48);
     const BrickVolume cpu = voxelizeCpu(run.plan, xs, run.grid, VoxelizeSettings{});
-    const BrickVolume gl = voxelizeGl(run.plan, xs, run.grid, glAlbedoSettings());
+    const BrickVolume gl = voxelizeGl(run.plan, xs, run.grid, glAlbedoSettings(), context);
     const AlbedoAgreement a = agreeWithAlbedo(cpu, gl);
     INFO("active in both " << a.both << ", only CPU " << a.onlyCpu << ", only GL " << a.onlyGl << "; max |GL - CPU| density "
                            << a.maxDensityDiff << ", albedo " << a.maxAlbedoDiff << " (at density "
@@ -497,6 +498,7 @@ TEST_CASE("Albedo (GL): a two-colour cross-section on a generated garment agrees
 
 TEST_CASE("Albedo (GL): bricks drawn in several passes add their colour on the host to the same bits", "[albedo][gl][overflow]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     // With the smallest list, the bricks at the crossing are drawn with their
     // segments split, and their accumulators, colour words too, add up on the host.
     const test::CrossingRun run = test::crossingRun();
@@ -505,8 +507,8 @@ TEST_CASE("Albedo (GL): bricks drawn in several passes add their colour on the h
     const fs::path png = writeRgbaPng("gl-split.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
     const CrossSection xs = loadCrossSectionPng(png.string(), true);
     GlVoxelizeCounters ample, tiny;
-    const BrickVolume whole = voxelizeGl(plan, xs, grid, glAlbedoSettings(), &ample);
-    const BrickVolume split = voxelizeGl(plan, xs, grid, glAlbedoSettings(test::smallestFragmentBudget(plan)), &tiny);
+    const BrickVolume whole = voxelizeGl(plan, xs, grid, glAlbedoSettings(), context, &ample);
+    const BrickVolume split = voxelizeGl(plan, xs, grid, glAlbedoSettings(test::smallestFragmentBudget(plan)), context, &tiny);
     INFO(tiny.hostSummedBricks << " bricks summed on the host, " << tiny.overflows << " overflows");
     CHECK(ample.hostSummedBricks == 0);
     CHECK(tiny.hostSummedBricks > 0);
@@ -527,21 +529,23 @@ TEST_CASE("Albedo (GL): bricks drawn in several passes add their colour on the h
 
 TEST_CASE("Albedo (GL): a uniformly coloured straight yarn gives that colour in every voxel with fibre", "[albedo][gl]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     const fs::path png = writeRgbaPng("gl-uniform.png", 32, [](int, int) { return kRust; });
     const CrossSection xs = loadCrossSectionPng(png.string(), true);
     const StraightRun run = straightRun();
-    const BrickVolume volume = voxelizeGl(run.plan, xs, run.grid, glAlbedoSettings());
+    const BrickVolume volume = voxelizeGl(run.plan, xs, run.grid, glAlbedoSettings(), context);
     CHECK(checkUniformAlbedo(volume, linearColour(kRust)) > 1000);
 }
 
 TEST_CASE("Albedo (GL): without it the run is what the default program makes, bit for bit", "[albedo][gl]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     const fs::path png = writeRgbaPng("gl-plain.png", 32, [](int x, int) { return x < 16 ? kRed : kBlue; });
     const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Flat, 16, 2.0, 40);
     GlVoxelizeCounters plainCounters, albedoCounters;
-    const BrickVolume plain = voxelizeGl(run.plan, loadCrossSectionPng(png.string()), run.grid, glAlbedoSettings(), &plainCounters);
+    const BrickVolume plain = voxelizeGl(run.plan, loadCrossSectionPng(png.string()), run.grid, glAlbedoSettings(), context, &plainCounters);
     const BrickVolume coloured =
-        voxelizeGl(run.plan, loadCrossSectionPng(png.string(), true), run.grid, glAlbedoSettings(), &albedoCounters);
+        voxelizeGl(run.plan, loadCrossSectionPng(png.string(), true), run.grid, glAlbedoSettings(), context, &albedoCounters);
     // The colour rides along: the same fragments, and the same density and
     // axis bits in every brick; only the albedo run has colour.
     CHECK(plainCounters.fragments > 0);

@@ -26,9 +26,10 @@ GlVoxelizeSettings maxSettings() {
 /// The dense method against the sparse GL backend in max mode (same sample
 /// rule): only its racy read-modify-write and 8-bit storage may differ.
 void checkAgainstSparse(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const char* what) {
-    const BrickVolume sparse = voxelizeGl(plan, xs, grid, maxSettings());
+    const GlContext context;
+    const BrickVolume sparse = voxelizeGl(plan, xs, grid, maxSettings(), context);
     DenseVoxelizeCounters counters;
-    const BrickVolume dense = voxelizeDense(plan, xs, grid, maxSettings(), &counters);
+    const BrickVolume dense = voxelizeDense(plan, xs, grid, maxSettings(), context, &counters);
     CHECK(dense.reduce == Reduce::Max);
     CHECK(counters.textureBytes == 3 * grid.voxelCount());
     CHECK(!counters.renderer.empty());
@@ -86,11 +87,8 @@ TEST_CASE("dense method agrees with the sparse GL backend on a generated garment
 
 TEST_CASE("dense method refuses a grid larger than one 3D texture", "[gl][dense]") {
     YV_REQUIRE_GL();
-    int max3d = 0;
-    {
-        GlContext context;
-        max3d = context.info().max3dTextureSize;
-    }
+    const GlContext context;
+    const int max3d = context.info().max3dTextureSize;
     GenerateOptions g;
     g.crossings = 16;
     const Garment garment = generateGarment(g);
@@ -100,7 +98,7 @@ TEST_CASE("dense method refuses a grid larger than one 3D texture", "[gl][dense]
     const VoxelGrid grid = makeGrid(plan, std::max(4096, max3d + 8), 0.0);
     REQUIRE(std::max({grid.dims.x, grid.dims.y, grid.dims.z}) > max3d);
     try {
-        voxelizeDense(plan, makeDiskCrossSection(), grid, maxSettings());
+        voxelizeDense(plan, makeDiskCrossSection(), grid, maxSettings(), context);
         FAIL("expected yv::Error");
     } catch (const Error& e) {
         INFO(e.what());

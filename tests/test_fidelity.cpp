@@ -10,6 +10,7 @@
 #include "garment/cross_section.h"
 #include "garment/generate.h"
 #include "garment/slices.h"
+#include "gpu/egl_context.h"
 #include "gpu/gl_voxelizer.h"
 #include "plan/grid.h"
 #include "test_helpers.h"
@@ -54,7 +55,8 @@ BrickVolume voxelize(Backend backend, const SlicePlan& plan, const CrossSection&
     GlVoxelizeSettings s;
     s.base.overlap = overlap;
     s.brickResolve = BrickResolve::Gpu; // the GPU's path (llvmpipe would resolve on the host)
-    return voxelizeGl(plan, xs, grid, s);
+    const GlContext context;
+    return voxelizeGl(plan, xs, grid, s, context);
 }
 
 glm::dvec3 voxelCenter(const VoxelGrid& g, glm::ivec3 v) { return g.origin + (glm::dvec3(v) + 0.5) * g.voxelSize; }

@@ -37,13 +37,14 @@ bool identical(const BrickVolume& a, const BrickVolume& b) {
 
 TEST_CASE("GL: a straight disk yarn fills pi r^2 L and follows its axis", "[gl][analytic]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     for (glm::dvec3 axis : {glm::dvec3(1, 0, 0), glm::dvec3(1, 0.4, 0.25)}) {
         SliceOptions opt;
         opt.radius = 0.3;
         const glm::dvec3 dir = glm::normalize(axis);
         const SlicePlan plan = planSlices(test::straightYarn({0.1, 0.2, 0.3}, dir, 6), opt);
         const VoxelGrid grid = makeGrid(plan, 0, 0.05);
-        const BrickVolume v = voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings());
+        const BrickVolume v = voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings(), context);
         CHECK(v.totalMass() == Approx(M_PI * 0.09 * 6).epsilon(0.02));
         double worst = 0.0;
         for (const VoxelBrick& b : v.bricks)
@@ -58,13 +59,14 @@ TEST_CASE("GL: a straight disk yarn fills pi r^2 L and follows its axis", "[gl][
 
 TEST_CASE("GL: twisted yarn angle at radius rho is atan(rho tau)", "[gl][analytic]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     SliceOptions opt;
     opt.radius = 0.3;
     opt.twist = 3.0;
     const glm::dvec3 start(0.1, 0.2, 0.3), axis(0, 1, 0);
     const SlicePlan plan = planSlices(test::straightYarn(start, axis, 6), opt);
     const VoxelGrid grid = makeGrid(plan, 0, 0.05);
-    const BrickVolume v = voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings());
+    const BrickVolume v = voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings(), context);
     int checked = 0;
     double worst = 0.0;
     for (const VoxelBrick& b : v.bricks) {
@@ -85,6 +87,7 @@ TEST_CASE("GL: twisted yarn angle at radius rho is atan(rho tau)", "[gl][analyti
 
 TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreement]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     struct Case {
         WeavePattern pattern;
         GarmentShape shape;
@@ -116,7 +119,7 @@ TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreem
         cpu.reduce = c.reduce;
         const BrickVolume ref = voxelizeCpu(plan, xs, grid, cpu);
         GlVoxelizeCounters counters;
-        const BrickVolume gl = voxelizeGl(plan, xs, grid, glSettings(c.reduce), &counters);
+        const BrickVolume gl = voxelizeGl(plan, xs, grid, glSettings(c.reduce), context, &counters);
         // What comes back from the GPU: packed bricks, and a few counts per
         // pass (the fragments and the sample items with their wrap flags, the
         // touched bricks, the resolve's totals: 28 bytes).
@@ -140,6 +143,7 @@ TEST_CASE("GL agrees with the CPU reference on generated garments", "[gl][agreem
 TEST_CASE("GL: texels read by one gather, by four fetches or from the quad texture give the same voxels bit for bit",
           "[gl][agreement]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 64, 1.0, 96);
     const SlicePlan& plan = run.plan;
     const VoxelGrid& grid = run.grid;
@@ -153,10 +157,10 @@ TEST_CASE("GL: texels read by one gather, by four fetches or from the quad textu
     fetch.texelReads = TexelReads::Fetch;
     gather.texelReads = TexelReads::Gather;
     quad.texelReads = TexelReads::Quad;
-    const BrickVolume a = voxelizeGl(plan, xs, grid, fetch), b = voxelizeGl(plan, xs, grid, gather);
+    const BrickVolume a = voxelizeGl(plan, xs, grid, fetch, context), b = voxelizeGl(plan, xs, grid, gather, context);
     REQUIRE(a.activeVoxelCount() > 1000);
     CHECK(identical(a, b));
-    CHECK(identical(a, voxelizeGl(plan, xs, grid, quad)));
+    CHECK(identical(a, voxelizeGl(plan, xs, grid, quad, context)));
     // And both agree with the CPU reference.
     const test::VolumeComparison cmp = test::compareVolumes(voxelizeCpu(plan, xs, grid, VoxelizeSettings{}), a);
     CHECK(cmp.iou >= 0.9999);
@@ -165,6 +169,7 @@ TEST_CASE("GL: texels read by one gather, by four fetches or from the quad textu
 
 TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or runs of slices) give the same voxels bit for bit", "[gl][agreement]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     // A twisted cylinder (every tangent direction, so every projection axis
     // and tilt), once at one sample a voxel and once supersampled, with the
     // fibre texture and with the disk, whose square fallback differs.
@@ -177,8 +182,8 @@ TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or ru
             triangles.slicePrimitive = SlicePrimitive::Triangle;
             points.slicePrimitive = SlicePrimitive::Point;
             GlVoxelizeCounters drawnAsTriangles, drawnAsPoints;
-            const BrickVolume a = voxelizeGl(run.plan, xs, run.grid, triangles, &drawnAsTriangles);
-            const BrickVolume b = voxelizeGl(run.plan, xs, run.grid, points, &drawnAsPoints);
+            const BrickVolume a = voxelizeGl(run.plan, xs, run.grid, triangles, context, &drawnAsTriangles);
+            const BrickVolume b = voxelizeGl(run.plan, xs, run.grid, points, context, &drawnAsPoints);
             CHECK(drawnAsTriangles.slicePrimitive == "triangle");
             REQUIRE(drawnAsPoints.slicePrimitive == "point");
             REQUIRE(a.activeVoxelCount() > 1000);
@@ -193,7 +198,7 @@ TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or ru
                 GlVoxelizeSettings runs = points;
                 runs.sliceRun = sliceRun;
                 GlVoxelizeCounters drawnInRuns;
-                CHECK(identical(a, voxelizeGl(run.plan, xs, run.grid, runs, &drawnInRuns)));
+                CHECK(identical(a, voxelizeGl(run.plan, xs, run.grid, runs, context, &drawnInRuns)));
                 CHECK(drawnInRuns.fragments == drawnAsTriangles.fragments);
                 CHECK(drawnInRuns.primitivesDrawn * sliceRun >= drawnInRuns.slicesDrawn);
                 if (sliceRun == 1)
@@ -207,7 +212,7 @@ TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or ru
             smallPoints.sliceRun = 2;
             smallPoints.fragmentCapacity = test::smallestFragmentBudget(run.plan) * supersample * supersample + 2000;
             GlVoxelizeCounters drawnInPieces;
-            const BrickVolume c = voxelizeGl(run.plan, xs, run.grid, smallPoints, &drawnInPieces);
+            const BrickVolume c = voxelizeGl(run.plan, xs, run.grid, smallPoints, context, &drawnInPieces);
             CHECK(drawnInPieces.plannedRegions > 8);
             CHECK(identical(a, c));
         }
@@ -216,6 +221,7 @@ TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or ru
 
 TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses nothing", "[gl][overflow]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     GenerateOptions g;
     g.pattern = WeavePattern::Plain;
     g.crossings = 36;
@@ -229,10 +235,10 @@ TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses no
     const CrossSection xs = makeFiberCrossSection();
     for (Reduce r : {Reduce::Mean, Reduce::Max}) {
         GlVoxelizeCounters ample, tiny;
-        const BrickVolume a = voxelizeGl(plan, xs, grid, glSettings(r), &ample);
+        const BrickVolume a = voxelizeGl(plan, xs, grid, glSettings(r), context, &ample);
         // The smallest budget the backend accepts here: 8 slices a segment, 64
         // pixels of a brick face, each column split over up to 5 voxels.
-        const BrickVolume b = voxelizeGl(plan, xs, grid, glSettings(r, 8 * 64 * 5), &tiny);
+        const BrickVolume b = voxelizeGl(plan, xs, grid, glSettings(r, 8 * 64 * 5), context, &tiny);
         CHECK(ample.overflows == 0);
         CHECK(tiny.overflows >= 1); // the heat map underestimates some regions: they split
         CHECK(tiny.passes > ample.passes + 4);
@@ -244,14 +250,15 @@ TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses no
 
 TEST_CASE("GL: a brick too full for one pass is drawn in halves, summed on the host, resolved on the GPU", "[gl][overflow]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     // The bricks at the crossing take more fragments than the smallest list
     // holds, from many segments, so they are drawn with their segments split.
     const test::CrossingRun run = test::crossingRun();
     const CrossSection xs = makeDiskCrossSection();
     for (Reduce r : {Reduce::Mean, Reduce::Max}) {
         GlVoxelizeCounters ample, tiny;
-        const BrickVolume a = voxelizeGl(run.plan, xs, run.grid, glSettings(r), &ample);
-        const BrickVolume b = voxelizeGl(run.plan, xs, run.grid, glSettings(r, test::smallestFragmentBudget(run.plan)), &tiny);
+        const BrickVolume a = voxelizeGl(run.plan, xs, run.grid, glSettings(r), context, &ample);
+        const BrickVolume b = voxelizeGl(run.plan, xs, run.grid, glSettings(r, test::smallestFragmentBudget(run.plan)), context, &tiny);
         INFO(toString(r) << ": " << tiny.hostSummedBricks << " bricks summed on the host, " << tiny.overflows
                          << " overflows");
         CHECK(ample.hostSummedBricks == 0);
@@ -265,13 +272,15 @@ TEST_CASE("GL: a brick too full for one pass is drawn in halves, summed on the h
 
 TEST_CASE("GL: bricks resolved on the host are the GPU resolve's, bit for bit, tally included", "[gl][agreement]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     // With the smallest budget, both reductions.
-    const auto check = [](const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs) {
+    const auto check = [&](const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs) {
         for (Reduce r : {Reduce::Mean, Reduce::Max}) {
             GlVoxelizeSettings gpu = glSettings(r, test::smallestFragmentBudget(plan)), host = gpu;
             host.brickResolve = BrickResolve::Host;
             GlVoxelizeCounters onGpu, onHost;
-            const BrickVolume a = voxelizeGl(plan, xs, grid, gpu, &onGpu), b = voxelizeGl(plan, xs, grid, host, &onHost);
+            const BrickVolume a = voxelizeGl(plan, xs, grid, gpu, context, &onGpu);
+            const BrickVolume b = voxelizeGl(plan, xs, grid, host, context, &onHost);
             INFO(toString(r) << ": " << onGpu.regions << " regions, " << onGpu.hostSummedBricks << " bricks summed");
             REQUIRE(a.activeVoxelCount() > 1000);
             CHECK((onGpu.regions > 4 || onGpu.hostSummedBricks > 0));
@@ -294,16 +303,18 @@ TEST_CASE("GL: bricks resolved on the host are the GPU resolve's, bit for bit, t
 
 TEST_CASE("GL: a capacity below one segment's worth is refused with a clear error", "[gl][overflow]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     SliceOptions opt;
     opt.radius = 0.3;
     const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {1, 0, 0}, 3), opt);
     const VoxelGrid grid = makeGrid(plan, 32, 0.0);
-    CHECK_THROWS_WITH(voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings(Reduce::Mean, 100)),
+    CHECK_THROWS_WITH(voxelizeGl(plan, makeDiskCrossSection(), grid, glSettings(Reduce::Mean, 100), context),
                       Catch::Contains("fragment budget 100"));
 }
 
 TEST_CASE("GL agrees with the CPU when slice counts vary per segment (--slice-spacing)", "[gl][agreement]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     GenerateOptions g;
     g.pattern = WeavePattern::Knit; // knit segments differ in length, so K differs
     g.crossings = 48;
@@ -319,7 +330,7 @@ TEST_CASE("GL agrees with the CPU when slice counts vary per segment (--slice-sp
     const VoxelGrid grid = makeGrid(plan, 96, 0.0);
     const CrossSection xs = makeFiberCrossSection();
     const test::VolumeComparison cmp = test::compareVolumes(voxelizeCpu(plan, xs, grid, VoxelizeSettings{}),
-                                                            voxelizeGl(plan, xs, grid, glSettings()));
+                                                            voxelizeGl(plan, xs, grid, glSettings(), context));
     INFO("IoU " << cmp.iou << " mass ratio " << cmp.massRatio << " angle " << cmp.meanAngleDeg);
     CHECK(cmp.iou >= 0.99);
     CHECK(std::abs(cmp.massRatio - 1.0) <= 0.01);
@@ -328,13 +339,14 @@ TEST_CASE("GL agrees with the CPU when slice counts vary per segment (--slice-sp
 
 TEST_CASE("GL: fragment and item lists that start small grow and the pass is redone, losing nothing", "[gl][overflow]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 64, 1.0, 64);
     const CrossSection xs = makeFiberCrossSection();
     GlVoxelizeCounters plain, grown;
-    const BrickVolume reference = voxelizeGl(run.plan, xs, run.grid, glSettings(), &plain);
+    const BrickVolume reference = voxelizeGl(run.plan, xs, run.grid, glSettings(), context, &plain);
     GlVoxelizeSettings small = glSettings();
     small.initialListSlots = 64;
-    const BrickVolume volume = voxelizeGl(run.plan, xs, run.grid, small, &grown);
+    const BrickVolume volume = voxelizeGl(run.plan, xs, run.grid, small, context, &grown);
     REQUIRE(plain.sampleItems > 1000);
     CHECK(plain.listGrowths == 0);
     CHECK(grown.listGrowths >= 1);
@@ -346,13 +358,14 @@ TEST_CASE("GL: fragment and item lists that start small grow and the pass is red
 
 TEST_CASE("GL: an append counter that wraps past 2^32 is caught and the pass redone, losing nothing", "[gl][overflow]") {
     YV_REQUIRE_GL();
+    const GlContext context;
     SliceOptions opt;
     opt.radius = 0.3;
     const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {1, 0.2, 0.1}, 3), opt);
     const VoxelGrid grid = makeGrid(plan, 32, 0.0);
     const CrossSection xs = makeDiskCrossSection();
     GlVoxelizeCounters plain;
-    const BrickVolume reference = voxelizeGl(plan, xs, grid, glSettings(), &plain);
+    const BrickVolume reference = voxelizeGl(plan, xs, grid, glSettings(), context, &plain);
     REQUIRE(plain.fragments > 1000); // the first pass goes past the wrap
     REQUIRE(plain.sampleItems > 1000);
     CHECK(plain.overflows == 0);
@@ -363,7 +376,7 @@ TEST_CASE("GL: an append counter that wraps past 2^32 is caught and the pass red
         GlVoxelizeSettings nearWrap = glSettings();
         (items ? nearWrap.firstItemCounterStart : nearWrap.firstCounterStart) = 0xffffff00u;
         GlVoxelizeCounters wrapped;
-        const BrickVolume volume = voxelizeGl(plan, xs, grid, nearWrap, &wrapped);
+        const BrickVolume volume = voxelizeGl(plan, xs, grid, nearWrap, context, &wrapped);
         CHECK(wrapped.overflows >= 1);
         const test::VolumeComparison cmp = test::compareVolumes(reference, volume);
         CHECK(cmp.iou == 1.0);

@@ -38,11 +38,12 @@ BrickVolume runWithBudget(const SlicePlan& plan, const CrossSection& xs, const V
     GlVoxelizeSettings s;
     s.fragmentCapacity = budget;
     s.brickResolve = BrickResolve::Gpu; // Collect takes packed bricks
-    GlBackend backend(plan, xs, grid, s, counters);
+    const GlContext context;
+    GlBackend backend(plan, xs, grid, s, context);
     const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), 1});
-    counters.plannedRegions = zoom.regions.size();
     Collect sink;
     backend.run(zoom.regions, sink);
+    counters = backend.counters();
     return unpackVolume(grid, Reduce::Mean, sink.all);
 }
 

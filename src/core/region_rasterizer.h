@@ -85,6 +85,8 @@ class RegionRasterizer {
     /// Parts of the voxelize stage the backend timed on its own, for the
     /// work directory's manifest ("voxelize.NAME"; none by default).
     virtual StageSeconds voxelizeParts() const { return {}; }
+    /// One line on what ran, for --verbose (none by default).
+    virtual std::string describe() const { return {}; }
 };
 
 } // namespace yv

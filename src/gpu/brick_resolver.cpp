@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/trace.h"
+#include "gpu/gl_bindings.h"
 
 #include <algorithm>
 #include <chrono>
@@ -67,15 +68,15 @@ void GlBrickResolver::startResolve(GLuint words, std::uint32_t count, const Bric
     output_.reserve(albedoOffset + (albedo_ ? voxelCapacity * sizeof(PackedAlbedo) : 0), gpuBytes_);
     const GLuint groups = std::min<GLuint>(count, maxGroups_); // one work group a slot, looping past the limit
 
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, words);
-    places_.bindStorage(1);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBrickWordsBinding, words);
+    places_.bindStorage(kResolvePlacesBinding);
     count_.use();
     glUniform1ui(count_.uniform("uBrickCount"), count);
     glDispatchCompute(groups, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-    blockSums_.bindStorage(5);
-    totals_.bindStorage(6);
+    blockSums_.bindStorage(kResolveBlockSumsBinding);
+    totals_.bindStorage(kResolveTotalsBinding);
     scan_.use();
     glUniform1ui(scan_.uniform("uBrickCount"), count);
     glUniform1ui(scan_.uniform("uBlockCount"), static_cast<GLuint>(blocks));
@@ -85,9 +86,9 @@ void GlBrickResolver::startResolve(GLuint words, std::uint32_t count, const Bric
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
 
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, keys.buffer);
-    output_.bindStorage(3);
-    output_.bindStorage(4);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kResolveKeysBinding, keys.buffer);
+    output_.bindStorage(kPackedHeadersBinding);
+    output_.bindStorage(kPackedVoxelsBinding);
     resolve_.use();
     glUniform1ui(resolve_.uniform("uBrickCount"), count);
     glUniform1i(resolve_.uniform("uKeysFromRegion"), keys.fromRegion ? 1 : 0);
@@ -95,7 +96,7 @@ void GlBrickResolver::startResolve(GLuint words, std::uint32_t count, const Bric
     glUniform3i(resolve_.uniform("uRegionBricks"), keys.regionBricks.x, keys.regionBricks.y, keys.regionBricks.z);
     glUniform1ui(resolve_.uniform("uVoxelBase"), static_cast<GLuint>(headerBytes / sizeof(PackedVoxel)));
     if (albedo_) {
-        output_.bindStorage(5);
+        output_.bindStorage(kPackedAlbedoBinding);
         glUniform1ui(resolve_.uniform("uAlbedoBase"), static_cast<GLuint>(albedoOffset / sizeof(float)));
     }
     glDispatchCompute(groups, 1, 1);

@@ -12,16 +12,15 @@ namespace {
 
 /// A square texture of `size` texels read exactly (nearest, clamped to the
 /// edge, as the CPU reads the cross-section).
-GLuint uploadExactTexture(int size, GLenum storage, GLenum format, GLenum type, const void* texels, const char* what) {
-    GLuint texture = 0;
-    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-    glTextureStorage2D(texture, 1, storage, size, size);
+GlTexture uploadExactTexture(int size, GLenum storage, GLenum format, GLenum type, const void* texels, const char* what) {
+    GlTexture texture = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(texture.id(), 1, storage, size, size);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(texture, 0, 0, 0, size, size, format, type, texels);
-    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureSubImage2D(texture.id(), 0, 0, 0, size, size, format, type, texels);
+    glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(texture.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     checkGlError(what);
     return texture;
 }
@@ -30,7 +29,7 @@ GLuint uploadExactTexture(int size, GLenum storage, GLenum format, GLenum type, 
 
 TexelReads texelReadsFor(TexelReads reads) { return reads == TexelReads::Auto ? TexelReads::Quad : reads; }
 
-GLuint uploadCrossSectionTexture(const CrossSection& xs, TexelReads reads) {
+GlTexture uploadCrossSectionTexture(const CrossSection& xs, TexelReads reads) {
     YV_CHECK(reads != TexelReads::Auto && xs.density.size() == std::size_t(xs.size) * xs.size);
     if (reads != TexelReads::Quad)
         return uploadExactTexture(xs.size, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, xs.density.data(),
@@ -52,7 +51,7 @@ GLuint uploadCrossSectionTexture(const CrossSection& xs, TexelReads reads) {
                               "uploading the cross-section");
 }
 
-GLuint uploadAlbedoTexture(const CrossSection& xs) {
+GlTexture uploadAlbedoTexture(const CrossSection& xs) {
     YV_CHECK(xs.albedo.size() == std::size_t(xs.size) * xs.size);
     return uploadExactTexture(xs.size, GL_RGB32F, GL_RGB, GL_FLOAT, xs.albedo.data(),
                               "uploading the cross-section's colour");

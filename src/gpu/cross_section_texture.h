@@ -3,8 +3,7 @@
 #pragma once
 
 #include "garment/cross_section.h"
-
-#include <epoxy/gl.h>
+#include "gpu/gl_objects.h"
 
 #include <string>
 #include <vector>
@@ -28,12 +27,12 @@ TexelReads texelReadsFor(TexelReads reads);
 /// R8UI for Fetch and Gather; for Quad, (size + 1)^2 RGBA8UI texels, texel
 /// (u, v) holding the density at (u - 1, v - 1), (u, v - 1), (u - 1, v) and
 /// (u, v), each coordinate clamped to [0, size - 1]. Nearest filtering,
-/// clamped to the edge. The caller deletes it.
-GLuint uploadCrossSectionTexture(const CrossSection& xs, TexelReads reads);
+/// clamped to the edge.
+GlTexture uploadCrossSectionTexture(const CrossSection& xs, TexelReads reads);
 
 /// An RGB32F texture of the fibres' colour times density (CrossSection::albedo,
-/// for --albedo), read with four texelFetch. The caller deletes it.
-GLuint uploadAlbedoTexture(const CrossSection& xs);
+/// for --albedo), read with four texelFetch.
+GlTexture uploadAlbedoTexture(const CrossSection& xs);
 
 /// The #defines that pick the sampling shader's variant: the analytic disk's
 /// exact coverage or the texture (each variant compiles only the code it

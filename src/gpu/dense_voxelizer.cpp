@@ -3,6 +3,9 @@
 #include "core/error.h"
 #include "gpu/cross_section_texture.h"
 #include "gpu/egl_context.h"
+#include "gpu/gl_bindings.h"
+#include "gpu/gl_buffer.h"
+#include "gpu/gl_objects.h"
 #include "gpu/gl_program.h"
 #include "gpu/gpu_layout.h"
 #include "gpu/slice_placer.h"
@@ -12,9 +15,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 
 namespace yv {
@@ -28,28 +31,6 @@ template <class F> double timedGpu(F&& work) {
     work();
     glFinish();
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-/// Owns the GL objects of one run so an exception frees them before the context goes.
-struct GlObjects {
-    GLuint textures[3] = {0, 0, 0}; // density, theta, phi
-    GLuint crossSection = 0, segments = 0, drawList = 0, vao = 0, fbo = 0;
-    ~GlObjects() {
-        glDeleteTextures(3, textures);
-        glDeleteTextures(1, &crossSection);
-        glDeleteBuffers(1, &segments);
-        glDeleteBuffers(1, &drawList);
-        glDeleteVertexArrays(1, &vao);
-        glDeleteFramebuffers(1, &fbo);
-    }
-};
-
-GLuint uploadBuffer(const void* data, std::size_t bytes) {
-    GLuint id = 0;
-    glCreateBuffers(1, &id);
-    glNamedBufferStorage(id, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    if (bytes) glNamedBufferSubData(id, 0, static_cast<GLsizeiptr>(bytes), data);
-    return id;
 }
 
 std::string dimsText(const glm::ivec3& d) {
@@ -96,24 +77,13 @@ void convertSlab(const VoxelGrid& grid, int z0, int nz, const std::uint8_t* dens
     for (auto& list : perX) out.insert(out.end(), list.begin(), list.end());
 }
 
-} // namespace
-
-BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
-                          const GlVoxelizeSettings& settings, DenseVoxelizeCounters* counters) {
-    if (xs.hasAlbedo()) throw Error("--albedo: the dense method has no albedo; use --method sparse");
-    DenseVoxelizeCounters local;
-    DenseVoxelizeCounters& c = counters ? *counters : local;
-    const int S = settings.base.supersample;
-    checkSupersample(S);
-
-    GlContext context(GlContextOptions{settings.device, std::getenv("YV_GL_DEBUG") != nullptr});
+/// One pixel per (supersampled) voxel column of the whole grid: the
+/// viewport's edge. Throws where the grid exceeds the method's limit (the
+/// whole grid in one 3D texture per channel, all three resident at once) or
+/// the viewport: checked before any work, so benchmarks can report "cannot
+/// run" cheaply.
+GLsizei denseViewport(const VoxelGrid& grid, int S, const GlContext& context) {
     const GlInfo& info = context.info();
-    c.renderer = info.renderer;
-    c.platform = platformName(info.platform);
-
-    // The method's limit: the whole grid in one 3D texture per channel, all
-    // three resident at once. Checked before any work, so benchmarks can
-    // report "cannot run" cheaply.
     const glm::ivec3 dims = grid.dims;
     const std::uint64_t voxels = grid.voxelCount();
     const long long freeBytes = context.queryFreeMemoryBytes();
@@ -124,7 +94,6 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
                     std::to_string(info.max3dTextureSize) + " per axis / " +
                     (freeBytes > 0 ? std::to_string(freeBytes >> 20) + " MiB free GPU memory" : std::string("GPU memory")) +
                     " for 3 textures of " + std::to_string(voxels >> 20) + " MiB)");
-    // One pixel per (supersampled) voxel column of the whole grid.
     GLint fbMax[2] = {0, 0}, viewportMax[2] = {0, 0};
     glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &fbMax[0]);
     glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &fbMax[1]);
@@ -134,12 +103,15 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
         throw Error("dense method: grid " + dimsText(dims) + " at supersample " + std::to_string(S) +
                     " needs a " + std::to_string(viewport) + " pixel viewport, above this GPU's limit of " +
                     std::to_string(std::min({fbMax[0], fbMax[1], viewportMax[0], viewportMax[1]})));
+    return GLsizei(viewport);
+}
 
-    GlObjects gl;
-    const GpuSegments segments = packSegments(plan, grid);
-    gl.segments = uploadBuffer(segments.data(), segments.size() * sizeof(GpuSegment));
-    // Draw list: every segment, with its first instance.
-    std::vector<std::uint32_t> draw(segments.size() * 2);
+/// The plan's segments into `segments` and a draw list of every segment,
+/// with its first instance, into `drawList`; returns the slices to draw.
+std::uint64_t uploadDraw(const SlicePlan& plan, const VoxelGrid& grid, GlBuffer& segments, GlBuffer& drawList) {
+    const GpuSegments packed = packSegments(plan, grid);
+    segments.upload(packed.data(), packed.size() * sizeof(GpuSegment), nullptr);
+    std::vector<std::uint32_t> draw(packed.size() * 2);
     std::uint64_t instances = 0;
     for (std::size_t i = 0; i < plan.segments.size(); ++i) {
         draw[2 * i] = static_cast<std::uint32_t>(i);
@@ -148,72 +120,90 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
     }
     if (instances > 0x7fffffff)
         throw Error("dense method: " + std::to_string(instances) + " slices exceed one instanced draw");
-    c.instances = instances;
-    gl.drawList = uploadBuffer(draw.data(), draw.size() * 4);
+    drawList.upload(draw.data(), draw.size() * 4, nullptr);
+    return instances;
+}
 
-    const TexelReads reads = texelReadsFor(settings.texelReads);
-    gl.crossSection = uploadCrossSectionTexture(xs, reads);
-    checkGlError("uploading segments and the cross-section");
+/// The three GL_R8 3D textures over the grid: density, theta, phi.
+using DenseChannels = std::array<GlTexture, 3>;
 
+DenseChannels allocateChannels(const VoxelGrid& grid) {
+    const glm::ivec3 dims = grid.dims;
     glGetError(); // start the allocation check clean
-    glCreateTextures(GL_TEXTURE_3D, 3, gl.textures);
-    for (GLuint t : gl.textures) glTextureStorage3D(t, 1, GL_R8, dims.x, dims.y, dims.z);
+    DenseChannels channels;
+    for (GlTexture& t : channels) {
+        t = createTexture(GL_TEXTURE_3D);
+        glTextureStorage3D(t.id(), 1, GL_R8, dims.x, dims.y, dims.z);
+    }
     if (glGetError() != GL_NO_ERROR)
         throw Error("dense method: grid " + dimsText(dims) + " exceeds one 3D texture (the driver cannot allocate 3 textures of " +
-                    std::to_string(voxels >> 20) + " MiB)");
-    c.textureBytes = 3 * voxels;
+                    std::to_string(grid.voxelCount() >> 20) + " MiB)");
+    return channels;
+}
 
-    c.clearSeconds = timedGpu([&] {
-        const std::uint8_t zero = 0;
-        for (GLuint t : gl.textures) glClearTexImage(t, 0, GL_RED, GL_UNSIGNED_BYTE, &zero);
-    });
-    checkGlError("clearing the 3D textures");
+/// What the dense draw reads.
+struct DenseDraw {
+    const GlBuffer& segments;
+    const GlBuffer& drawList;
+    std::uint64_t instances;
+    GLsizei viewport;
+};
 
-    // The slices placed once, then drawn (slice_setup.comp, as the sparse backend does).
+/// The slices placed once (slice_setup.comp, as the sparse backend does),
+/// then drawn into `channels` (dense.frag); returns the draw's seconds.
+double drawSlices(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, TexelReads reads, int S,
+                  const DenseDraw& draw, const GlTexture& crossSection, const DenseChannels& channels) {
     std::uint32_t minSlices = ~0u, maxSlices = 0;
     for (const SegmentRecord& s : plan.segments) {
         minSlices = std::min(minSlices, s.sliceCount);
         maxSlices = std::max(maxSlices, s.sliceCount);
     }
-    const SliceDraw sliceDraw{gl.segments, gl.drawList, static_cast<int>(plan.segments.size()),
-                              minSlices == maxSlices ? maxSlices : 0u, instances};
+    const SliceDraw sliceDraw{draw.segments.id(), draw.drawList.id(), static_cast<int>(plan.segments.size()),
+                              minSlices == maxSlices ? maxSlices : 0u, draw.instances};
     GlBuffer records;
     GlProgram program = GlProgram::graphics("slice.vert", "dense.frag", crossSectionDefines(xs, reads));
     const SlicePlacer placer;
-    glCreateVertexArrays(1, &gl.vao);
-    glCreateFramebuffers(1, &gl.fbo);
-    glNamedFramebufferParameteri(gl.fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, GLint(viewport));
-    glNamedFramebufferParameteri(gl.fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, GLint(viewport));
-    glBindFramebuffer(GL_FRAMEBUFFER, gl.fbo);
-    glViewport(0, 0, GLsizei(viewport), GLsizei(viewport));
+    const GlVertexArray vao = createVertexArray();
+    const GlFramebuffer fbo = createFramebuffer();
+    glNamedFramebufferParameteri(fbo.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, draw.viewport);
+    glNamedFramebufferParameteri(fbo.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, draw.viewport);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    glViewport(0, 0, draw.viewport, draw.viewport);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
 
+    const glm::ivec3 dims = grid.dims;
     program.use();
     glUniform1f(program.uniform("uRadius"), float(plan.options.radius / grid.voxelSize));
     glUniform1i(program.uniform("uSupersample"), S);
     glUniform1f(program.uniform("uSupport"), float(textureSupport(xs)));
     glUniform3i(program.uniform("uRegionMin"), 0, 0, 0);
     glUniform3i(program.uniform("uDims"), dims.x, dims.y, dims.z);
-    glUniform2f(program.uniform("uViewport"), float(viewport), float(viewport));
-    glBindTextureUnit(0, gl.crossSection);
-    for (GLuint i = 0; i < 3; ++i) glBindImageTexture(i, gl.textures[i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_R8);
-    glBindVertexArray(gl.vao);
-    if (instances > 0)
-        c.rasterSeconds = timedGpu([&] {
+    glUniform2f(program.uniform("uViewport"), float(draw.viewport), float(draw.viewport));
+    glBindTextureUnit(kCrossSectionUnit, crossSection.id());
+    const GLuint images[3] = {GLuint(kDenseDensityImage), GLuint(kDenseThetaImage), GLuint(kDensePhiImage)};
+    for (int i = 0; i < 3; ++i)
+        glBindImageTexture(images[i], channels[i].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R8);
+    glBindVertexArray(vao.id());
+    double seconds = 0.0;
+    if (draw.instances > 0)
+        seconds = timedGpu([&] {
             placer.place(sliceDraw, records, nullptr);
             program.use();
-            records.bindStorage(5);
-            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(instances));
+            records.bindStorage(kSlicesBinding);
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, kSliceVertices, static_cast<GLsizei>(draw.instances));
         });
     checkGlError("dense raster pass");
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    return seconds;
+}
 
-    // Read back slab by slab in z (whole brick layers, about 256 MiB of host
-    // memory for the three channels) so big grids do not need 3 bytes per
-    // voxel on the host as well.
-    const auto readStart = std::chrono::steady_clock::now();
+/// The channels read back slab by slab in z (whole brick layers, about 256
+/// MiB of host memory for the three channels), so big grids do not need 3
+/// bytes per voxel on the host as well, and turned into bricks.
+BrickVolume readChannels(const VoxelGrid& grid, const DenseChannels& channels) {
+    const glm::ivec3 dims = grid.dims;
     const std::uint64_t layerBytes = std::uint64_t(dims.x) * dims.y * 8;
     const int slabDepth = int(std::clamp<std::uint64_t>((std::uint64_t(256) << 20) / (3 * layerBytes), 1, (dims.z + 7) / 8)) * 8;
     std::vector<std::uint8_t> slab[3];
@@ -231,7 +221,7 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
             slab[k].resize(bytes);
             for (int z = 0; z < nz; z += chunk) {
                 const int n = std::min(chunk, nz - z);
-                glGetTextureSubImage(gl.textures[k], 0, 0, 0, z0 + z, dims.x, dims.y, n, GL_RED, GL_UNSIGNED_BYTE,
+                glGetTextureSubImage(channels[k].id(), 0, 0, 0, z0 + z, dims.x, dims.y, n, GL_RED, GL_UNSIGNED_BYTE,
                                      static_cast<GLsizei>(sliceBytes * n), slab[k].data() + sliceBytes * z);
             }
         }
@@ -247,6 +237,55 @@ BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const V
                 volume.tally.densitySum += b.density[v];
             }
     volume.tally.rawDensitySum = volume.tally.densitySum;
+    return volume;
+}
+
+} // namespace
+
+JsonObject toJson(const DenseVoxelizeCounters& counters) {
+    JsonObject out;
+    out.set("renderer", counters.renderer)
+        .set("platform", counters.platform)
+        .set("method", "dense")
+        .set("gpu_peak_bytes", counters.textureBytes)
+        .set("slices_drawn", counters.instances)
+        .set("gpu_clear_seconds", counters.clearSeconds)
+        .set("gpu_raster_seconds", counters.rasterSeconds)
+        .set("readback_seconds", counters.readbackSeconds);
+    return out;
+}
+
+BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
+                          const GlVoxelizeSettings& settings, const GlContext& context,
+                          DenseVoxelizeCounters* counters) {
+    if (xs.hasAlbedo()) throw Error("--albedo: the dense method has no albedo; use --method sparse");
+    DenseVoxelizeCounters local;
+    DenseVoxelizeCounters& c = counters ? *counters : local;
+    const int S = settings.base.supersample;
+    checkSupersample(S);
+    context.makeCurrent();
+    c.renderer = context.info().renderer;
+    c.platform = platformName(context.info().platform);
+
+    const GLsizei viewport = denseViewport(grid, S, context);
+    GlBuffer segments, drawList;
+    c.instances = uploadDraw(plan, grid, segments, drawList);
+    const TexelReads reads = texelReadsFor(settings.texelReads);
+    const GlTexture crossSection = uploadCrossSectionTexture(xs, reads);
+    checkGlError("uploading segments and the cross-section");
+
+    const DenseChannels channels = allocateChannels(grid);
+    c.textureBytes = 3 * grid.voxelCount();
+    c.clearSeconds = timedGpu([&] {
+        const std::uint8_t zero = 0;
+        for (const GlTexture& t : channels) glClearTexImage(t.id(), 0, GL_RED, GL_UNSIGNED_BYTE, &zero);
+    });
+    checkGlError("clearing the 3D textures");
+    c.rasterSeconds = drawSlices(plan, xs, grid, reads, S, DenseDraw{segments, drawList, c.instances, viewport},
+                                 crossSection, channels);
+
+    const auto readStart = std::chrono::steady_clock::now();
+    BrickVolume volume = readChannels(grid, channels);
     c.readbackSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - readStart).count();
     return volume;
 }

@@ -6,7 +6,9 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/stats.h"
 #include "garment/cross_section.h"
+#include "gpu/egl_context.h"
 #include "garment/slices.h"
 #include "gpu/gl_voxelizer.h"
 #include "plan/grid.h"
@@ -25,14 +27,21 @@ struct DenseVoxelizeCounters {
     double readbackSeconds = 0.0;   ///< wall time of reading back and converting to bricks
 };
 
-/// Voxelizes with the paper's dense method: max density per voxel (always,
-/// whatever settings.base.reduce says; the method has no other reduction) and
-/// the orientation stored as two 8-bit angles. Same sampling rule as
-/// voxelizeGl, so the result is comparable with voxelizeGl in Reduce::Max mode
-/// up to the method's racy writes and 8-bit angles. Throws yv::Error when no
-/// GL 4.5 context can be had, or when the grid exceeds one 3D texture (the
-/// message starts "dense method: grid WxHxD exceeds one 3D texture").
+/// The counters under --stats' names: renderer, platform, method ("dense"),
+/// gpu_peak_bytes, slices_drawn, gpu_clear_seconds, gpu_raster_seconds,
+/// readback_seconds.
+JsonObject toJson(const DenseVoxelizeCounters& counters);
+
+/// Voxelizes on `context` (made current on this thread) with the paper's
+/// dense method: max density per voxel (always, whatever
+/// settings.base.reduce says; the method has no other reduction) and the
+/// orientation stored as two 8-bit angles. Same sampling rule as voxelizeGl,
+/// so the result is comparable with voxelizeGl in Reduce::Max mode up to the
+/// method's racy writes and 8-bit angles. Throws yv::Error when the grid
+/// exceeds one 3D texture (the message starts "dense method: grid WxHxD
+/// exceeds one 3D texture").
 BrickVolume voxelizeDense(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
-                          const GlVoxelizeSettings& settings, DenseVoxelizeCounters* counters = nullptr);
+                          const GlVoxelizeSettings& settings, const GlContext& context,
+                          DenseVoxelizeCounters* counters = nullptr);
 
 } // namespace yv

@@ -1,5 +1,5 @@
 // Owning handles for GL object names (textures, vertex arrays, framebuffers,
-// renderbuffers), beside GlBuffer: each deletes its name when it goes out of
+// renderbuffers, queries, shader stages), beside GlBuffer: each deletes its name when it goes out of
 // scope, so no pass or renderer frees GL objects by hand. They need the GL
 // context current where they are made and destroyed.
 #pragma once
@@ -51,6 +51,9 @@ inline void deleteVertexArrays(GLsizei n, const GLuint* ids) { glDeleteVertexArr
 inline void deleteFramebuffers(GLsizei n, const GLuint* ids) { glDeleteFramebuffers(n, ids); }
 inline void deleteRenderbuffers(GLsizei n, const GLuint* ids) { glDeleteRenderbuffers(n, ids); }
 inline void deleteQueries(GLsizei n, const GLuint* ids) { glDeleteQueries(n, ids); }
+inline void deleteShaders(GLsizei n, const GLuint* ids) {
+    for (GLsizei i = 0; i < n; ++i) glDeleteShader(ids[i]);
+}
 } // namespace gl_detail
 
 using GlTexture = GlName<gl_detail::deleteTextures>;
@@ -58,6 +61,8 @@ using GlVertexArray = GlName<gl_detail::deleteVertexArrays>;
 using GlFramebuffer = GlName<gl_detail::deleteFramebuffers>;
 using GlRenderbuffer = GlName<gl_detail::deleteRenderbuffers>;
 using GlQuery = GlName<gl_detail::deleteQueries>;
+/// A compiled shader stage (GlProgram links them).
+using GlShader = GlName<gl_detail::deleteShaders>;
 
 /// A new texture of `target` (glCreateTextures: storage comes after).
 inline GlTexture createTexture(GLenum target) {

@@ -68,28 +68,6 @@ const char* glErrorName(GLenum e) {
     }
 }
 
-/// Deletes a compiled stage once it is attached (or on a throw before that).
-struct StageGuard {
-    GLuint id;
-    ~StageGuard() { glDeleteShader(id); }
-};
-
-/// Attaches, links and checks; `names` is what a link error reports.
-GLuint link(std::initializer_list<GLuint> stages, const std::string& names) {
-    GLuint program = glCreateProgram();
-    for (GLuint s : stages) glAttachShader(program, s);
-    glLinkProgram(program);
-    for (GLuint s : stages) glDetachShader(program, s);
-    GLint ok = GL_FALSE;
-    glGetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        std::string log = programLog(program);
-        glDeleteProgram(program);
-        throw Error("shader " + names + ": link failed:\n" + log);
-    }
-    return program;
-}
-
 } // namespace
 
 std::optional<std::string> shaderText(const std::string& name) {
@@ -98,56 +76,72 @@ std::optional<std::string> shaderText(const std::string& name) {
     return std::nullopt;
 }
 
-GLuint compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
+GlShader compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
     const std::optional<std::string> override = shaderOverride(name), commonOverride = shaderOverride("common.glsl");
     const char* text = override ? override->c_str() : shaderSource(name.c_str());
     if (!text)
         throw Error("shader " + name + ": not among the embedded shaders (add shaders/" + name +
                     " to YV_SHADERS in CMakeLists.txt)");
     const char* common = commonOverride ? commonOverride->c_str() : shaderSource("common.glsl");
+    // The binding points' names, always the built-in list: the C++ that binds
+    // the buffers was compiled with it (gl_bindings.h).
+    const char* bindings = shaderSource("bindings.glsl");
 
     std::string src = "#version 450 core\n";
     for (const std::string& d : defines) src += "#define " + d + "\n";
-    // Source-string numbers 1 and 2 let driver logs tell the two files apart.
-    src += "#line 1 1\n";
+    // Source-string numbers 1, 2 and 3 let driver logs tell the files apart.
+    src += "#line 1 3\n";
+    if (bindings) src += bindings;
+    src += "\n#line 1 1\n";
     if (common) src += common;
     src += "\n#line 1 2\n";
     src += text;
 
-    GLuint shader = glCreateShader(stage);
-    if (shader == 0) throw Error("shader " + name + ": glCreateShader failed (no current GL context?)");
+    GlShader shader(glCreateShader(stage));
+    if (!shader) throw Error("shader " + name + ": glCreateShader failed (no current GL context?)");
     const char* p = src.c_str();
-    glShaderSource(shader, 1, &p, nullptr);
-    glCompileShader(shader);
+    glShaderSource(shader.id(), 1, &p, nullptr);
+    glCompileShader(shader.id());
     GLint ok = GL_FALSE;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
     if (!ok) {
-        std::string log = shaderLog(shader);
-        glDeleteShader(shader);
+        const std::string log = shaderLog(shader.id());
         throw Error("shader " + name + ": compile failed (source-string 1 is common.glsl, 2 is " + name +
-                    "):\n" + log);
+                    ", 3 is bindings.glsl):\n" + log);
     }
     return shader;
 }
 
+GlProgram GlProgram::link(std::initializer_list<GLuint> stages, const std::string& names) {
+    GlProgram program(glCreateProgram());
+    for (GLuint s : stages) glAttachShader(program.id_, s);
+    glLinkProgram(program.id_);
+    for (GLuint s : stages) glDetachShader(program.id_, s);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program.id_, GL_LINK_STATUS, &ok);
+    if (!ok) throw Error("shader " + names + ": link failed:\n" + programLog(program.id_));
+    return program;
+}
+
+// The stages are deleted once linked (or on a throw before that).
 GlProgram GlProgram::compute(const std::string& name, const std::vector<std::string>& defines) {
-    StageGuard cs{compileShaderStage(GL_COMPUTE_SHADER, name, defines)};
-    return GlProgram(link({cs.id}, name));
+    const GlShader cs = compileShaderStage(GL_COMPUTE_SHADER, name, defines);
+    return link({cs.id()}, name);
 }
 
 GlProgram GlProgram::graphics(const std::string& vertexName, const std::string& fragmentName,
                               const std::vector<std::string>& defines) {
-    StageGuard vs{compileShaderStage(GL_VERTEX_SHADER, vertexName, defines)};
-    StageGuard fs{compileShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines)};
-    return GlProgram(link({vs.id, fs.id}, vertexName + " + " + fragmentName));
+    const GlShader vs = compileShaderStage(GL_VERTEX_SHADER, vertexName, defines);
+    const GlShader fs = compileShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines);
+    return link({vs.id(), fs.id()}, vertexName + " + " + fragmentName);
 }
 
 GlProgram GlProgram::graphicsWithGeometry(const std::string& vertexName, const std::string& geometryName,
                                           const std::string& fragmentName, const std::vector<std::string>& defines) {
-    StageGuard vs{compileShaderStage(GL_VERTEX_SHADER, vertexName, defines)};
-    StageGuard gs{compileShaderStage(GL_GEOMETRY_SHADER, geometryName, defines)};
-    StageGuard fs{compileShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines)};
-    return GlProgram(link({vs.id, gs.id, fs.id}, vertexName + " + " + geometryName + " + " + fragmentName));
+    const GlShader vs = compileShaderStage(GL_VERTEX_SHADER, vertexName, defines);
+    const GlShader gs = compileShaderStage(GL_GEOMETRY_SHADER, geometryName, defines);
+    const GlShader fs = compileShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines);
+    return link({vs.id(), gs.id(), fs.id()}, vertexName + " + " + geometryName + " + " + fragmentName);
 }
 
 GlProgram::~GlProgram() {

@@ -1,8 +1,11 @@
 // GL shader programs built from the shaders embedded from shaders/.
 #pragma once
 
+#include "gpu/gl_objects.h"
+
 #include <epoxy/gl.h>
 
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,7 +13,8 @@
 namespace yv {
 
 /// A linked GL program. Sources are composed as: "#version 450 core", the
-/// given #define lines, shaders/common.glsl, then the shader file itself, each
+/// given #define lines, shaders/bindings.glsl (the binding points' names,
+/// gl_bindings.h), shaders/common.glsl, then the shader file itself, each
 /// part behind a #line marker so driver logs point at the right file.
 class GlProgram {
   public:
@@ -36,18 +40,21 @@ class GlProgram {
 
   private:
     explicit GlProgram(GLuint id) : id_(id) {}
+    /// Attaches, links and checks; `names` is what a link error reports.
+    static GlProgram link(std::initializer_list<GLuint> stages, const std::string& names);
     GLuint id_ = 0;
 };
 
 /// The text compiled for shader file `name`: the file of that name in
 /// YV_SHADER_DIR where the variable is set and the file is there (for trying
 /// a shader change without rebuilding), else the copy built into the binary;
-/// nullopt when neither exists.
+/// nullopt when neither exists. (bindings.glsl is compiled from the built-in
+/// copy always: the C++ that binds the buffers was built with it.)
 std::optional<std::string> shaderText(const std::string& name);
 
 /// Compiles one stage. A failure throws yv::Error with the shader's name and
 /// the driver's log.
-GLuint compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines);
+GlShader compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines);
 
 /// Throws yv::Error naming `where` when glGetError reports an error.
 void checkGlError(const char* where);

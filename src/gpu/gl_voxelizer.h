@@ -46,8 +46,9 @@ enum class SlicePrimitive { Auto, Triangle, Point };
 
 struct GlVoxelizeSettings {
     VoxelizeSettings base;
-    int device = -1; ///< EGL device index (-1: first GPU, else llvmpipe)
-    int spreadIndex = 0; ///< with device -1: GPU index modulo the GPU count (MPI local rank)
+    /// Seconds the caller took to make the GL context it gives the backend
+    /// (reported as gl_context_seconds).
+    double contextSeconds = 0.0;
     /// Fragment-list capacity in fragments (0: from queried limits and free
     /// GPU memory). Tests force it small to exercise overflow and retry.
     std::uint64_t fragmentCapacity = 0;
@@ -88,7 +89,7 @@ struct GlVoxelizeCounters {
     std::uint64_t fragmentCapacity = 0; ///< capacity used
     std::uint64_t sliceDataBytes = 0;   ///< GPU bytes of curve/segment data for the slices
     std::uint64_t peakGpuBytes = 0;     ///< largest sum of yarnvox's GPU buffers
-    double contextSeconds = 0.0;        ///< creating the GL context (EGL display, device, context), here or by the caller
+    double contextSeconds = 0.0;        ///< creating the GL context (EGL display, device, context), by the caller
     double programSeconds = 0.0;        ///< compiling and linking the backend's shader programs
     double rasterSeconds = 0.0;         ///< time of the raster passes: slices placed, drawn, items appended (GPU drained at both ends)
     double placeSeconds = 0.0;          ///< the part of rasterSeconds that places the slices (slice_setup.comp)
@@ -100,15 +101,19 @@ struct GlVoxelizeCounters {
 };
 
 /// The GL backend on a live context: budgets from the queried limits, then
-/// zoom regions one after another. A region whose fragments overflow the list
-/// (or whose bricks overflow their buffer) is split and redone; nothing is
-/// dropped and nothing is counted twice.
+/// zoom regions one after another, each through the passes of
+/// raster_pass.h, sample_pass.h, brick_pass.h and brick_readback.h. A region
+/// whose fragments overflow the list (or whose bricks overflow their buffer)
+/// is split and redone; nothing is dropped and nothing is counted twice.
 class GlBackend : public RegionRasterizer {
   public:
-    /// Runs on `context` where given (made current on this thread),
-    /// else on a context of its own made from `settings`.
+    /// Runs on `context` (made current on this thread), which it owns: the
+    /// pipeline frees both together, on another thread (releaseThread).
     GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const GlVoxelizeSettings& settings,
-              GlVoxelizeCounters& counters, std::unique_ptr<GlContext> context = nullptr);
+              std::unique_ptr<GlContext> context);
+    /// Runs on `context` (made current on this thread), which must outlive the backend.
+    GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const GlVoxelizeSettings& settings,
+              const GlContext& context);
     ~GlBackend() override;
     /// Fragments one pass may append (the zoom planner's budget).
     std::uint64_t fragmentBudget() const override;
@@ -120,21 +125,25 @@ class GlBackend : public RegionRasterizer {
     /// Releases the GL context from this thread; the destructor, on any
     /// thread, makes it current there.
     void releaseThread() override;
+    /// What the backend counted so far (totals once run() returns).
+    const GlVoxelizeCounters& counters() const;
     /// GlVoxelizeCounters under --stats' names, in the order they have always had.
     JsonObject stats() const override;
-    std::uint64_t samples() const override { return counters_.fragments; }
+    std::uint64_t samples() const override { return counters().fragments; }
     /// The raster, sample, brick, resolve and readback times.
     StageSeconds voxelizeParts() const override;
+    /// "renderer: NAME (PLATFORM); N overflow retries, M regions resumed".
+    std::string describe() const override;
 
   private:
     class Impl;
     std::unique_ptr<Impl> impl_;
-    const GlVoxelizeCounters& counters_;
 };
 
-/// Voxelizes on the GPU with the same sampling rule and reductions as
-/// voxelizeCpu. Needs an OpenGL 4.5 context (throws yv::Error otherwise).
+/// Voxelizes on the GPU, on `context`, with the same sampling rule and
+/// reductions as voxelizeCpu; `counters`, where given, gets the backend's.
 BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
-                       const GlVoxelizeSettings& settings, GlVoxelizeCounters* counters = nullptr);
+                       const GlVoxelizeSettings& settings, const GlContext& context,
+                       GlVoxelizeCounters* counters = nullptr);
 
 } // namespace yv

@@ -1,6 +1,7 @@
 #include "gpu/slice_placer.h"
 
 #include "core/error.h"
+#include "gpu/gl_bindings.h"
 #include "gpu/gpu_layout.h"
 
 #include <algorithm>
@@ -30,9 +31,9 @@ void SlicePlacer::place(const SliceDraw& draw, GlBuffer& records, std::uint64_t*
     glUniform1i(program_.uniform("uDrawCount"), draw.drawCount);
     glUniform1ui(program_.uniform("uUniformSlices"), draw.uniformSlices);
     glUniform1ui(program_.uniform("uInstances"), static_cast<GLuint>(draw.instances));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, draw.segments);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, draw.drawList);
-    records.bindStorage(5);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSegmentsBinding, draw.segments);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDrawListBinding, draw.drawList);
+    records.bindStorage(kSlicesBinding);
     const std::uint64_t groups = (draw.instances + kGroupSize - 1) / kGroupSize;
     glDispatchCompute(static_cast<GLuint>(std::min<std::uint64_t>(groups, maxGroups_)), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -51,9 +52,9 @@ void SlicePlacer::joinRuns(std::uint64_t instances, int supersample, float sprea
     glUniform1ui(runs_.uniform("uInstances"), static_cast<GLuint>(instances));
     glUniform1i(runs_.uniform("uSupersample"), supersample);
     glUniform1f(runs_.uniform("uRunSpread"), spread);
-    records.bindStorage(5);
-    runs.bindStorage(4);
-    command.bindStorage(3);
+    records.bindStorage(kSlicesBinding);
+    runs.bindStorage(kRunsBinding);
+    command.bindStorage(kRunDrawBinding);
     const std::uint64_t blocks = (instances + runSlices_ - 1) / runSlices_;
     const std::uint64_t groups = (blocks + kGroupSize - 1) / kGroupSize;
     glDispatchCompute(static_cast<GLuint>(std::min<std::uint64_t>(groups, maxGroups_)), 1, 1);

@@ -9,10 +9,8 @@ DenseRun runDense(const SlicedGarment& sliced, const VoxelGrid& grid, const Voxe
                   StageTimer& timer, const RefuseEmpty& refuseEmpty) {
     GlVoxelizeSettings glSettings;
     glSettings.base = settings;
-    glSettings.device = job.device;
     DenseVoxelizeCounters counters;
-    gl.context.reset(); // voxelizeDense makes its own
-    const BrickVolume volume = voxelizeDense(sliced.plan, sliced.xs, grid, glSettings, &counters);
+    const BrickVolume volume = voxelizeDense(sliced.plan, sliced.xs, grid, glSettings, *gl.context, &counters);
     DenseRun run;
     run.voxelizeSeconds = timer.lap("voxelize");
     meta.backend = "gl-dense";
@@ -22,14 +20,7 @@ DenseRun runDense(const SlicedGarment& sliced, const VoxelGrid& grid, const Voxe
     timer.lap("write");
     run.totals.bricks = volume.bricks.size();
     run.totals.writer.tally = volume.tally;
-    run.backendStats.set("renderer", counters.renderer)
-        .set("platform", counters.platform)
-        .set("method", "dense")
-        .set("gpu_peak_bytes", counters.textureBytes)
-        .set("slices_drawn", counters.instances)
-        .set("gpu_clear_seconds", counters.clearSeconds)
-        .set("gpu_raster_seconds", counters.rasterSeconds)
-        .set("readback_seconds", counters.readbackSeconds);
+    run.backendStats = toJson(counters);
     return run;
 }
 

@@ -9,35 +9,17 @@
 #include <thread>
 
 namespace yv {
-namespace {
-
-/// What GlBackend refers to for its lifetime: kept beside it.
-struct GlBackendState {
-    GlVoxelizeSettings settings;
-    GlVoxelizeCounters counters;
-};
-
-class GlRasterizer : private GlBackendState, public GlBackend {
-  public:
-    GlRasterizer(GlBackendState state, const SlicedGarment& s, const VoxelGrid& grid, std::unique_ptr<GlContext> context)
-        : GlBackendState(std::move(state)), GlBackend(s.plan, s.xs, grid, settings, counters, std::move(context)) {}
-};
-
-} // namespace
-
 std::unique_ptr<RegionRasterizer> makeRasterizer(Backend backend, const SlicedGarment& sliced, const VoxelGrid& grid,
-                                                 const VoxelizeSettings& settings, const VoxelizeJob& job, GlStart&& gl) {
+                                                 const VoxelizeSettings& base, const VoxelizeJob& job, GlStart&& gl) {
     if (backend == Backend::Cpu)
-        return std::make_unique<CpuRegionBackend>(sliced.plan, sliced.xs, grid, settings, job.fragmentCapacity);
-    GlBackendState state;
-    state.settings.base = settings;
-    state.settings.device = job.device;
-    state.settings.spreadIndex = cluster() ? cluster()->localRank() : 0; // each rank its own GPU, alone or not
-    state.settings.fragmentCapacity = job.fragmentCapacity;
-    state.settings.verbose = job.verbose && !job.quiet;
-    state.counters.contextSeconds = gl.seconds;
+        return std::make_unique<CpuRegionBackend>(sliced.plan, sliced.xs, grid, base, job.fragmentCapacity);
+    GlVoxelizeSettings settings;
+    settings.base = base;
+    settings.fragmentCapacity = job.fragmentCapacity;
+    settings.verbose = job.verbose && !job.quiet;
+    settings.contextSeconds = gl.seconds;
     const TraceSpan span("set up the GL backend");
-    return std::make_unique<GlRasterizer>(std::move(state), sliced, grid, std::move(gl.context));
+    return std::make_unique<GlBackend>(sliced.plan, sliced.xs, grid, settings, std::move(gl.context));
 }
 
 ZoomPlan planZoomWhilePreparing(RegionRasterizer& rasterizer, const SlicedGarment& sliced, const VoxelGrid& grid,

@@ -150,6 +150,7 @@ SparseRun runSparse(const VoxelizeJob& job, Backend backend, const SlicedGarment
         const InterruptScope interruptible;
         rasterizer->run(destination->regionOrder(), destination->sink());
     }
+    if (job.verbose) tell(rasterizer->describe());
     SparseRun run;
     run.backendStats = rasterizer->stats();
     run.samples = rasterizer->samples();

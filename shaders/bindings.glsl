@@ -1,0 +1,66 @@
+// The binding points of every shader storage block, atomic counter, texture
+// and image that a yarnvox shader declares: one name a buffer (or texture),
+// stated once for both languages. GlProgram puts this file before every
+// shader it compiles (ahead of common.glsl), and src/gpu/gl_bindings.h
+// includes it into namespace yv, so a shader's `layout(binding = kItems)` and
+// the C++ that binds the buffer there say the same name. Only `const int`
+// lines and comments: valid GLSL 4.50 (a constant expression may name a
+// binding) and valid C++.
+//
+// A number serves several names: each pass binds every buffer it reads
+// before it runs, so a name's number only has to differ from those of the
+// other buffers of the same program. (Storage bindings stay below 8, the
+// least GL 4.5 guarantees a compute shader.)
+
+// --- The slices: placed (slice_setup.comp), joined into runs
+// (slice_runs.comp), drawn (slice.vert), sampled (sample.comp).
+const int kSegmentsBinding = 0;   // GpuSegment per segment of the garment
+const int kDrawListBinding = 1;   // per segment of the draw: its index and its first instance
+const int kRunDrawBinding = 3;    // point sprites: the runs' glDrawArraysIndirect command
+const int kRunsBinding = 4;       // point sprites: a run's first slice and its slices
+const int kSlicesBinding = 5;     // SliceRecord per instance of the draw
+
+// --- The lists the raster and the sampling append to (append.frag, sample.comp).
+const int kFragmentsBinding = 2;        // Fragment per voxel a sample reaches
+const int kFragmentCounterBinding = 3;  // the fragment count's word, then its wrap flag
+const int kAlbedoFragmentsBinding = 4;  // --albedo: each fragment's colour, at its own slot
+const int kItemsBinding = 6;            // sample item per slice and pixel that can hold fibre
+const int kItemCounterBinding = 7;      // the item count's word, its wrap flag, then the sampling's dispatch size
+// Atomic counter buffers (their own binding points): the item counter (the
+// raster) and the fragment counter (the sampling).
+const int kItemCountAtomic = 0;
+const int kFragmentCountAtomic = 0;
+
+// --- Textures and images of the sampling (sample.comp, dense.frag).
+const int kCrossSectionUnit = 0;  // the cross-section's density (cross_section_texture.h)
+const int kAlbedoUnit = 1;        // --albedo: the fibres' colour times density
+const int kDenseDensityImage = 0; // the dense method's three 3D textures
+const int kDenseThetaImage = 1;
+const int kDensePhiImage = 2;
+
+// --- The brick passes: flag, scan, scatter, max-orient (brick_*.comp).
+const int kClearedWordsBinding = 0;     // the words buffer_clear.comp zeroes
+const int kBrickSlotsBinding = 3;       // per region brick: its flag, which the scan turns into its slot
+const int kBrickBlockSumsBinding = 4;   // the scan's sum per block of 1024 bricks
+const int kBrickCountsBinding = 5;      // the scan's result: the touched bricks' count
+const int kSlotBricksBinding = 6;       // per slot: its region brick index
+const int kBrickWordsBinding = 7;       // wordsPerVoxel channels of 512 words per slot (also the resolve's input)
+
+// --- The resolve (brick_resolve.comp, brick_resolve_scan.comp).
+const int kResolvePlacesBinding = 1;     // per slot: its place among the kept bricks and voxels
+const int kResolveKeysBinding = 2;       // per slot: its region brick index, or two words of its key
+const int kPackedHeadersBinding = 3;     // the packed output: its headers,
+const int kPackedVoxelsBinding = 4;      // its voxels (the same buffer, from uVoxelBase)
+const int kPackedAlbedoBinding = 5;      // and with --albedo their colours (from uAlbedoBase)
+const int kResolveBlockSumsBinding = 5;  // the resolve scan's sums per block of 1024 slots
+const int kResolveTotalsBinding = 6;     // kept bricks and active voxels
+
+// --- yarnvox inspect's renders (inspect_*.vert, .geom, .frag).
+const int kEntryExitUnit = 0;         // each pixel's ray entry and exit (the proxy's render)
+const int kIndirectionUnit = 1;       // level brick -> atlas slot + 1 (0: empty)
+const int kDensityAtlasUnit = 2;      // the bricks' density, packed
+const int kOrientationAtlasUnit = 3;  // the bricks' orientation, packed
+const int kTransferFunctionUnit = 4;  // density -> colour and opacity
+const int kLightBufferUnit = 5;       // the slicing renderer's light buffer
+const int kSliceTableUnit = 0;        // the slices drawn: (centre, thickness), (tangent, radius)
+const int kBrickOrderBinding = 0;     // the splats' bricks, back to front
