@@ -175,16 +175,6 @@ void reportVdb(const std::string& path, bool json) {
 
 // ---- a work directory ---------------------------------------------------------
 
-/// The run's description the manifest keeps (key=value lines), in its order.
-std::vector<std::pair<std::string, std::string>> runDescription(const std::string& text) {
-    std::vector<std::pair<std::string, std::string>> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);)
-        if (const std::size_t eq = line.find('='); eq != std::string::npos)
-            out.emplace_back(line.substr(0, eq), line.substr(eq + 1));
-    return out;
-}
-
 using RegionKey = std::function<double(const RegionRow&)>;
 
 const std::map<std::string, RegionKey>& regionColumns() {
@@ -211,7 +201,7 @@ void reportStore(const std::string& dir, bool json, bool verify, const std::stri
     });
     const VoxelGrid& grid = s.manifest.grid;
     const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;
-    const auto run = runDescription(s.manifest.runMetadata);
+    const auto run = runMetadataText(s.manifest.run);
     const double ratio = s.bytesOnDisk ? double(s.valueBytes) / double(s.bytesOnDisk) : 0.0;
     if (json) {
         std::vector<JsonObject> rows;

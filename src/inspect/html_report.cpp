@@ -273,9 +273,7 @@ std::string workDirPage(const std::string& input, const HtmlReportOptions& o, co
         {"reduce", toString(s.manifest.reduce)},
         {"run", s.manifest.completeRegions ? "complete" : "not finished"},
     };
-    std::istringstream run(s.manifest.runMetadata);
-    for (std::string line; std::getline(run, line);)
-        if (const std::size_t eq = line.find('='); eq != std::string::npos) summary.emplace_back(line.substr(0, eq), line.substr(eq + 1));
+    for (const auto& field : runMetadataText(s.manifest.run)) summary.push_back(field);
     const double ratio = s.bytesOnDisk ? double(s.valueBytes) / double(s.bytesOnDisk) : 0.0;
     summary.insert(summary.end(), {{"regions", count(s.regions.size())},
                                    {"damaged regions", count(s.badRegions)},

@@ -553,7 +553,7 @@ VoxelizeReport runVoxelize(const VoxelizeRequest& args, const std::function<void
             manifest.samplingCode = samplingCodeHash();
             manifest.grid = grid;
             manifest.reduce = settings.reduce;
-            manifest.runMetadata = encodeMetadata(meta);
+            manifest.run = meta;
             // Rank 0 opens (or clears, or resumes) the work dir; the others join it after.
             std::optional<BrickStore> opened;
             if (!group || group->rank() == 0) opened.emplace(workDir, manifest, a.resume);
