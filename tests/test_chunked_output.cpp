@@ -155,3 +155,48 @@ TEST_CASE("A chunked output reaches its name only when published, and a failing 
     CHECK(temporaries == 0); // the unpublished temporary is gone
     fs::remove(path);
 }
+
+TEST_CASE("A pending file reaches its name whole at publish, and one never published leaves nothing", "[vdb][chunked][files]") {
+    const fs::path path = scratch("pending.txt");
+    std::ofstream(path) << "old";
+    const auto temporaries = [&] {
+        std::size_t n = 0;
+        for (const auto& e : fs::directory_iterator(path.parent_path()))
+            n += e.path().filename().string().starts_with("pending.txt.partial-");
+        return n;
+    };
+    {
+        PendingFile file(path.string());
+        CHECK(file.temporaryPath().starts_with(path.string() + ".partial-"));
+        const std::string text = "new bytes";
+        file.append(text.data(), text.size());
+        file.writeAt(0, "N", 1);
+        CHECK(fileBytes(path).size() == 3); // the old file until the rename
+        CHECK(temporaries() == 1);
+        file.publish();
+        CHECK(temporaries() == 0);
+    }
+    const std::vector<std::uint8_t> published = fileBytes(path);
+    CHECK(std::string(published.begin(), published.end()) == "New bytes");
+    {
+        PendingFile abandoned(path.string());
+        abandoned.append("x", 1);
+        abandoned.sync();
+    }
+    CHECK(fileBytes(path) == published);
+    CHECK(temporaries() == 0);
+
+    // A rename that fails (a directory with a file in it holds the name):
+    // one error naming the step, and the temporary is gone.
+    const fs::path blocked = scratch("blocked");
+    fs::create_directories(blocked / "inside");
+    const std::uint8_t byte = 1;
+    CHECK_THROWS_WITH(writeFileAtomically(blocked.string(), std::span(&byte, 1)),
+                      Catch::StartsWith("cannot write " + blocked.string() + ": rename " + blocked.string() + ".partial-"));
+    std::size_t left = 0;
+    for (const auto& e : fs::directory_iterator(blocked.parent_path()))
+        left += e.path().filename().string().starts_with("blocked.partial-");
+    CHECK(left == 0);
+    fs::remove_all(blocked);
+    fs::remove(path);
+}

@@ -39,6 +39,7 @@ constexpr FieldSpec kFields[] = {
 template <class... F> struct Overloaded : F... {
     using F::operator()...;
 };
+template <class... F> Overloaded(F...) -> Overloaded<F...>; // clang 14 deduces no aggregates
 
 } // namespace
 
