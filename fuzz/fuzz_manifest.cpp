@@ -11,7 +11,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const yv::StoreManifest m = yv::parseManifest("fuzz/manifest", std::string(data, data + size));
         // What parses must format and parse back to the same run.
         const yv::StoreManifest back = yv::parseManifest("fuzz/manifest-again", yv::formatManifest(m));
-        if (!yv::runDifference(m, back).empty() || back.runMetadata != m.runMetadata) __builtin_trap();
+        if (!yv::runDifference(m, back).empty() || yv::metadataFields(back.run) != yv::metadataFields(m.run) ||
+            back.stageSeconds != m.stageSeconds) __builtin_trap();
     } catch (const yv::Error&) {
     }
     return 0;

@@ -101,7 +101,9 @@ int main(int argc, char** argv) {
     const std::string plain = yv::formatManifest(m);
     putVariants(root / "manifest", "plain", Bytes(plain.begin(), plain.end()), 40);
     m.reduce = yv::Reduce::Max;
-    m.runMetadata = "input=knit.bcc\nbackend=gl";
+    m.run.input = "knit.bcc";
+    m.run.backend = "gl";
+    m.stageSeconds = {{"read", 0.25}, {"voxelize", 4.5}, {"voxelize.store_write", 0.75}};
     m.completeRegions = 17;
     const std::string full = yv::formatManifest(m);
     putVariants(root / "manifest", "metadata-complete", Bytes(full.begin(), full.end()), 100);

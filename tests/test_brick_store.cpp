@@ -136,6 +136,63 @@ TEST_CASE("xxh64 gives the reference XXH64 values", "[store]") {
     CHECK(xxh64("a", 1) == 0xD24EC4F1A98C6E5BULL);
     CHECK(xxh64("abc", 3) == 0x44BC2CF5AD770999ULL);
     CHECK(xxh64(spam.data(), spam.size()) == 0xFBCEA83C8A378BF1ULL);
+    // Values the hand-written XXH64 of yarnvox 8d8d9c1 gave, before libxxhash took its place.
+    CHECK(xxh64("yarnvox", 7) == 0x149D6B6AFDA538BFULL);
+    const std::string x31(31, 'x'), x32(32, 'x'), y33(33, 'y');
+    CHECK(xxh64(x31.data(), x31.size()) == 0x60DD0D01083B99F0ULL);
+    CHECK(xxh64(x32.data(), x32.size()) == 0xE2DF261FC2EC30EBULL);
+    CHECK(xxh64(y33.data(), y33.size()) == 0xF27D5A84556CAEF4ULL);
+    std::vector<std::uint8_t> megabyte(1 << 20);
+    for (std::size_t i = 0; i < megabyte.size(); ++i) megabyte[i] = std::uint8_t((i * 131u + 7u) >> 3);
+    CHECK(xxh64(megabyte.data(), megabyte.size()) == 0x1B5767319807C2E1ULL);
+}
+
+namespace {
+
+const std::string kOldWorkDir = std::string(YV_SOURCE_DIR) + "/tests/data/work-dir-8d8d9c1";
+
+} // namespace
+
+TEST_CASE("A region file of yarnvox 8d8d9c1 reads as valid and encodes again to the same bytes", "[store]") {
+    const std::string path = kOldWorkDir + "/region-0.yvb";
+    const std::vector<std::uint8_t> bytes = fileBytes(path);
+    REQUIRE(bytes.size() == 13113);
+    const RegionHeader h = parseRegionHeader(bytes.data(), bytes.size(), path);
+    std::vector<VoxelBrick> bricks;
+    decodeRegionBody(bytes.data(), h, path, &bricks); // every checksum of the file, through libxxhash
+    CHECK(bricks.size() == 18);
+    CHECK(h.activeVoxels == 601);
+
+    // The same bricks written by today's store, for the same run: the same bytes.
+    StoreManifest run;
+    run.fingerprint = h.fingerprint;
+    run.grid = h.grid;
+    run.reduce = h.reduce;
+    ScratchDir scratch;
+    const std::string dir = scratch.sub("w");
+    BrickStore store(dir, run, false);
+    store.writeRegion(h.id, h.min, h.max, bricks);
+    CHECK(fileBytes(store.regionPath(h.id)) == bytes);
+}
+
+TEST_CASE("A work dir of yarnvox 8d8d9c1 (text manifest) is refused with one line, and nothing is deleted", "[store]") {
+    ScratchDir scratch;
+    const std::string dir = scratch.sub("w");
+    fs::create_directories(dir);
+    for (const char* name : {"manifest", "region-0.yvb"}) fs::copy_file(kOldWorkDir + "/" + name, dir + "/" + name);
+    const std::string line = dir + "/manifest: work dir written by an older yarnvox (manifest format)";
+    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::StartsWith(line) && Catch::Contains("without --resume"));
+    CHECK_THAT(errorOf([&] { BrickStore store(dir); }), Catch::StartsWith(line));              // inspect
+    CHECK_THAT(errorOf([&] { BrickStore(dir, testManifest(), true); }), Catch::StartsWith(line)); // --resume
+    CHECK_THAT(errorOf([&] { mergeStoreToVdb(dir, scratch.sub("m.vdb"), VolumeMetadata{}); }), Catch::StartsWith(line));
+    CHECK_THAT(errorOf([&] { loadStore(dir); }), Catch::StartsWith(line));
+    CHECK(errorOf([&] { readManifest(dir); }).find('\n') == std::string::npos);
+    CHECK(entriesOf(dir) == std::vector<std::string>{"manifest", "region-0.yvb"});
+    CHECK_FALSE(fs::exists(scratch.sub("m.vdb")));
+    // Without --resume the run starts the work dir over.
+    { BrickStore store(dir, testManifest(), false); }
+    CHECK(entriesOf(dir) == std::vector<std::string>{"manifest"});
+    CHECK(readManifest(dir).fingerprint == testManifest().fingerprint);
 }
 
 TEST_CASE("Regions round-trip bit-exactly, sorted by key, across several chunks", "[store]") {
@@ -338,11 +395,13 @@ TEST_CASE("Resuming keeps the regions of the same run and refuses another run", 
 
 TEST_CASE("A run refused for another fingerprint names a change of backend where the metadata shows one", "[store]") {
     StoreManifest disk = testManifest(), now = testManifest(0x778);
-    disk.runMetadata = "input=g.bcc\nbackend=gl\nresolution=64\n";
-    now.runMetadata = "input=g.bcc\nbackend=cpu\nresolution=64\n";
+    disk.run.input = now.run.input = "g.bcc";
+    disk.run.resolution = now.run.resolution = 64;
+    disk.run.backend = "gl";
+    now.run.backend = "cpu";
     CHECK_THAT(runDifference(disk, now), Catch::Contains("made with --backend gl, this run uses --backend cpu") &&
                                              Catch::Contains("fingerprint"));
-    now.runMetadata = disk.runMetadata; // same backend: the fingerprint alone
+    now.run = disk.run; // same backend: the fingerprint alone
     CHECK_THAT(runDifference(disk, now), !Catch::Contains("--backend") && Catch::Contains("fingerprint"));
     now.fingerprint = disk.fingerprint;
     CHECK(runDifference(disk, now).empty());
@@ -360,7 +419,7 @@ TEST_CASE("Resuming refuses regions of another yarnvox version or sampling code,
         store.writeRegion(0, kAll0, kAll1, {sparseBrick(rng, brickKey({2, 2, 2}))});
     }
     const std::string manifestBefore = formatManifest(readManifest(dir));
-    CHECK_THAT(manifestBefore, Catch::Contains("\nyarnvox_version 0.0.9\nsampling_code 0x0000000000000abc\n"));
+    CHECK_THAT(manifestBefore, Catch::Contains("\"yarnvox_version\": \"0.0.9\",\n  \"sampling_code\": \"0x0000000000000abc\""));
 
     // The same fingerprint: only the version tells the runs apart, and the message says so.
     StoreManifest now = testManifest();
@@ -392,7 +451,7 @@ TEST_CASE("Resuming refuses regions of another yarnvox version or sampling code,
     CHECK(same.hasVerifiedRegion(0, kAll0, kAll1));
 }
 
-TEST_CASE("A manifest of the previous store version (no yarnvox_version line) is refused on resume, nothing deleted", "[store]") {
+TEST_CASE("A manifest of another work dir version is refused on resume, nothing deleted", "[store]") {
     ScratchDir scratch;
     const std::string dir = scratch.sub("w");
     std::mt19937_64 rng(11);
@@ -401,11 +460,10 @@ TEST_CASE("A manifest of the previous store version (no yarnvox_version line) is
         store.writeRegion(0, kAll0, kAll1, {sparseBrick(rng, brickKey({2, 2, 2}))});
     }
     std::string text = formatManifest(testManifest());
-    text.replace(text.find("version 2\n"), 10, "version 1\n");
-    text.erase(text.find("yarnvox_version"), text.find("fingerprint") - text.find("yarnvox_version"));
+    text.replace(text.find("\"version\": 3"), 12, "\"version\": 4");
     putFile(dir + "/manifest", std::vector<std::uint8_t>(text.begin(), text.end()));
     CHECK_THAT(errorOf([&] { BrickStore(dir, testManifest(), true); }),
-               Catch::Contains("line 2: unsupported brick store version 1: expected 2 (written by another yarnvox version?)"));
+               Catch::Contains("\"version\": unsupported work dir version 4: expected 3 (written by another yarnvox version?)"));
     CHECK(entriesOf(dir) == std::vector<std::string>{"manifest", "region-0.yvb"});
 }
 
@@ -449,51 +507,68 @@ TEST_CASE("A work dir is used by one writer at a time, and read-only stores do n
     CHECK_THAT(errorOf([&] { BrickStore(scratch.sub("missing")); }), Catch::Contains("cannot open work dir"));
 }
 
-TEST_CASE("The manifest keeps the caller's run metadata verbatim", "[store]") {
+TEST_CASE("The manifest keeps the run's description exactly", "[store]") {
     ScratchDir scratch;
     const std::string dir = scratch.sub("w");
     StoreManifest m = testManifest();
-    // Text that looks like manifest fields must not be read as them.
-    m.runMetadata = "input=a b.bcc\ncomplete 5\n\nreduce max\n";
+    // Text that looks like manifest fields or JSON must not be read as them.
+    m.run.input = "a b.bcc\ncomplete 5\n\nreduce max\n\"}, {\"reduce\": \"max\"";
+    m.run.backend = "cpu";
+    m.run.resolution = 2048;
+    m.run.sliceCount = 0x7fffffffffffffffULL;
+    m.run.yarnRadius = 0.1 + 0.2; // every bit of a double
+    m.run.twist = -1e-300;
+    m.run.supersample = 3;
+    m.run.albedo = true;
     { BrickStore store(dir, m, false); }
     StoreManifest back = readManifest(dir);
-    CHECK(back.runMetadata == m.runMetadata);
+    CHECK(metadataFields(back.run) == metadataFields(m.run));
+    CHECK(std::bit_cast<std::uint64_t>(back.run.yarnRadius) == std::bit_cast<std::uint64_t>(0.1 + 0.2));
     CHECK_FALSE(back.completeRegions);
     CHECK(back.reduce == Reduce::Mean);
 
-    // Resuming adopts the latest run's metadata and keeps the completion mark.
+    // Resuming adopts the latest run's description and keeps the completion mark.
     {
         BrickStore store(dir, m, true);
-        store.markComplete(0);
+        store.markComplete(0, {{"read", 0.25}, {"voxelize.store_write", 1.0 / 3.0}});
     }
-    m.runMetadata = "input=moved.bcc";
+    m.run = VolumeMetadata{};
+    m.run.input = "moved.bcc";
     { BrickStore store(dir, m, true); }
     back = readManifest(dir);
-    CHECK(back.runMetadata == "input=moved.bcc");
+    CHECK(back.run.input == "moved.bcc");
+    CHECK(back.run.resolution == 0);
     CHECK(back.completeRegions == std::optional<std::uint64_t>(0));
+    CHECK(back.stageSeconds == StageSeconds{{"read", 0.25}, {"voxelize.store_write", 1.0 / 3.0}});
 }
 
-TEST_CASE("A damaged manifest is reported by line", "[store]") {
+TEST_CASE("A damaged manifest is reported by field", "[store]") {
     ScratchDir scratch;
     const std::string dir = scratch.sub("w");
     { BrickStore store(dir, testManifest(), false); }
-    std::ifstream in(dir + "/manifest");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    text.replace(text.find("voxel_size"), 10, "voxel_sise");
-    putFile(dir + "/manifest", std::vector<std::uint8_t>(text.begin(), text.end()));
-    CHECK_THAT(errorOf([&] { readManifest(dir); }),
-               Catch::Contains("manifest: line 7: expected \"voxel_size H\""));
-    CHECK_THAT(errorOf([&] { BrickStore(dir, testManifest(), true); }), Catch::Contains("line 7"));
+    const std::vector<std::uint8_t> bytes = fileBytes(dir + "/manifest");
+    const std::string good(bytes.begin(), bytes.end());
+    const auto refusal = [&](const std::string& from, const std::string& to) {
+        std::string text = good;
+        REQUIRE(text.find(from) != std::string::npos);
+        text.replace(text.find(from), from.size(), to);
+        putFile(dir + "/manifest", std::vector<std::uint8_t>(text.begin(), text.end()));
+        return errorOf([&] { readManifest(dir); });
+    };
+    const std::string path = dir + "/manifest";
+    CHECK_THAT(refusal("\"voxel_size\"", "\"voxel_sise\""), Catch::StartsWith(path + ": grid: \"voxel_sise\": no such field"));
+    CHECK_THAT(refusal("\"reduce\": \"mean\"", "\"reduce\": \"mode\""), Catch::Contains("unknown reduce mode \"mode\""));
+    CHECK_THAT(refusal("\"backend\": \"\"", "\"backend\": 1"), Catch::Contains(": run: \"backend\": expected a string"));
+    CHECK_THAT(refusal("\"supersample\": 1", "\"supersample\": 1.5"), Catch::Contains("\"supersample\": expected an integer"));
+    CHECK_THAT(refusal("\"fingerprint\": \"0x", "\"fingerprint\": \"1x"), Catch::Contains("\"fingerprint\": expected \"0x\""));
+    CHECK_THAT(refusal("\"dims\": [", "\"dims\": [7, "), Catch::Contains("\"dims\": expected an array of 3"));
+    CHECK_THAT(refusal("\"run\": {", "\"extra\": 1, \"run\": {"), Catch::Contains("\"extra\": no such field"));
+    CHECK_THAT(refusal("}\n", "}\nextra\n"), Catch::StartsWith(path + ": not JSON"));
     putFile(dir + "/manifest", {});
-    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::Contains("line 1: expected \"yarnvox brick store\""));
-    text.replace(text.find("voxel_sise"), 10, "voxel_size");
-    text.replace(text.find("reduce mean"), 11, "reduce mode");
-    text += "extra\n";
-    putFile(dir + "/manifest", std::vector<std::uint8_t>(text.begin(), text.end()));
-    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::Contains("line 9: unknown reduce mode \"mode\""));
-    text.replace(text.find("reduce mode"), 11, "reduce mean");
-    putFile(dir + "/manifest", std::vector<std::uint8_t>(text.begin(), text.end()));
-    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::Contains("line 10: unexpected line"));
+    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::StartsWith(path + ": not JSON"));
+    CHECK_THAT(errorOf([&] { BrickStore(dir, testManifest(), true); }), Catch::Contains("not JSON"));
+    putFile(dir + "/manifest", {'[', ']'});
+    CHECK_THAT(errorOf([&] { readManifest(dir); }), Catch::Contains("expected a JSON object"));
     CHECK_THAT(errorOf([&] { readManifest(scratch.sub("nothing")); }), Catch::Contains("no manifest"));
 }
 

@@ -1,6 +1,7 @@
 // The output written in aligned chunks side by side (vdb/chunked_output.h):
 // every byte where the caller put it, the file exactly its size, whether the
 // chunks went past the page cache or fell back to it.
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "vdb/chunked_output.h"
 #include "test_helpers.h"
@@ -92,8 +93,10 @@ TEST_CASE("A chunked output holds every byte where the fill put it, and no more"
         fs::remove(path);
         PatternFill fill(size, chunk);
         {
-            ChunkedOutput out(path.string(), "test output", chunk);
+            PendingFile file(path.string());
+            ChunkedOutput out(file.fd(), "test output", chunk);
             out.write(size, std::ref(fill));
+            file.publish();
         }
         checkPatternFile(path, size, fill);
         fs::remove(path);
@@ -107,13 +110,14 @@ namespace {
 void checkFallback(const fs::path& path, std::uint64_t size, std::uint64_t chunk, ChunkedOutput::WriteCall call) {
     fs::remove(path);
     PatternFill fill(size, chunk);
-    ChunkedOutput out(path.string(), "test output", chunk, call);
+    PendingFile file(path.string());
+    ChunkedOutput out(file.fd(), "test output", chunk, call);
     // The scratch directory's file system takes O_DIRECT (ext4 on the
     // machines the tests run on): else this would not test the fallback.
     REQUIRE(out.direct());
     out.write(size, std::ref(fill));
     CHECK(!out.direct());
-    Fd fd(out.release());
+    file.publish();
     checkPatternFile(path, size, fill);
 }
 
@@ -130,24 +134,69 @@ TEST_CASE("A chunked output falls back to the page cache where direct writes fai
     fs::remove(path);
 }
 
-TEST_CASE("A chunked output refuses a name that exists, and a failing fill fails the write", "[vdb][chunked]") {
+TEST_CASE("A chunked output reaches its name only when published, and a failing fill fails the write", "[vdb][chunked]") {
     const fs::path path = scratch("exists.bin");
     std::ofstream(path) << "kept";
-    try {
-        ChunkedOutput out(path.string(), "test output");
-        FAIL("an existing file was opened");
-    } catch (const Error& e) {
-        CHECK(std::string(e.what()).find("test output: cannot create it") != std::string::npos);
+    {
+        PendingFile file(path.string());
+        ChunkedOutput out(file.fd(), "test output", ChunkedOutput::kAlignment);
+        CHECK_THROWS_WITH(out.write(10 * ChunkedOutput::kAlignment,
+                                    [](std::uint64_t at, std::span<std::uint8_t> bytes) {
+                                        if (at == 7 * ChunkedOutput::kAlignment) throw Error("no such record");
+                                        std::fill(bytes.begin(), bytes.end(), std::uint8_t(1));
+                                    }),
+                          "no such record");
+        CHECK(fileBytes(path).size() == 4); // untouched while the output is pending
     }
-    CHECK(fileBytes(path).size() == 4); // untouched
+    CHECK(fileBytes(path).size() == 4);
+    std::size_t temporaries = 0;
+    for (const auto& e : fs::directory_iterator(path.parent_path()))
+        temporaries += e.path().filename().string().starts_with("exists.bin.partial");
+    CHECK(temporaries == 0); // the unpublished temporary is gone
     fs::remove(path);
+}
 
-    ChunkedOutput out(path.string(), "test output", ChunkedOutput::kAlignment);
-    CHECK_THROWS_WITH(out.write(10 * ChunkedOutput::kAlignment,
-                                [](std::uint64_t at, std::span<std::uint8_t> bytes) {
-                                    if (at == 7 * ChunkedOutput::kAlignment) throw Error("no such record");
-                                    std::fill(bytes.begin(), bytes.end(), std::uint8_t(1));
-                                }),
-                      "no such record");
+TEST_CASE("A pending file reaches its name whole at publish, and one never published leaves nothing", "[vdb][chunked][files]") {
+    const fs::path path = scratch("pending.txt");
+    std::ofstream(path) << "old";
+    const auto temporaries = [&] {
+        std::size_t n = 0;
+        for (const auto& e : fs::directory_iterator(path.parent_path()))
+            n += e.path().filename().string().starts_with("pending.txt.partial-");
+        return n;
+    };
+    {
+        PendingFile file(path.string());
+        CHECK(file.temporaryPath().starts_with(path.string() + ".partial-"));
+        const std::string text = "new bytes";
+        file.append(text.data(), text.size());
+        file.writeAt(0, "N", 1);
+        CHECK(fileBytes(path).size() == 3); // the old file until the rename
+        CHECK(temporaries() == 1);
+        file.publish();
+        CHECK(temporaries() == 0);
+    }
+    const std::vector<std::uint8_t> published = fileBytes(path);
+    CHECK(std::string(published.begin(), published.end()) == "New bytes");
+    {
+        PendingFile abandoned(path.string());
+        abandoned.append("x", 1);
+        abandoned.sync();
+    }
+    CHECK(fileBytes(path) == published);
+    CHECK(temporaries() == 0);
+
+    // A rename that fails (a directory with a file in it holds the name):
+    // one error naming the step, and the temporary is gone.
+    const fs::path blocked = scratch("blocked");
+    fs::create_directories(blocked / "inside");
+    const std::uint8_t byte = 1;
+    CHECK_THROWS_WITH(writeFileAtomically(blocked.string(), std::span(&byte, 1)),
+                      Catch::StartsWith("cannot write " + blocked.string() + ": rename " + blocked.string() + ".partial-"));
+    std::size_t left = 0;
+    for (const auto& e : fs::directory_iterator(blocked.parent_path()))
+        left += e.path().filename().string().starts_with("blocked.partial-");
+    CHECK(left == 0);
+    fs::remove_all(blocked);
     fs::remove(path);
 }

@@ -46,7 +46,7 @@ BrickVolume writeFourRegionStore(const std::string& dir) {
     StoreManifest manifest;
     manifest.fingerprint = 42;
     manifest.grid = grid;
-    manifest.runMetadata = "input=generated\nbackend=cpu\n";
+    manifest.run.input = "generated", manifest.run.backend = "cpu";
     BrickStore store(dir, manifest, false);
     const glm::ivec3 size = (grid.dims + 7) / 8 * 8;
     const glm::ivec3 half(size.x / 16 * 8, size.y / 16 * 8, size.z);

@@ -7,7 +7,7 @@
 #include "inspect/png_image.h"
 #include "run_cli.h"
 #include "test_helpers.h"
-#include "vdb/region_metadata.h"
+#include "core/run_metadata.h"
 
 #include <catch2/catch.hpp>
 #include <openvdb/openvdb.h>

@@ -206,8 +206,9 @@ TEST_CASE("Resuming a work dir made by another yarnvox version or sampling code 
     const std::size_t regions = regionFiles(work);
     REQUIRE(regions > 0);
     const std::string manifest = readFile(work / "manifest");
-    REQUIRE(manifest.find(std::string("\nyarnvox_version ") + YV_VERSION + "\n") != std::string::npos);
-    const std::size_t code = manifest.find("\nsampling_code 0x");
+    REQUIRE(manifest.find(std::string("\"yarnvox_version\": \"") + YV_VERSION + "\"") != std::string::npos);
+    const std::string codeField = "\"sampling_code\": \"0x";
+    const std::size_t code = manifest.find(codeField);
     REQUIRE(code != std::string::npos);
     fs::remove(out);
 
@@ -225,7 +226,8 @@ TEST_CASE("Resuming a work dir made by another yarnvox version or sampling code 
     CHECK_THAT(resumeWith(older), Catch::Contains(std::string("made by yarnvox 0.0.9, this is ") + YV_VERSION) &&
                                       Catch::Contains("use a fresh --work-dir"));
     std::string otherCode = manifest;
-    otherCode[code + 17] = otherCode[code + 17] == '0' ? '1' : '0'; // the first hex digit
+    const std::size_t digit = code + codeField.size(); // the first hex digit
+    otherCode[digit] = otherCode[digit] == '0' ? '1' : '0';
     CHECK_THAT(resumeWith(otherCode), Catch::Contains("the sampling code differs"));
 
     // The work dir's own manifest back: it resumes (every region re-used).
@@ -274,11 +276,12 @@ TEST_CASE("A work dir whose run metadata does not parse gives one line and exit 
     REQUIRE(runQuiet("gen --pattern plain --crossings 16 -o " + bcc.string()) == 0);
     REQUIRE(runQuiet("voxelize " + bcc.string() + " -o " + (dir / "a.vdb").string() +
                      " --backend gl --resolution 32 --quiet --work-dir " + work.string()) == 0);
-    // Same length, so the manifest's byte count still holds: only the number is wrong.
+    // Valid JSON, but the resolution is no number.
     std::string manifest = readFile(work / "manifest");
-    const std::size_t at = manifest.find("resolution=32");
+    const std::string field = "\"resolution\": 32";
+    const std::size_t at = manifest.find(field);
     REQUIRE(at != std::string::npos);
-    manifest.replace(at, 13, "resolution=x2");
+    manifest.replace(at, field.size(), "\"resolution\": \"x2\"");
     {
         std::ofstream out(work / "manifest", std::ios::binary | std::ios::trunc);
         out << manifest;
@@ -294,6 +297,7 @@ TEST_CASE("A work dir whose run metadata does not parse gives one line and exit 
     REQUIRE(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 1);
     CHECK(output.find("yarnvox: error:") == 0);
+    CHECK(output.find("\"resolution\": expected an integer") != std::string::npos);
     CHECK(std::count(output.begin(), output.end(), '\n') == 1);
     CHECK_FALSE(fs::exists(dir / "b.vdb"));
 }

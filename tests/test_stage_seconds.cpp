@@ -9,6 +9,7 @@
 #include "test_helpers.h"
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
 #include <unistd.h>
 
@@ -112,14 +113,13 @@ TEST_CASE("a work dir from before stage times opens and says they are not record
     REQUIRE(test::runYarnvox("voxelize " + bcc.string() + " -o " + (scratch.path / "plain.vdb").string() +
                              " --backend cpu --resolution 48 --quiet --work-dir " + work.string())
                 .exitCode == 0);
-    // The manifest as older versions wrote it: the same, without the stage lines.
+    // A finished run's manifest without its stage times.
     std::ifstream in(work / "manifest");
-    std::string old;
-    for (std::string line; std::getline(in, line);)
-        if (!line.starts_with("stage ")) old += line + "\n";
+    nlohmann::ordered_json manifest = nlohmann::ordered_json::parse(in);
     in.close();
-    REQUIRE(old.find("complete ") != std::string::npos);
-    std::ofstream(work / "manifest", std::ios::trunc) << old;
+    REQUIRE(manifest.contains("complete_regions"));
+    REQUIRE(manifest.erase("stage_seconds") == 1);
+    std::ofstream(work / "manifest", std::ios::trunc) << manifest.dump(2) << "\n";
     CHECK(readManifest(work.string()).stageSeconds.empty());
 
     const test::RunResult text = test::runYarnvox("inspect " + work.string());
@@ -133,14 +133,30 @@ TEST_CASE("a work dir from before stage times opens and says they are not record
 }
 
 TEST_CASE("stage times that are malformed are refused with the place named", "[inspect][stages]") {
-    CHECK_THROWS_WITH(parseStageSeconds("read=0.5 slices=-1", "f.vdb"), Catch::Contains("f.vdb") && Catch::Contains("slices=-1"));
-    CHECK_THROWS_WITH(parseStageSeconds("read", "f.vdb"), Catch::Contains("NAME=SECONDS"));
+    CHECK_THROWS_WITH(parseStageSeconds(R"({"read": 0.5, "slices": -1})", "f.vdb"),
+                      Catch::StartsWith("f.vdb: stage times: \"slices\": expected seconds not negative"));
+    CHECK_THROWS_WITH(parseStageSeconds(R"({"re ad": 0.5})", "f.vdb"), Catch::Contains("\"re ad\": expected a stage name"));
+    CHECK_THROWS_WITH(parseStageSeconds(R"({"read": "0.5"})", "f.vdb"), Catch::Contains("\"read\": expected a finite number"));
+    CHECK_THROWS_WITH(parseStageSeconds("read=0.5", "f.vdb"), Catch::StartsWith("f.vdb: stage times: not JSON"));
+    CHECK_THROWS_WITH(parseStageSeconds("[0.5]", "f.vdb"), Catch::Contains("expected a JSON object"));
     CHECK(parseStageSeconds(formatStageSeconds({{"read", 0.25}, {"voxelize.store_write", 2.0}}), "x") ==
           StageSeconds{{"read", 0.25}, {"voxelize.store_write", 2.0}});
 
-    const std::string head = "yarnvox brick store\nversion 2\nyarnvox_version 0.1.0\nsampling_code 0x0000000000000001\n"
-                             "fingerprint 0x0000000000000002\norigin 0 0 0\nvoxel_size 1\ndims 8 8 8\nreduce mean\ncomplete 1\n";
-    CHECK(parseManifest("m", head + "stage read 0.5\n").stageSeconds == StageSeconds{{"read", 0.5}});
-    CHECK_THROWS_WITH(parseManifest("m", head + "stage read -0.5\n"), Catch::Contains("m: line 11"));
-    CHECK_THROWS_WITH(parseManifest("m", head + "stage read\n"), Catch::Contains("stage NAME SECONDS"));
+    StoreManifest m;
+    m.grid.voxelSize = 1.0;
+    m.grid.dims = {8, 8, 8};
+    m.completeRegions = 1;
+    m.stageSeconds = {{"read", 0.5}};
+    const std::string text = formatManifest(m);
+    CHECK(parseManifest("m", text).stageSeconds == StageSeconds{{"read", 0.5}});
+    const auto with = [&](const std::string& from, const std::string& to) {
+        std::string t = text;
+        t.replace(t.find(from), from.size(), to);
+        return t;
+    };
+    CHECK_THROWS_WITH(parseManifest("m", with("\"read\": 0.5", "\"read\": -0.5")),
+                      Catch::StartsWith("m: stage times: \"read\": expected seconds not negative"));
+    CHECK_THROWS_WITH(parseManifest("m", with("\"read\": 0.5", "\"read\": null")), Catch::Contains("finite number"));
+    CHECK_THROWS_WITH(parseManifest("m", with("\"complete_regions\": 1,", "")),
+                      Catch::Contains("\"stage_seconds\": recorded for a run that has not finished"));
 }

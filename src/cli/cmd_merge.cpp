@@ -45,7 +45,7 @@ void addMergeCommand(CLI::App& app) {
         options.compression = args->compression;
         options.precision = args->precision;
         options.lodLevels = args->lod; // checked against the store's grid by the writer, before any region is read
-        const VolumeMetadata metadata = decodeMetadata(manifest.runMetadata);
+        const VolumeMetadata metadata = manifest.run;
         options.albedo = metadata.albedo; // the run's bricks carry it: so does the merged file
         mergeStoreToVdb(args->workDir, args->output, metadata, options);
         if (!args->quiet)

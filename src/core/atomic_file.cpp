@@ -50,47 +50,72 @@ void fsyncDir(int dirFd, const std::string& dir) {
         throw Error("cannot fsync directory " + dir + ": " + errnoText(errno));
 }
 
-void writeAtomically(const std::string& dir, int dirFd, const std::string& name,
-                     std::span<const std::span<const std::uint8_t>> parts) {
+PendingFile::PendingFile(std::string path, int dirFd) : path_(std::move(path)), dirFd_(dirFd) {
     static std::atomic<unsigned> counter{0};
-    const std::string path = (std::filesystem::path(dir) / name).string();
-    std::string tmp;
-    int raw = -1;
-    for (int attempt = 0; raw < 0; ++attempt) {
-        tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-        raw = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (raw < 0 && (errno != EEXIST || attempt >= 100))
-            throw Error("cannot write " + path + ": cannot create temporary file " + tmp + ": " + errnoText(errno));
+    const std::filesystem::path parent = std::filesystem::path(path_).parent_path();
+    dir_ = parent.empty() ? "." : parent.string();
+    for (int attempt = 0; fd_ < 0; ++attempt) {
+        tmp_ = path_ + ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+        fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd_ < 0 && (errno != EEXIST || attempt >= 100)) fail("create", errno);
     }
-    Fd fd(raw);
+    if (dirFd_ < 0) {
+        // A directory that cannot be opened for reading cannot be synced
+        // either: the rename is then as durable as the file system makes it.
+        dirFd_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        ownsDirFd_ = dirFd_ >= 0;
+    }
+}
+
+PendingFile::~PendingFile() {
+    if (fd_ >= 0) ::close(fd_);
     // Removing the temporary on every failure keeps half-written files from piling up.
-    const auto abandon = [&](const char* step, int err) {
-        if (fd.get() >= 0) ::close(fd.release());
-        ::unlink(tmp.c_str());
-        return Error("cannot write " + path + ": " + step + " " + tmp + ": " + errnoText(err));
-    };
-    for (std::span<const std::uint8_t> part : parts) {
-        std::size_t done = 0;
-        while (done < part.size()) {
-            const ssize_t put = ::write(fd.get(), part.data() + done, part.size() - done);
-            if (put < 0 && errno == EINTR) continue;
-            if (put < 0) throw abandon("write", errno);
-            done += static_cast<std::size_t>(put);
-        }
+    if (!published_) ::unlink(tmp_.c_str());
+    if (ownsDirFd_) ::close(dirFd_);
+}
+
+void PendingFile::fail(const char* step, int err) const {
+    throw Error("cannot write " + path_ + ": " + step + " " + tmp_ + ": " + errnoText(err));
+}
+
+void PendingFile::writeAt(std::uint64_t offset, const void* data, std::size_t n) {
+    YV_CHECK(fd_ >= 0);
+    const auto* p = static_cast<const std::uint8_t*>(data);
+    for (std::size_t done = 0; done < n;) {
+        const ssize_t put = ::pwrite(fd_, p + done, n - done, off_t(offset + done));
+        if (put < 0 && errno == EINTR) continue;
+        if (put < 0) fail("write", errno);
+        if (put == 0) fail("write", EIO);
+        done += std::size_t(put);
     }
-    if (::fsync(fd.get()) != 0) throw abandon("fsync", errno);
-    if (::close(fd.release()) != 0) throw abandon("close", errno);
-    if (::rename(tmp.c_str(), path.c_str()) != 0) throw abandon("rename", errno);
-    fsyncDir(dirFd, dir);
+    size_ = std::max<std::uint64_t>(size_, offset + n);
+}
+
+void PendingFile::sync() {
+    YV_CHECK(fd_ >= 0);
+    // Data on disk before the name: a crash never leaves a complete-looking file.
+    if (::fsync(fd_) != 0) fail("fsync", errno);
+    if (::close(std::exchange(fd_, -1)) != 0) fail("close", errno);
+}
+
+void PendingFile::publish() {
+    YV_CHECK(!published_);
+    if (fd_ >= 0) sync();
+    if (::rename(tmp_.c_str(), path_.c_str()) != 0) fail("rename", errno);
+    published_ = true;
+    // The rename itself is durable only once the directory is synced.
+    if (dirFd_ >= 0) fsyncDir(dirFd_, dir_);
+}
+
+void writeFileAtomically(const std::string& path, std::span<const std::span<const std::uint8_t>> parts, int dirFd) {
+    PendingFile file(path, dirFd);
+    for (std::span<const std::uint8_t> part : parts) file.append(part);
+    file.publish();
 }
 
 void writeFileAtomically(const std::string& path, std::span<const std::uint8_t> bytes) {
-    const std::filesystem::path p(path);
-    const std::string dir = p.has_parent_path() ? p.parent_path().string() : std::string(".");
-    Fd dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
-    if (dirFd.get() < 0) throw Error("cannot write " + path + ": cannot open directory " + dir + ": " + errnoText(errno));
     const std::span<const std::uint8_t> parts[] = {bytes};
-    writeAtomically(dir, dirFd.get(), p.filename().string(), parts);
+    writeFileAtomically(path, parts);
 }
 
 } // namespace yv

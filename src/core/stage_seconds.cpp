@@ -1,12 +1,10 @@
 #include "core/stage_seconds.h"
 
 #include "core/error.h"
+#include "core/json_fields.h"
 
 #include <cctype>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <sstream>
 
 namespace yv {
 
@@ -24,31 +22,28 @@ bool isStageName(const std::string& name) {
     return true;
 }
 
-std::string formatStageSeconds(const StageSeconds& stages) {
-    std::string out;
-    for (const auto& [name, seconds] : stages) {
-        char value[40];
-        std::snprintf(value, sizeof value, "%.9g", seconds);
-        out += (out.empty() ? "" : " ") + name + "=" + value;
-    }
+Json stageSecondsJson(const StageSeconds& stages) {
+    Json out = Json::object();
+    for (const auto& [name, seconds] : stages) out[name] = seconds;
     return out;
 }
 
-StageSeconds parseStageSeconds(const std::string& text, const std::string& where) {
+StageSeconds stageSecondsFromJson(const Json& json, const std::string& where) {
+    const JsonFields in(json, where + ": stage times");
     StageSeconds stages;
-    std::istringstream words(text);
-    for (std::string word; words >> word;) {
-        const std::size_t eq = word.find('=');
-        const std::string name = word.substr(0, eq == std::string::npos ? word.size() : eq);
-        const std::string value = eq == std::string::npos ? "" : word.substr(eq + 1);
-        char* end = nullptr;
-        const double seconds = std::strtod(value.c_str(), &end);
-        if (!isStageName(name) || value.empty() || end != value.c_str() + value.size() || !std::isfinite(seconds) ||
-            seconds < 0.0)
-            throw Error(where + ": stage time \"" + word + "\": expected NAME=SECONDS, SECONDS finite and not negative");
+    for (const auto& [name, value] : json.items()) {
+        if (!isStageName(name)) in.fail(name, "expected a stage name of letters, digits, '_' and '.'");
+        const double seconds = in.number(name.c_str());
+        if (seconds < 0.0) in.fail(name, "expected seconds not negative, found " + jsonText(value, -1));
         stages.emplace_back(name, seconds);
     }
     return stages;
+}
+
+std::string formatStageSeconds(const StageSeconds& stages) { return jsonText(stageSecondsJson(stages), -1); }
+
+StageSeconds parseStageSeconds(const std::string& text, const std::string& where) {
+    return stageSecondsFromJson(parseJson(text, where + ": stage times"), where);
 }
 
 } // namespace yv

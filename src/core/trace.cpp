@@ -1,12 +1,12 @@
 #include "core/trace.h"
 
+#include "core/error.h"
 #include "core/stats.h"
 
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -98,13 +98,16 @@ void writeTrace() {
     // Python's time.monotonic()): a script that times the process from
     // outside sees what its start and its exit took.
     const double origin = std::chrono::duration<double>(log.origin.time_since_epoch()).count();
-    std::ofstream out(tracePath());
-    out << JsonObject()
-               .set("traceEvents", events)
-               .set("otherData", JsonObject().set("origin_monotonic_seconds", origin))
-               .dump()
-        << "\n";
-    if (!out) std::fprintf(stderr, "yarnvox: warning: YV_TRACE: cannot write %s\n", tracePath());
+    const std::string text = JsonObject()
+                                 .set("traceEvents", events)
+                                 .set("otherData", JsonObject().set("origin_monotonic_seconds", origin))
+                                 .dump() +
+                             "\n";
+    try {
+        writeTextFileAtomically(tracePath(), text);
+    } catch (const Error& e) {
+        std::fprintf(stderr, "yarnvox: warning: YV_TRACE: cannot write %s (%s)\n", tracePath(), e.what());
+    }
 }
 
 } // namespace yv

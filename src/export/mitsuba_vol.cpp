@@ -1,9 +1,9 @@
 #include "export/mitsuba_vol.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/text.h"
-#include "export/staged_file.h"
 
 #include <openvdb/tools/Dense.h>
 #include <tbb/parallel_for.h>
@@ -62,7 +62,7 @@ AxisMap axisMap(const openvdb::math::Transform& transform) {
     return a;
 }
 
-void appendHeader(StagedFile& out, VolEncoding e, glm::ivec3 dims, int channels, glm::dvec3 lo, glm::dvec3 hi) {
+void appendHeader(PendingFile& out, VolEncoding e, glm::ivec3 dims, int channels, glm::dvec3 lo, glm::dvec3 hi) {
     std::uint8_t h[48];
     h[0] = 'V', h[1] = 'O', h[2] = 'L', h[3] = 3;
     const std::int32_t ints[5] = {std::int32_t(e), dims.x, dims.y, dims.z, channels};
@@ -111,7 +111,7 @@ template <typename Fn> void forEachPiece(const VoxelBox& box, Fn&& fn) {
 /// Streams one grid's values over `box` into `out`: `channels` values per
 /// voxel, made from the grid's value by `values(value, float* out)`.
 template <typename GridT, typename ValuesFn>
-void appendValues(StagedFile& out, const GridT& grid, const VoxelBox& box, int channels, VolEncoding e,
+void appendValues(PendingFile& out, const GridT& grid, const VoxelBox& box, int channels, VolEncoding e,
                   bool isComponent, ValuesFn&& values) {
     using ValueT = typename GridT::ValueType;
     const int bytes = encodingBytes(e);
@@ -254,8 +254,8 @@ VolExportResult exportMitsubaVol(const FiberGrids& grids, const std::string& den
         result.worldMax[i] = map.offset[i] + map.scale[i] * (box.max[i] - 0.5 - inset);
     }
 
-    std::vector<std::unique_ptr<StagedFile>> files;
-    for (const std::string& p : paths) files.push_back(std::make_unique<StagedFile>(p));
+    std::vector<std::unique_ptr<PendingFile>> files;
+    for (const std::string& p : paths) files.push_back(std::make_unique<PendingFile>(p));
     std::atomic<std::uint64_t> clamped{0};
 
     appendHeader(*files[0], options.densityEncoding, dims, 1, result.worldMin, result.worldMax);
@@ -287,13 +287,13 @@ VolExportResult exportMitsubaVol(const FiberGrids& grids, const std::string& den
     }
     if (albedo) {
         // Linear RGB in [0, 1] (no sign to fold); empty voxels read 0.
-        StagedFile& file = *files.back();
+        PendingFile& file = *files.back();
         appendHeader(file, options.albedoEncoding, dims, 3, result.worldMin, result.worldMax);
         appendValues(file, *albedo, box, 3, options.albedoEncoding, false,
                      [](const openvdb::Vec3s& c, float* v) { v[0] = c.x(), v[1] = c.y(), v[2] = c.z(); });
     }
     // Every file complete and on disk before any takes its name.
-    for (auto& f : files) f->finish();
+    for (auto& f : files) f->sync();
     for (auto& f : files) {
         f->publish();
         result.paths.push_back(f->path());

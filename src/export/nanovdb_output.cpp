@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
-#include "export/staged_file.h"
+#include "export/pending_file_buf.h"
 
 #include <nanovdb/util/IO.h>
 #include <nanovdb/util/OpenToNanoVDB.h>
@@ -35,8 +35,8 @@ NanoVdbExportResult exportNanoVdb(const FiberGrids& grids, const std::string& pa
                     std::to_string(space.available) + " bytes free: nothing was written");
 
     if (interruptSignal()) throw Error(path + ": interrupted by " + interruptSignalName() + ": nothing was written");
-    StagedFile file(path);
-    StagedFileBuf buffer(file);
+    PendingFile file(path);
+    PendingFileBuf buffer(file);
     std::ostream os(&buffer);
     try {
         nanovdb::io::writeGrids(os, handles, nanovdb::io::Codec::NONE);
@@ -45,7 +45,6 @@ NanoVdbExportResult exportNanoVdb(const FiberGrids& grids, const std::string& pa
     }
     if (!buffer.error().empty()) throw Error(buffer.error());
     if (!os) throw Error(path + ": NanoVDB could not write the grids");
-    file.finish();
     file.publish();
     return {file.size(), int(handles.size())};
 }

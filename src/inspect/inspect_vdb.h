@@ -4,7 +4,7 @@
 
 #include "core/stage_seconds.h"
 #include "inspect/voxel_statistics.h"
-#include "vdb/region_metadata.h"
+#include "core/run_metadata.h"
 
 #include <glm/vec3.hpp>
 #include <openvdb/Grid.h>

@@ -74,7 +74,7 @@ std::string statisticsText(const VoxelStatistics& v, double voxelVolume, bool ha
     return out;
 }
 
-JsonObject stageSecondsJson(const StageSeconds& stages) {
+JsonObject stageSecondsObject(const StageSeconds& stages) {
     JsonObject seconds;
     for (const auto& [name, value] : stages) seconds.set(name, value);
     return JsonObject()

@@ -17,16 +17,12 @@ namespace {
 
 using Recorded = std::map<std::string, std::string>;
 
-/// A work directory's run description ("key=value" lines, see encodeMetadata).
+/// A work directory's run description (core/run_metadata.h).
 Recorded storeRecord(const std::string& dir, VoxelGrid& grid) {
     const BrickStore store(dir);
     grid = store.manifest().grid;
-    Recorded out;
-    std::istringstream in(store.manifest().runMetadata);
-    for (std::string line; std::getline(in, line);)
-        if (const std::size_t eq = line.find('='); eq != std::string::npos)
-            out[line.substr(0, eq)] = line.substr(eq + 1);
-    return out;
+    const auto fields = runMetadataText(store.manifest().run);
+    return Recorded(fields.begin(), fields.end());
 }
 
 /// A .vdb's file metadata as text, and its grid from the density grid's transform.

@@ -5,6 +5,8 @@
 #include "inspect/report_text.h"
 
 #include <algorithm>
+#include "core/run_metadata.h"
+
 #include <sstream>
 
 namespace yv {
@@ -28,16 +30,6 @@ const std::vector<RegionColumn>& regionColumns() {
 }
 
 namespace {
-
-/// The run's description the manifest keeps (key=value lines), in its order.
-std::vector<std::pair<std::string, std::string>> runDescription(const std::string& text) {
-    std::vector<std::pair<std::string, std::string>> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);)
-        if (const std::size_t eq = line.find('='); eq != std::string::npos)
-            out.emplace_back(line.substr(0, eq), line.substr(eq + 1));
-    return out;
-}
 
 double compressionRatio(const RegionRow& r) {
     return r.info.bytesOnDisk ? double(r.valueBytes) / double(r.info.bytesOnDisk) : 0.0;
@@ -78,7 +70,7 @@ std::string storeJson(const StoreSummary& s, bool verify) {
         rows.push_back(row);
     }
     JsonObject run;
-    for (const auto& [k, v] : runDescription(s.manifest.runMetadata)) run.set(k, v);
+    for (const auto& [k, v] : runMetadataText(s.manifest.run)) run.set(k, v);
     JsonObject out;
     out.set("path", s.dir)
         .set("kind", "work_dir")
@@ -94,7 +86,7 @@ std::string storeJson(const StoreSummary& s, bool verify) {
         .set("compression_ratio", s.bytesOnDisk ? double(s.valueBytes) / double(s.bytesOnDisk) : 0.0)
         .set("verified", s.verified)
         .set("bad_regions", s.badRegions)
-        .set("stages", stageSecondsJson(s.manifest.stageSeconds))
+        .set("stages", stageSecondsObject(s.manifest.stageSeconds))
         .set("region_table", rows);
     if (verify) out.set("voxels", statisticsJson(s.voxels, voxelVolume(s)));
     return out.dump() + "\n";
@@ -127,7 +119,7 @@ std::string storeText(const StoreSummary& s, bool verify, std::size_t limit) {
     std::string out;
     appendf(out, "%s: work directory, grid %dx%dx%d, voxel %.6g, reduce %s\n", s.dir.c_str(), grid.dims.x, grid.dims.y,
             grid.dims.z, grid.voxelSize, toString(s.manifest.reduce));
-    for (const auto& [k, v] : runDescription(s.manifest.runMetadata)) appendf(out, "  %s: %s\n", k.c_str(), v.c_str());
+    for (const auto& [k, v] : runMetadataText(s.manifest.run)) appendf(out, "  %s: %s\n", k.c_str(), v.c_str());
     appendf(out, "%zu regions (%s), %llu bricks, %llu active voxels, %s on disk for %s of values (%.2fx)\n",
             s.regions.size(), s.manifest.completeRegions ? "run complete" : "run not finished",
             static_cast<unsigned long long>(s.bricks), static_cast<unsigned long long>(s.activeVoxels),

@@ -86,7 +86,7 @@ PreviewSlices volumePreviewSlices(const std::string& volumePath, const PreviewSl
         const auto bytes = readWholeFile(manifestPath);
         if (!bytes) throw Error(volumePath + ": not a work directory (no manifest)");
         const StoreManifest m = parseManifest(manifestPath, std::string(bytes->begin(), bytes->end()));
-        meta = decodeMetadata(m.runMetadata);
+        meta = m.run;
         grid = m.grid;
     } else {
         openvdb::initialize();

@@ -69,40 +69,4 @@ std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& s
     return f.value();
 }
 
-std::string encodeMetadata(const VolumeMetadata& m) {
-    std::ostringstream out;
-    out.precision(17);
-    out << "input=" << m.input << "\nbackend=" << m.backend << "\ncross_section=" << m.crossSection
-        << "\nresolution=" << m.resolution << "\nslice_count=" << m.sliceCount << "\nyarn_radius=" << m.yarnRadius
-        << "\nyarn_radius_source=" << m.yarnRadiusSource        << "\ntwist=" << m.twist << "\nsupersample=" << m.supersample << "\noverlap=" << m.overlap
-        << "\nslice_spacing=" << m.sliceSpacing << "\nslices_per_segment=" << m.slicesPerSegment
-        << "\nslice_spacing_option=" << m.sliceSpacingOption << "\nalbedo=" << (m.albedo ? 1 : 0) << "\n";
-    return out.str();
-}
-
-VolumeMetadata decodeMetadata(const std::string& text) {
-    VolumeMetadata m;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) {
-        const std::size_t eq = line.find('=');
-        if (eq == std::string::npos) continue;
-        const std::string key = line.substr(0, eq), value = line.substr(eq + 1);
-        if (key == "input") m.input = value;
-        else if (key == "backend") m.backend = value;
-        else if (key == "cross_section") m.crossSection = value;
-        else if (key == "resolution") m.resolution = std::stoi(value);
-        else if (key == "slice_count") m.sliceCount = std::stoull(value);
-        else if (key == "yarn_radius") m.yarnRadius = std::stod(value);
-        else if (key == "yarn_radius_source") m.yarnRadiusSource = value;
-        else if (key == "twist") m.twist = std::stod(value);
-        else if (key == "supersample") m.supersample = std::stoi(value);
-        else if (key == "overlap") m.overlap = value;
-        else if (key == "slice_spacing") m.sliceSpacing = std::stod(value);
-        else if (key == "slices_per_segment") m.slicesPerSegment = std::stoi(value);
-        else if (key == "slice_spacing_option") m.sliceSpacingOption = std::stod(value);
-        else if (key == "albedo") m.albedo = value == "1";
-    }
-    return m;
-}
-
 } // namespace yv

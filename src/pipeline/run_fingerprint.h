@@ -24,8 +24,4 @@ std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& s
                              const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,
                              const ZoomPlan& zoom, const std::string& backend);
 
-/// VolumeMetadata as "key=value" lines (kept in the work dir for `yarnvox merge`), and back.
-std::string encodeMetadata(const VolumeMetadata& m);
-VolumeMetadata decodeMetadata(const std::string& text);
-
 } // namespace yv

@@ -107,7 +107,7 @@ StoreManifest workDirManifest(const VoxelizeJob& job, Backend backend, const Sli
     manifest.samplingCode = samplingCodeHash();
     manifest.grid = grid;
     manifest.reduce = job.reduce;
-    manifest.runMetadata = encodeMetadata(meta);
+    manifest.run = meta;
     return manifest;
 }
 

@@ -17,6 +17,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include "core/run_metadata.h"
+
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -105,9 +107,7 @@ std::string workDirPage(RenderContext& context, const HtmlReportRequest& o, cons
         {"reduce", toString(s.manifest.reduce)},
         {"run", s.manifest.completeRegions ? "complete" : "not finished"},
     };
-    std::istringstream run(s.manifest.runMetadata);
-    for (std::string line; std::getline(run, line);)
-        if (const std::size_t eq = line.find('='); eq != std::string::npos) summary.emplace_back(line.substr(0, eq), line.substr(eq + 1));
+    for (const auto& field : runMetadataText(s.manifest.run)) summary.push_back(field);
     const double ratio = s.bytesOnDisk ? double(s.valueBytes) / double(s.bytesOnDisk) : 0.0;
     summary.insert(summary.end(), {{"regions", countText(s.regions.size())},
                                    {"damaged regions", countText(s.badRegions)},

@@ -34,12 +34,9 @@ using Clock = std::chrono::steady_clock;
 
 constexpr const char* kManifestName = "manifest";
 
-
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-
 std::string joinPath(const std::string& dir, const std::string& name) { return (fs::path(dir) / name).string(); }
-
 
 // ---------------------------------------------------------------------------
 // Names in the work directory: only these are ours to create or delete.
@@ -57,8 +54,11 @@ bool parseRegionName(const std::string& name, std::uint64_t& id) {
     return ec == std::errc() && ptr == last && name == regionName(id);
 }
 
+/// What a write cut short leaves: NAME.partial-PID-N (core/atomic_file.h),
+/// or NAME.tmp-PID-N from yarnvox versions before it.
 bool isTemporaryName(const std::string& name) {
-    const std::size_t at = name.find(".tmp-");
+    std::size_t at = name.find(".partial-");
+    if (at == std::string::npos) at = name.find(".tmp-");
     if (at == std::string::npos) return false;
     const std::string base = name.substr(0, at);
     std::uint64_t id;
@@ -102,7 +102,7 @@ void removeOwnFile(const std::string& dir, const std::string& name) {
 void writeManifest(const std::string& dir, int dirFd, const StoreManifest& m) {
     const std::string text = formatManifest(m);
     const std::span<const std::uint8_t> part(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
-    writeAtomically(dir, dirFd, kManifestName, std::span(&part, 1));
+    writeFileAtomically(joinPath(dir, kManifestName), std::span(&part, 1), dirFd);
 }
 
 RegionHeader readHeaderOnly(const std::string& path, std::uint64_t& bytesOnDisk) {
@@ -177,7 +177,7 @@ BrickStore::BrickStore(std::string dir, const StoreManifest& manifest, bool resu
             manifest_.completeRegions = disk.completeRegions;
             manifest_.stageSeconds = disk.stageSeconds;
             // The latest run describes the output: `yarnvox merge` uses its metadata.
-            if (disk.runMetadata != manifest_.runMetadata) writeManifest(dir_, dirFd_, manifest_);
+            if (metadataFields(disk.run) != metadataFields(manifest_.run)) writeManifest(dir_, dirFd_, manifest_);
             removeTemporaries();
         } else {
             // Without a manifest nothing on disk is known to belong to this run: start over.
@@ -260,7 +260,6 @@ bool BrickStore::hasVerifiedRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 
 RegionInfo BrickStore::writeRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::vector<VoxelBrick> bricks,
                                    RegionWriteTimings* timings) {
     requireWritable("write regions");
-    const std::string name = regionName(id);
     if (min.x > max.x || min.y > max.y || min.z > max.z)
         throw Error("cannot write " + regionPath(id) + ": region bounds " + coordText(min) + "-" + coordText(max) +
                     " are inverted");
@@ -272,7 +271,7 @@ RegionInfo BrickStore::writeRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 
     t = Clock::now();
     std::vector<std::span<const std::uint8_t>> parts{e.header, e.table};
     for (const auto& c : e.chunks) parts.emplace_back(c);
-    writeAtomically(dir_, dirFd_, name, parts);
+    writeFileAtomically(regionPath(id), parts, dirFd_);
     if (timings) {
         timings->encodeSeconds += encodeSeconds;
         timings->writeSeconds += secondsSince(t);

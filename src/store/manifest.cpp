@@ -1,24 +1,21 @@
-// The manifest text (formats/brick-store.md, "Manifest"); file I/O is in brick_store.cpp.
+// The manifest's JSON (formats/brick-store.md, "Manifest"); file I/O is in brick_store.cpp.
 #include "store/manifest.h"
 
 #include "core/error.h"
+#include "core/json_fields.h"
 #include "core/text.h"
 
-#include <algorithm>
-#include <charconv>
-#include <cinttypes>
+#include <climits>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
-#include <string_view>
-#include <vector>
 
 namespace yv {
 namespace {
 
-// 2: yarnvox_version and sampling_code lines.
-constexpr std::uint64_t kVersion = 2;
-constexpr const char* kManifestTitle = "yarnvox brick store";
+// 3: JSON (1 and 2 were text, "yarnvox brick store" on the first line).
+constexpr std::int64_t kVersion = 3;
+constexpr const char* kFormatName = "yarnvox work dir";
+constexpr const char* kTextManifestTitle = "yarnvox brick store";
 
 std::string num(double v) {
     char s[40];
@@ -26,122 +23,46 @@ std::string num(double v) {
     return s;
 }
 
-class ManifestParser {
-  public:
-    ManifestParser(std::string path, std::string_view text) : path_(std::move(path)), text_(text) {}
-
-    bool atEnd() const { return pos_ >= text_.size(); }
-    /// Whether the next line starts with `key` and a space.
-    bool nextIs(std::string_view key) const {
-        return !atEnd() && text_.substr(pos_).starts_with(key) && text_.substr(pos_ + key.size()).starts_with(' ');
-    }
-
-    /// The next line, without its newline.
-    std::string_view rawLine(const std::string& shape) {
-        line_ = nextLine_;
-        if (atEnd()) fail("expected \"" + shape + "\", file ends");
-        const std::size_t nl = text_.find('\n', pos_);
-        const std::size_t end = nl == std::string_view::npos ? text_.size() : nl;
-        const std::string_view line = text_.substr(pos_, end - pos_);
-        pos_ = end + 1;
-        ++nextLine_;
-        return line;
-    }
-    /// Words after `key` on the next line, which must hold exactly `count` of them.
-    std::vector<std::string> line(const std::string& key, std::size_t count, const std::string& shape) {
-        const std::string_view text = rawLine(shape);
-        std::istringstream words{std::string(text)};
-        std::vector<std::string> w;
-        for (std::string s; words >> s;) w.push_back(s);
-        if (w.size() != count + 1 || w[0] != key)
-            fail("expected \"" + shape + "\", found \"" + std::string(text) + "\"");
-        return {w.begin() + 1, w.end()};
-    }
-    /// `n` bytes taken verbatim (they may hold newlines), then a newline.
-    std::string blob(std::uint64_t n, const std::string& what) {
-        line_ = nextLine_;
-        if (pos_ >= text_.size() || text_.size() - pos_ <= n || text_[pos_ + n] != '\n')
-            fail("expected " + std::to_string(n) + " bytes of " + what + " and a newline");
-        const std::string b(text_.substr(pos_, n));
-        nextLine_ += std::count(b.begin(), b.end(), '\n') + 1;
-        pos_ += n + 1;
-        return b;
-    }
-
-    std::uint64_t u64(const std::string& s, int base = 10) const {
-        std::uint64_t v = 0;
-        const char* first = s.data();
-        if (base == 16) {
-            if (!s.starts_with("0x")) bad(s);
-            first += 2;
-        }
-        const auto [ptr, ec] = std::from_chars(first, s.data() + s.size(), v, base);
-        if (ec != std::errc() || ptr != s.data() + s.size() || first == ptr) bad(s);
-        return v;
-    }
-    int i32(const std::string& s) const {
-        int v = 0;
-        const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-        if (ec != std::errc() || ptr != s.data() + s.size()) bad(s);
-        return v;
-    }
-    double f64(const std::string& s) const {
-        char* end = nullptr;
-        const double v = std::strtod(s.c_str(), &end);
-        if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) bad(s);
-        return v;
-    }
-
-    /// Fails at the line read last.
-    [[noreturn]] void fail(const std::string& what) const {
-        throw Error(path_ + ": line " + std::to_string(line_) + ": " + what);
-    }
-
-  private:
-    [[noreturn]] void bad(const std::string& s) const { fail("malformed number \"" + s + "\""); }
-
-    std::string path_;
-    std::string_view text_;
-    std::size_t pos_ = 0, line_ = 1, nextLine_ = 1;
-};
+VoxelGrid gridFromJson(const JsonFields& in, const std::string& where) {
+    const JsonFields g(in.at("grid"), where + ": grid");
+    g.onlyKeys({"origin", "voxel_size", "dims"});
+    VoxelGrid grid;
+    const std::vector<double> origin = g.numbers("origin", 3);
+    grid.origin = {origin[0], origin[1], origin[2]};
+    grid.voxelSize = g.number("voxel_size");
+    const std::vector<std::int64_t> dims = g.integers("dims", 3, 0, INT32_MAX);
+    grid.dims = {int(dims[0]), int(dims[1]), int(dims[2])};
+    return grid;
+}
 
 } // namespace
 
 StoreManifest parseManifest(const std::string& path, const std::string& text) {
-    ManifestParser p(path, text);
-    if (p.rawLine(kManifestTitle) != kManifestTitle)
-        p.fail(std::string("expected \"") + kManifestTitle + "\": not a yarnvox work dir manifest");
-    const std::uint64_t version = p.u64(p.line("version", 1, "version N")[0]);
-    if (version != kVersion)
-        p.fail("unsupported brick store version " + std::to_string(version) + ": expected " +
-               std::to_string(kVersion) + " (written by another yarnvox version?)");
+    if (text.starts_with(kTextManifestTitle))
+        throw Error(path + ": work dir written by an older yarnvox (manifest format): run without --resume, which "
+                           "starts it over, or remove it");
+    const Json json = parseJson(text, path);
+    const JsonFields in(json, path);
+    if (in.string("format") != kFormatName)
+        in.fail("format", std::string("expected \"") + kFormatName + "\": not a yarnvox work dir manifest");
+    if (const std::int64_t version = in.integer("version", 0, INT64_MAX); version != kVersion)
+        in.fail("version", "unsupported work dir version " + std::to_string(version) + ": expected " +
+                               std::to_string(kVersion) + " (written by another yarnvox version?)");
+    in.onlyKeys({"format", "version", "yarnvox_version", "sampling_code", "fingerprint", "grid", "reduce", "run",
+                 "complete_regions", "stage_seconds"});
     StoreManifest m;
-    m.yarnvoxVersion = p.line("yarnvox_version", 1, "yarnvox_version X.Y.Z")[0];
-    m.samplingCode = p.u64(p.line("sampling_code", 1, "sampling_code 0xHEX")[0], 16);
-    m.fingerprint = p.u64(p.line("fingerprint", 1, "fingerprint 0xHEX")[0], 16);
-    const auto o = p.line("origin", 3, "origin X Y Z");
-    m.grid.origin = {p.f64(o[0]), p.f64(o[1]), p.f64(o[2])};
-    m.grid.voxelSize = p.f64(p.line("voxel_size", 1, "voxel_size H")[0]);
-    const auto d = p.line("dims", 3, "dims NX NY NZ");
-    m.grid.dims = {p.i32(d[0]), p.i32(d[1]), p.i32(d[2])};
-    const std::string reduce = p.line("reduce", 1, "reduce mean|max")[0];
-    if (reduce != "mean" && reduce != "max") p.fail("unknown reduce mode \"" + reduce + "\": expected mean or max");
+    m.yarnvoxVersion = in.string("yarnvox_version");
+    m.samplingCode = in.hex("sampling_code");
+    m.fingerprint = in.hex("fingerprint");
+    m.grid = gridFromJson(in, path);
+    const std::string reduce = in.string("reduce");
+    if (reduce != "mean" && reduce != "max") in.fail("reduce", "unknown reduce mode \"" + reduce + "\": expected mean or max");
     m.reduce = reduce == "max" ? Reduce::Max : Reduce::Mean;
-    if (p.nextIs("run_metadata")) {
-        const std::uint64_t n = p.u64(p.line("run_metadata", 1, "run_metadata BYTES")[0]);
-        m.runMetadata = p.blob(n, "run metadata");
-    }
-    if (p.nextIs("complete")) m.completeRegions = p.u64(p.line("complete", 1, "complete N")[0]);
-    while (m.completeRegions && p.nextIs("stage")) {
-        const auto w = p.line("stage", 2, "stage NAME SECONDS");
-        const double seconds = p.f64(w[1]);
-        if (!isStageName(w[0]) || seconds < 0.0)
-            p.fail("expected \"stage NAME SECONDS\" with a name of letters, digits, '_' and '.' and seconds not negative");
-        m.stageSeconds.emplace_back(w[0], seconds);
-    }
-    if (!p.atEnd()) {
-        p.rawLine("");
-        p.fail("unexpected line after the last field");
+    m.run = runMetadataFromJson(in.at("run"), path + ": run");
+    if (in.has("complete_regions")) m.completeRegions = in.unsignedInteger("complete_regions");
+    if (in.has("stage_seconds")) {
+        if (!m.completeRegions) in.fail("stage_seconds", "recorded for a run that has not finished");
+        m.stageSeconds = stageSecondsFromJson(in.at("stage_seconds"), path);
     }
     checkGrid(m.grid, path);
     return m;
@@ -158,43 +79,27 @@ void checkGrid(const VoxelGrid& g, const std::string& where) {
 }
 
 std::string formatManifest(const StoreManifest& m) {
-    std::string s = std::string(kManifestTitle) + "\n";
-    s += "version " + std::to_string(kVersion) + "\n";
-    s += "yarnvox_version " + m.yarnvoxVersion + "\n";
-    s += "sampling_code " + hex64(m.samplingCode) + "\n";
-    s += "fingerprint " + hex64(m.fingerprint) + "\n";
-    s += "origin " + num(m.grid.origin.x) + " " + num(m.grid.origin.y) + " " + num(m.grid.origin.z) + "\n";
-    s += "voxel_size " + num(m.grid.voxelSize) + "\n";
-    s += "dims " + std::to_string(m.grid.dims.x) + " " + std::to_string(m.grid.dims.y) + " " +
-         std::to_string(m.grid.dims.z) + "\n";
-    s += std::string("reduce ") + toString(m.reduce) + "\n";
-    // Length-prefixed, so the caller's text may hold anything, newlines included.
-    if (!m.runMetadata.empty())
-        s += "run_metadata " + std::to_string(m.runMetadata.size()) + "\n" + m.runMetadata + "\n";
-    if (m.completeRegions) s += "complete " + std::to_string(*m.completeRegions) + "\n";
-    if (m.completeRegions)
-        for (const auto& [name, seconds] : m.stageSeconds) s += "stage " + name + " " + num(seconds) + "\n";
-    return s;
+    Json json = {{"format", kFormatName},
+                 {"version", kVersion},
+                 {"yarnvox_version", m.yarnvoxVersion},
+                 {"sampling_code", hex64(m.samplingCode)},
+                 {"fingerprint", hex64(m.fingerprint)},
+                 {"grid",
+                  {{"origin", {m.grid.origin.x, m.grid.origin.y, m.grid.origin.z}},
+                   {"voxel_size", m.grid.voxelSize},
+                   {"dims", {m.grid.dims.x, m.grid.dims.y, m.grid.dims.z}}}},
+                 {"reduce", toString(m.reduce)},
+                 {"run", runMetadataJson(m.run)}};
+    if (m.completeRegions) {
+        json["complete_regions"] = *m.completeRegions;
+        json["stage_seconds"] = stageSecondsJson(m.stageSeconds);
+    }
+    return jsonText(json) + "\n";
 }
 
 bool sameGrid(const VoxelGrid& a, const VoxelGrid& b) {
     return a.origin == b.origin && a.voxelSize == b.voxelSize && a.dims == b.dims;
 }
-
-namespace {
-
-/// The value of line "key=value" in `text`, or "".
-std::string metadataLine(const std::string& text, const std::string& key) {
-    const std::string prefix = key + "=";
-    for (std::size_t at = 0; at < text.size();) {
-        const std::size_t end = std::min(text.find('\n', at), text.size());
-        if (text.compare(at, prefix.size(), prefix) == 0) return text.substr(at + prefix.size(), end - at - prefix.size());
-        at = end + 1;
-    }
-    return "";
-}
-
-} // namespace
 
 std::string runDifference(const StoreManifest& disk, const StoreManifest& now) {
     std::string d;
@@ -205,9 +110,9 @@ std::string runDifference(const StoreManifest& disk, const StoreManifest& now) {
         add("the sampling code differs (" + hex64(disk.samplingCode) + " on disk, " + hex64(now.samplingCode) +
             " in this yarnvox): its regions may hold other values");
     else if (disk.fingerprint != now.fingerprint) {
-        // The run metadata is the caller's "key=value" lines; where it names
-        // the backend, a change of backend is the likely reason.
-        const std::string before = metadataLine(disk.runMetadata, "backend"), after = metadataLine(now.runMetadata, "backend");
+        // Where the runs name their backends, a change of backend is the likely reason.
+        const std::string& before = disk.run.backend;
+        const std::string& after = now.run.backend;
         if (!before.empty() && !after.empty() && before != after)
             add("made with --backend " + before + ", this run uses --backend " + after);
         add("fingerprint " + hex64(disk.fingerprint) + " on disk, " + hex64(now.fingerprint) + " for this run");

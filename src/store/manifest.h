@@ -1,8 +1,9 @@
 // The manifest of a brick store's work directory: which run the directory
-// belongs to. Text, so a person can see what a work dir holds; the format is
+// belongs to. JSON, so a person can see what a work dir holds; the format is
 // in formats/brick-store.md.
 #pragma once
 
+#include "core/run_metadata.h"
 #include "core/sampling.h"
 #include "core/stage_seconds.h"
 #include "core/voxel_grid.h"
@@ -24,9 +25,9 @@ struct StoreManifest {
     std::uint64_t samplingCode = 0;
     VoxelGrid grid;
     Reduce reduce = Reduce::Mean;
-    /// The caller's description of the run (e.g. the output's metadata, for a
-    /// later `yarnvox merge`), kept verbatim; not part of the run's identity.
-    std::string runMetadata;
+    /// The description of the run, for a later `yarnvox merge` and `inspect`
+    /// (its regions are not kept); not part of the run's identity.
+    VolumeMetadata run;
     /// Set by BrickStore::markComplete: the number of regions of the finished
     /// run. Empty while the run is unfinished; ignored when comparing runs.
     std::optional<std::uint64_t> completeRegions;
@@ -35,10 +36,12 @@ struct StoreManifest {
     StageSeconds stageSeconds;
 };
 
-/// The manifest as text (doubles with 17 digits, so they read back bit-exactly).
+/// The manifest as JSON text (doubles with every digit they need to read back bit-exactly).
 std::string formatManifest(const StoreManifest& m);
 
-/// Parses manifest text strictly; throws yv::Error "PATH: line N: ..." otherwise.
+/// Parses manifest text strictly; throws yv::Error "PATH: ..." naming the
+/// field otherwise, and one line of its own for the text manifest of older
+/// yarnvox versions.
 StoreManifest parseManifest(const std::string& path, const std::string& text);
 
 /// Why `disk` is not the run `now` describes (yarnvox version, sampling code,

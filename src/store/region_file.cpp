@@ -16,12 +16,7 @@
 #include <numeric>
 
 namespace yv {
-
-// XXH64, after the reference description (github.com/Cyan4973/xxHash, doc/xxhash_spec.md).
 namespace {
-
-constexpr std::uint64_t kP1 = 11400714785074694791ULL, kP2 = 14029467366897019727ULL,
-                        kP3 = 1609587929392839161ULL, kP4 = 9650029242287828579ULL, kP5 = 2870177450012600261ULL;
 
 // Bytes are assembled by hand so the format stays little-endian on any host.
 void put(std::uint8_t* p, std::uint64_t v, int n) {
@@ -32,44 +27,6 @@ std::uint64_t get(const std::uint8_t* p, int n) {
     for (int i = 0; i < n; ++i) v |= std::uint64_t{p[i]} << (8 * i);
     return v;
 }
-std::uint64_t xxRound(std::uint64_t acc, std::uint64_t input) { return std::rotl(acc + input * kP2, 31) * kP1; }
-std::uint64_t xxMerge(std::uint64_t acc, std::uint64_t v) { return (acc ^ xxRound(0, v)) * kP1 + kP4; }
-
-} // namespace
-
-std::uint64_t xxh64(const void* data, std::size_t size) {
-    constexpr std::uint64_t seed = 0;
-    const auto* p = static_cast<const std::uint8_t*>(data);
-    const std::uint8_t* const end = p + size;
-    std::uint64_t h;
-    if (size >= 32) {
-        std::uint64_t v1 = seed + kP1 + kP2, v2 = seed + kP2, v3 = seed, v4 = seed - kP1;
-        for (; end - p >= 32; p += 32) {
-            v1 = xxRound(v1, get(p, 8));
-            v2 = xxRound(v2, get(p + 8, 8));
-            v3 = xxRound(v3, get(p + 16, 8));
-            v4 = xxRound(v4, get(p + 24, 8));
-        }
-        h = std::rotl(v1, 1) + std::rotl(v2, 7) + std::rotl(v3, 12) + std::rotl(v4, 18);
-        h = xxMerge(xxMerge(xxMerge(xxMerge(h, v1), v2), v3), v4);
-    } else {
-        h = seed + kP5;
-    }
-    h += size;
-    for (; end - p >= 8; p += 8) h = std::rotl(h ^ xxRound(0, get(p, 8)), 27) * kP1 + kP4;
-    if (end - p >= 4) {
-        h = std::rotl(h ^ (get(p, 4) * kP1), 23) * kP2 + kP3;
-        p += 4;
-    }
-    for (; p < end; ++p) h = std::rotl(h ^ (*p * kP5), 11) * kP1;
-    h ^= h >> 33;
-    h *= kP2;
-    h ^= h >> 29;
-    h *= kP3;
-    return h ^ (h >> 32);
-}
-
-namespace {
 
 // Layout constants (formats/brick-store.md).
 constexpr char kMagic[8] = {'Y', 'V', 'B', 'R', 'I', 'C', 'K', 'S'};

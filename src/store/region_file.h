@@ -7,6 +7,7 @@
 #include "store/manifest.h"
 
 #include <glm/vec3.hpp>
+#include <xxhash.h>
 
 #include <array>
 #include <cstddef>
@@ -16,8 +17,8 @@
 
 namespace yv {
 
-/// XXH64 with seed 0: the checksum of region files.
-std::uint64_t xxh64(const void* data, std::size_t size);
+/// XXH64 with seed 0 (libxxhash): the checksum of region files.
+inline std::uint64_t xxh64(const void* data, std::size_t size) { return XXH64(data, size, 0); }
 
 constexpr std::size_t kRegionHeaderSize = 160;
 

@@ -1,5 +1,6 @@
 #include "vdb/chunked_output.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -32,30 +33,23 @@ std::uint64_t checkedChunkBytes(std::uint64_t chunkBytes) {
     return bytes;
 }
 
-int createFile(const std::string& path, const std::string& what) {
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0) throw Error(what + ": cannot create it: " + errnoText(errno));
-    return fd;
-}
-
 } // namespace
 
-ChunkedOutput::ChunkedOutput(const std::string& path, std::string what, std::uint64_t chunkBytes, WriteCall write)
-    : what_(std::move(what)), chunkBytes_(checkedChunkBytes(chunkBytes)), write_(write ? write : ::pwrite),
-      fd_(createFile(path, what_)) {
+ChunkedOutput::ChunkedOutput(int fd, std::string what, std::uint64_t chunkBytes, WriteCall write)
+    : what_(std::move(what)), chunkBytes_(checkedChunkBytes(chunkBytes)), write_(write ? write : ::pwrite), fd_(fd) {
     // Opened through the cache, then switched: a file system without
     // O_DIRECT (some network and overlay ones) refuses the switch with
     // EINVAL, where an open with O_DIRECT would have left an empty file.
-    const int flags = ::fcntl(fd_.get(), F_GETFL);
-    direct_ = flags >= 0 && ::fcntl(fd_.get(), F_SETFL, flags | O_DIRECT) == 0;
+    const int flags = ::fcntl(fd_, F_GETFL);
+    direct_ = flags >= 0 && ::fcntl(fd_, F_SETFL, flags | O_DIRECT) == 0;
 }
 
 void ChunkedOutput::dropDirect() {
     static std::mutex mutex;
     const std::lock_guard lock(mutex);
     if (!direct_) return;
-    const int flags = ::fcntl(fd_.get(), F_GETFL);
-    if (flags < 0 || ::fcntl(fd_.get(), F_SETFL, flags & ~O_DIRECT) != 0)
+    const int flags = ::fcntl(fd_, F_GETFL);
+    if (flags < 0 || ::fcntl(fd_, F_SETFL, flags & ~O_DIRECT) != 0)
         throw Error(what_ + ": cannot turn direct writes off: " + errnoText(errno));
     direct_ = false;
 }
@@ -66,7 +60,7 @@ void ChunkedOutput::writeChunk(const std::uint8_t* bytes, std::uint64_t count, s
         // Whether this call went direct: another thread may turn direct
         // writes off between the call and the look at its error.
         const bool wasDirect = direct_;
-        const ssize_t n = write_(fd_.get(), bytes + done, count - done, off_t(at + done));
+        const ssize_t n = write_(fd_, bytes + done, count - done, off_t(at + done));
         if (n < 0 && errno == EINTR) continue;
         if (n < 0 && errno == EINVAL && wasDirect) {
             dropDirect(); // a block size beyond the alignment: the rest through the cache
@@ -100,7 +94,7 @@ void ChunkedOutput::write(std::uint64_t size, const Fill& fill) {
             writeChunk(buffer.get(), padded, at);
         });
     });
-    if (chunks > 0 && size % kAlignment != 0 && ::ftruncate(fd_.get(), off_t(size)) != 0)
+    if (chunks > 0 && size % kAlignment != 0 && ::ftruncate(fd_, off_t(size)) != 0)
         throw Error(what_ + ": cannot set the file's size: " + errnoText(errno));
 }
 

@@ -8,8 +8,6 @@
 // padded and the file truncated back to its size.
 #pragma once
 
-#include "core/atomic_file.h"
-
 #include <sys/types.h>
 
 #include <atomic>
@@ -37,10 +35,11 @@ class ChunkedOutput {
     /// way file systems do.
     using WriteCall = ssize_t (*)(int fd, const void* bytes, std::size_t count, off_t offset);
 
-    /// Creates `path` (which must not exist). `what` starts every error
+    /// Writes to the open, empty file `fd` (a PendingFile's: it stays the
+    /// caller's to sync, close and publish). `what` starts every error
     /// message. `chunkBytes` (a multiple of kAlignment; 0: the default) is
     /// smaller in tests, so that chunks cut through what the caller writes.
-    ChunkedOutput(const std::string& path, std::string what, std::uint64_t chunkBytes = 0, WriteCall write = nullptr);
+    ChunkedOutput(int fd, std::string what, std::uint64_t chunkBytes = 0, WriteCall write = nullptr);
     ChunkedOutput(const ChunkedOutput&) = delete;
     ChunkedOutput& operator=(const ChunkedOutput&) = delete;
 
@@ -56,8 +55,6 @@ class ChunkedOutput {
 
     /// Whether the chunks go past the page cache.
     bool direct() const { return direct_.load(); }
-    /// Hands the descriptor back (to fsync and close it).
-    int release() { return fd_.release(); }
 
   private:
     void writeChunk(const std::uint8_t* bytes, std::uint64_t count, std::uint64_t at);
@@ -66,7 +63,7 @@ class ChunkedOutput {
     std::string what_;
     std::uint64_t chunkBytes_;
     WriteCall write_;
-    Fd fd_;
+    int fd_;
     std::atomic<bool> direct_{false};
 };
 

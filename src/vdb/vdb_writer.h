@@ -6,7 +6,7 @@
 
 #include "core/bricks.h"
 #include "core/packed_bricks.h"
-#include "vdb/region_metadata.h"
+#include "core/run_metadata.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -16,27 +16,6 @@
 #include <vector>
 
 namespace yv {
-
-struct VolumeMetadata {
-    std::string input;        ///< garment file or generator description
-    std::string backend;      ///< "cpu" or "gl"
-    std::string crossSection; ///< "fibers", "disk" or a PNG path
-    int resolution = 0;       ///< voxels on the longest axis asked for (0: from voxel size)
-    std::uint64_t sliceCount = 0;
-    double yarnRadius = 0.0;
-    std::string yarnRadiusSource;  ///< "option", "cross-section", "file" or "estimated"
-    double twist = 0.0;
-    int supersample = 1;
-    std::string overlap = "clamp"; ///< how interpenetrating yarns add up (mean reduction)
-    double sliceSpacing = 0.0;     ///< largest distance between slices along a yarn, world units
-    int slicesPerSegment = 0;      ///< --slices-per-segment as asked (0: not asked)
-    double sliceSpacingOption = 0.0; ///< --slice-spacing as asked (0: one slice per supersampled voxel)
-    bool albedo = false;           ///< --albedo: the bricks carry the fibres' colour (an "albedo" grid)
-    /// The run's zoom regions, sorted by id, written as the density grid's
-    /// "yarnvox_regions" metadata (none: no item). Not part of the work
-    /// directory's run description: the writer of the .vdb fills it in.
-    std::vector<RecordedRegion> regions;
-};
 
 /// How each leaf's values are compressed (OpenVDB's options): only the
 /// active values, no codec (yarnvox's default: for fractional densities about
@@ -48,6 +27,8 @@ enum class VdbCompression { Blosc, Zip, ActiveMask, None };
 const char* toString(VdbCompression c);
 /// "blosc", "zip", "mask" or "none"; throws yv::Error otherwise.
 VdbCompression parseVdbCompression(const std::string& name);
+/// OpenVDB's archive flags (io::COMPRESS_*) for `c`.
+std::uint32_t archiveFlags(VdbCompression c);
 
 /// How the grids' floats are stored: 32-bit, or 16-bit halves (OpenVDB's
 /// saveFloatAsHalf; a density step of at most 2^-11 relative).

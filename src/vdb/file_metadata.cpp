@@ -1,0 +1,27 @@
+#include "vdb/file_metadata.h"
+
+#include <cstring>
+
+namespace yv {
+
+openvdb::MetaMap vdbFileMetadata(const VolumeMetadata& metadata, const VoxelGrid& grid, Reduce reduce, int lodLevels,
+                                 bool albedo) {
+    openvdb::MetaMap meta;
+    meta.insertMeta("yarnvox_version", openvdb::StringMetadata(YV_VERSION));
+    for (const MetadataField& field : metadataFields(metadata)) {
+        // The albedo grids say whether the run had albedo: the flag itself is the manifest's.
+        if (std::strcmp(field.name, "albedo") == 0) continue;
+        if (const auto* s = std::get_if<std::string>(&field.value)) meta.insertMeta(field.name, openvdb::StringMetadata(*s));
+        if (const auto* i = std::get_if<std::int32_t>(&field.value)) meta.insertMeta(field.name, openvdb::Int32Metadata(*i));
+        if (const auto* l = std::get_if<std::int64_t>(&field.value)) meta.insertMeta(field.name, openvdb::Int64Metadata(*l));
+        if (const auto* d = std::get_if<double>(&field.value)) meta.insertMeta(field.name, openvdb::DoubleMetadata(*d));
+    }
+    meta.insertMeta("voxel_size", openvdb::DoubleMetadata(grid.voxelSize));
+    meta.insertMeta("reduce", openvdb::StringMetadata(toString(reduce)));
+    meta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
+    if (lodLevels > 0) meta.insertMeta("lod_levels", openvdb::Int32Metadata(lodLevels));
+    if (albedo) meta.insertMeta("albedo", openvdb::StringMetadata("linear RGB, density-weighted mean"));
+    return meta;
+}
+
+} // namespace yv

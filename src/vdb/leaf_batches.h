@@ -1,0 +1,106 @@
+// The streaming writer's leaves (vdb_writer.h): bricks encoded, in
+// batches, into OpenVDB leaf records kept in the scratch file, one record per
+// grid of a pyramid level, with what the topology and the layout need of
+// each leaf.
+#pragma once
+
+#include "core/bricks.h"
+#include "core/packed_bricks.h"
+#include "vdb/lod_pyramid.h"
+#include "vdb/openvdb_encoding.h"
+#include "vdb/spill_file.h"
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace yv {
+
+/// Grids of one level at most: density, orientation, albedo (GridKind order).
+constexpr int kMaxGrids = 3;
+
+/// One leaf in the scratch file: where its records are (one per grid), and
+/// its value mask (the topology needs every mask before the first buffer).
+struct LeafRecord {
+    std::uint64_t order = 0; ///< treeOrderKey
+    std::uint64_t at[kMaxGrids] = {};
+    std::uint32_t bytes[kMaxGrids] = {};
+    std::uint32_t source = 0;
+    LeafLoadInfo load[kMaxGrids]; ///< per grid, for the delayed-load metadata
+    std::array<std::uint64_t, kBrickVoxels / 64> mask{};
+};
+
+/// One level of the pyramid (0: the volume itself): its transform, its
+/// grids' encodings (density, orientation, and albedo where the run has it),
+/// and its leaves in the scratch file.
+struct PyramidLevel {
+    openvdb::math::Transform::Ptr transform;
+    int gridCount = 2;
+    openvdb::GridBase::Ptr skeleton[kMaxGrids];
+    GridEncoding encoding[kMaxGrids];
+    std::unique_ptr<LeafEncoder> encoders[kMaxGrids];
+    std::vector<LeafRecord> leaves;
+    openvdb::CoordBBox activeBounds;
+    std::uint64_t activeVoxels = 0;
+};
+
+/// Where the octant a brick gives its parent lies in the scratch file
+/// (lod_pyramid.h): 16 bytes per brick of the level below.
+struct OctantRecord {
+    std::uint64_t childKey = 0;
+    std::uint64_t place = 0; ///< offset << 16 | bytes (an octant is at most 2056 bytes)
+    std::uint64_t at() const { return place >> 16; }
+    std::uint32_t bytes() const { return std::uint32_t(place & 0xffff); }
+};
+
+/// Leaves encoded from one batch of bricks, in tree order within the batch.
+struct EncodedBatch {
+    std::vector<LeafRecord> records;
+    openvdb::CoordBBox bounds;
+    std::uint64_t activeVoxels = 0;
+};
+
+using BrickMask = std::array<std::uint64_t, kBrickVoxels / 64>;
+
+/// The bricks encodeBatch takes: voxel bricks...
+struct VoxelBrickBatch {
+    std::span<const VoxelBrick> bricks;
+    std::size_t size() const { return bricks.size(); }
+    std::uint64_t key(std::size_t i) const { return bricks[i].key; }
+    BrickMask mask(std::size_t i) const { return bricks[i].activeMask; }
+    LeafLoadInfo encode(const LeafEncoder& encoder, std::size_t i, const BrickMask&, ByteVector& out) const {
+        return encoder.encode(bricks[i], out);
+    }
+    void octant(std::size_t i, const BrickMask&, ByteVector& out) const { appendOctant(bricks[i], out); }
+};
+
+/// ... or the GPU's resolved bricks as they came back, packed: at 8192 filling
+/// a VoxelBrick (8 KiB) per brick to encode it was 40 % of the writer
+/// threads' time.
+struct PackedBrickBatch {
+    const PackedBricks& packed;
+    std::size_t size() const { return packed.headers.size(); }
+    std::uint64_t key(std::size_t i) const { return packed.headers[i].brickKey(); }
+    BrickMask mask(std::size_t i) const { return packedBrickMask(packed, i); }
+    LeafLoadInfo encode(const LeafEncoder& encoder, std::size_t i, const BrickMask& mask, ByteVector& out) const {
+        return encoder.encode(packed, i, mask, out);
+    }
+    void octant(std::size_t i, const BrickMask& mask, ByteVector& out) const { appendOctant(packed, i, mask, out); }
+};
+
+/// Encodes `bricks` into leaf records of `level`'s grids in the scratch
+/// file, in pieces; with `octants`, also puts each brick's octant for the
+/// next level there. Defined for VoxelBrickBatch and PackedBrickBatch.
+template <typename Batch>
+EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batch& bricks,
+                         std::vector<OctantRecord>* octants);
+
+/// Adds a batch's leaves to `level`, tagged with `source` (for errors).
+void addBatch(PyramidLevel& level, EncodedBatch&& batch, std::uint32_t source);
+
+} // namespace yv
