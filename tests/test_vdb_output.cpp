@@ -2,6 +2,7 @@
 #include "cpu/cpu_voxelizer.h"
 #include "garment/cross_section.h"
 #include "test_helpers.h"
+#include "vdb/file_metadata.h"
 #include "vdb/vdb_writer.h"
 
 #include <catch2/catch.hpp>
@@ -36,6 +37,8 @@ TEST_CASE("The .vdb reads back with the right grids, names, transform and values
     openvdb::io::File file(path);
     file.open();
     auto fileMeta = file.getMetadata();
+    // The run's description reads back through the one reader of it.
+    CHECK(metadataFields(vdbRunMetadata(*fileMeta, path)) == metadataFields(meta));
     CHECK(fileMeta->metaValue<std::string>("reduce") == "mean");
     CHECK(fileMeta->metaValue<std::int64_t>("slice_count") == std::int64_t(plan.sliceCount));
     CHECK(fileMeta->metaValue<std::int32_t>("resolution") == 64);
@@ -140,4 +143,20 @@ TEST_CASE("Every .vdb compression reads back through OpenVDB with the same value
         CHECK(differing == 0);
     }
     CHECK_THROWS_AS(parseVdbCompression("lz4"), Error);
+}
+
+TEST_CASE("A .vdb's run description: missing fields keep their defaults, a field of another type is refused by name", "[vdb]") {
+    openvdb::MetaMap meta;
+    meta.insertMeta("input", openvdb::StringMetadata("g.bcc"));
+    meta.insertMeta("yarn_radius", openvdb::DoubleMetadata(0.25));
+    meta.insertMeta("voxel_size", openvdb::DoubleMetadata(0.5)); // the writer's own: not the run's
+    meta.insertMeta("albedo", openvdb::StringMetadata("linear RGB, density-weighted mean"));
+    const VolumeMetadata m = vdbRunMetadata(meta, "old.vdb");
+    CHECK(m.input == "g.bcc");
+    CHECK(m.yarnRadius == 0.25);
+    CHECK(m.albedo);
+    CHECK(m.supersample == 1);
+    CHECK(m.slicesPerSegment == 0);
+    meta.insertMeta("resolution", openvdb::StringMetadata("64"));
+    CHECK_THROWS_WITH(vdbRunMetadata(meta, "odd.vdb"), Catch::StartsWith("odd.vdb: \"resolution\": expected an integer"));
 }

@@ -1,5 +1,7 @@
 #include "vdb/file_metadata.h"
 
+#include "core/json_fields.h"
+
 #include <cstring>
 
 namespace yv {
@@ -22,6 +24,22 @@ openvdb::MetaMap vdbFileMetadata(const VolumeMetadata& metadata, const VoxelGrid
     if (lodLevels > 0) meta.insertMeta("lod_levels", openvdb::Int32Metadata(lodLevels));
     if (albedo) meta.insertMeta("albedo", openvdb::StringMetadata("linear RGB, density-weighted mean"));
     return meta;
+}
+
+VolumeMetadata vdbRunMetadata(const openvdb::MetaMap& meta, const std::string& where) {
+    Json fields = runMetadataJson(VolumeMetadata{});
+    for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it) {
+        const std::string& name = it->first;
+        if (!fields.contains(name) || name == "albedo") continue;
+        const openvdb::Metadata& item = *it->second;
+        if (const auto* s = dynamic_cast<const openvdb::StringMetadata*>(&item)) fields[name] = s->value();
+        else if (const auto* i = dynamic_cast<const openvdb::Int32Metadata*>(&item)) fields[name] = i->value();
+        else if (const auto* l = dynamic_cast<const openvdb::Int64Metadata*>(&item)) fields[name] = l->value();
+        else if (const auto* d = dynamic_cast<const openvdb::DoubleMetadata*>(&item)) fields[name] = d->value();
+        else fields[name] = nullptr; // a type yarnvox never writes: refused below, by name
+    }
+    fields["albedo"] = meta["albedo"] != nullptr;
+    return runMetadataFromJson(fields, where);
 }
 
 } // namespace yv

@@ -20,4 +20,11 @@ namespace yv {
 openvdb::MetaMap vdbFileMetadata(const VolumeMetadata& metadata, const VoxelGrid& grid, Reduce reduce, int lodLevels,
                                  bool albedo);
 
+/// The run's description a .vdb's file metadata holds (what vdbFileMetadata
+/// wrote), read through runMetadataFromJson: fields the file lacks (older or
+/// foreign files) keep VolumeMetadata's defaults, albedo is whether the
+/// "albedo" item is there, and the writer's own items are skipped. Throws
+/// yv::Error naming `where` and the item when a field is of another type.
+VolumeMetadata vdbRunMetadata(const openvdb::MetaMap& meta, const std::string& where);
+
 } // namespace yv
