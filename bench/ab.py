@@ -79,10 +79,14 @@ def build(rev, patch, work, jobs):
 
 
 def strip_volatile(v):
+    """The stats without their volatile keys; a whole number written as a
+    double ("0.0" where another build writes "0") read as the integer."""
     if isinstance(v, dict):
         return {k: strip_volatile(x) for k, x in v.items() if not VOLATILE_KEY.search(k)}
     if isinstance(v, list):
         return [strip_volatile(x) for x in v]
+    if isinstance(v, float) and v.is_integer():
+        return int(v)
     return v
 
 
