@@ -75,4 +75,12 @@ void BrickAtlas::finish() {
     checkGlError("uploading the brick atlas");
 }
 
+void BrickAtlas::setAddressingUniforms(const GlProgram& p) const {
+    glUniform3i(p.uniform("atlasSlots"), slots_.x, slots_.y, slots_.z);
+    glUniform3f(p.uniform("originVoxel"), float(plan_.originVoxel.x), float(plan_.originVoxel.y),
+                float(plan_.originVoxel.z));
+    glUniform1f(p.uniform("levelScale"), float(plan_.scale));
+    glUniform3i(p.uniform("brickDims"), plan_.brickDims.x, plan_.brickDims.y, plan_.brickDims.z);
+}
+
 } // namespace yv

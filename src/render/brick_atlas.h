@@ -5,6 +5,7 @@
 #pragma once
 
 #include "gpu/gl_objects.h"
+#include "gpu/gl_program.h"
 #include "inspect/brick_level.h"
 
 #include <cstdint>
@@ -28,6 +29,9 @@ class BrickAtlas {
 
     const LevelPlan& plan() const { return plan_; }
     glm::ivec3 slotsPerAxis() const { return slots_; }
+    /// Sets the uniforms by which a shader finds a voxel's brick in the atlas
+    /// (atlasSlots, originVoxel, levelScale, brickDims) on `program`, in use.
+    void setAddressingUniforms(const GlProgram& program) const;
     std::uint64_t bricksUploaded() const { return used_; }
     GLuint densityTexture() const { return density_.id(); }
     GLuint orientationTexture() const { return orientation_.id(); } ///< 0 without orientation

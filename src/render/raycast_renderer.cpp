@@ -72,11 +72,7 @@ void RaycastRenderer::setMarchUniforms(const Camera& camera) const {
         boxMax(glm::dvec3(plan.originVoxel) + glm::dvec3(plan.brickDims * (kBrickSize * plan.scale)));
     const bool eyeInBox = glm::all(glm::greaterThanEqual(eye, boxMin)) && glm::all(glm::lessThanEqual(eye, boxMax));
     glUniform1i(p.uniform("startAtNearPlane"), eyeInBox ? 1 : 0);
-    const glm::ivec3 slots = atlas_.slotsPerAxis();
-    glUniform3i(p.uniform("atlasSlots"), slots.x, slots.y, slots.z);
-    glUniform3f(p.uniform("originVoxel"), float(plan.originVoxel.x), float(plan.originVoxel.y), float(plan.originVoxel.z));
-    glUniform1f(p.uniform("levelScale"), float(plan.scale));
-    glUniform3i(p.uniform("brickDims"), plan.brickDims.x, plan.brickDims.y, plan.brickDims.z);
+    atlas_.setAddressingUniforms(p);
     glUniform3f(p.uniform("boxMin"), float(boxMin.x), float(boxMin.y), float(boxMin.z));
     glUniform3f(p.uniform("boxMax"), float(boxMax.x), float(boxMax.y), float(boxMax.z));
     glUniform1f(p.uniform("step"), float(settings_.stepVoxels * plan.scale));

@@ -73,14 +73,9 @@ void SlicingRenderer::prepare(const Camera& camera) {
 
 /// The uniforms both passes share: the atlas, the slices.
 void SlicingRenderer::setVolumeUniforms(const GlProgram& p, const glm::mat4& viewProjection) const {
-    const LevelPlan& plan = atlas_.plan();
     p.use();
     glUniformMatrix4fv(p.uniform("viewProjection"), 1, GL_FALSE, glm::value_ptr(viewProjection));
-    const glm::ivec3 slots = atlas_.slotsPerAxis();
-    glUniform3i(p.uniform("atlasSlots"), slots.x, slots.y, slots.z);
-    glUniform3f(p.uniform("originVoxel"), float(plan.originVoxel.x), float(plan.originVoxel.y), float(plan.originVoxel.z));
-    glUniform1f(p.uniform("levelScale"), float(plan.scale));
-    glUniform3i(p.uniform("brickDims"), plan.brickDims.x, plan.brickDims.y, plan.brickDims.z);
+    atlas_.setAddressingUniforms(p);
     glUniform3f(p.uniform("sliceNormal"), float(normal_.x), float(normal_.y), float(normal_.z));
     glUniform1f(p.uniform("spacing"), float(spacing_));
 }
