@@ -9,23 +9,28 @@
 
 #include <CLI/CLI.hpp>
 
+#include <initializer_list>
 #include <map>
 #include <string>
 
 namespace yv {
 
-inline const std::map<std::string, BackendRequest> kBackendWords{
-    {"auto", BackendRequest::Auto}, {"gl", BackendRequest::Gl}, {"cpu", BackendRequest::Cpu}};
-inline const std::map<std::string, VoxelizeMethod> kMethodWords{{"sparse", VoxelizeMethod::Sparse},
-                                                                {"dense", VoxelizeMethod::Dense}};
-inline const std::map<std::string, Reduce> kReduceWords{{"mean", Reduce::Mean}, {"max", Reduce::Max}};
-inline const std::map<std::string, Overlap> kOverlapWords{{"clamp", Overlap::Clamp}, {"sum", Overlap::Sum}};
-inline const std::map<std::string, VdbCompression> kCompressionWords{{"blosc", VdbCompression::Blosc},
-                                                                     {"zip", VdbCompression::Zip},
-                                                                     {"mask", VdbCompression::ActiveMask},
-                                                                     {"none", VdbCompression::None}};
-inline const std::map<std::string, VdbPrecision> kPrecisionWords{{"float", VdbPrecision::Float},
-                                                                 {"half", VdbPrecision::Half}};
+/// Each value's word as its layer's toString spells it (the one spelling,
+/// also in --stats and the .vdb's metadata), mapped back to the value.
+template <class Enum>
+std::map<std::string, Enum> wordsOf(std::initializer_list<Enum> values) {
+    std::map<std::string, Enum> words;
+    for (const Enum v : values) words.emplace(toString(v), v);
+    return words;
+}
+
+inline const auto kBackendWords = wordsOf({BackendRequest::Auto, BackendRequest::Gl, BackendRequest::Cpu});
+inline const auto kMethodWords = wordsOf({VoxelizeMethod::Sparse, VoxelizeMethod::Dense});
+inline const auto kReduceWords = wordsOf({Reduce::Mean, Reduce::Max});
+inline const auto kOverlapWords = wordsOf({Overlap::Clamp, Overlap::Sum});
+inline const auto kCompressionWords =
+    wordsOf({VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::ActiveMask, VdbCompression::None});
+inline const auto kPrecisionWords = wordsOf({VdbPrecision::Float, VdbPrecision::Half});
 
 /// The option's value is one of `words`, turned into its enum (as the
 /// enum's number, which CLI11 then reads into the option's variable); any
