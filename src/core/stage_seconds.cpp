@@ -28,6 +28,12 @@ Json stageSecondsJson(const StageSeconds& stages) {
     return out;
 }
 
+JsonObject stageSecondsObject(const StageSeconds& stages) {
+    JsonObject out;
+    for (const auto& [name, seconds] : stages) out.set(name, seconds);
+    return out;
+}
+
 StageSeconds stageSecondsFromJson(const Json& json, const std::string& where) {
     const JsonFields in(json, where + ": stage times");
     StageSeconds stages;

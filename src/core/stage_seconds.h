@@ -7,6 +7,8 @@
 // stage measured on its own threads, so parts may overlap each other.
 #pragma once
 
+#include "core/stats.h"
+
 #include <nlohmann/json_fwd.hpp>
 
 #include <string>
@@ -26,6 +28,8 @@ double wholeStageSum(const StageSeconds& stages);
 
 /// {"read": 0.012, "slices": 0.5, ...}, in the stages' order.
 nlohmann::ordered_json stageSecondsJson(const StageSeconds& stages);
+/// {"read": s, "slices": s, ...} for --stats and inspect's reports (numbers as JsonObject writes them).
+JsonObject stageSecondsObject(const StageSeconds& stages);
 /// The stages of a stageSecondsJson object; throws yv::Error naming `where`
 /// on anything else, a bad name or a negative or non-finite time.
 StageSeconds stageSecondsFromJson(const nlohmann::ordered_json& json, const std::string& where);

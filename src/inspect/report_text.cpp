@@ -74,12 +74,10 @@ std::string statisticsText(const VoxelStatistics& v, double voxelVolume, bool ha
     return out;
 }
 
-JsonObject stageSecondsObject(const StageSeconds& stages) {
-    JsonObject seconds;
-    for (const auto& [name, value] : stages) seconds.set(name, value);
+JsonObject stageReportObject(const StageSeconds& stages) {
     return JsonObject()
         .set("recorded", !stages.empty())
-        .set("seconds", seconds)
+        .set("seconds", stageSecondsObject(stages))
         .set("total_seconds", wholeStageSum(stages));
 }
 

@@ -25,7 +25,7 @@ JsonObject statisticsJson(const VoxelStatistics& v, double voxelVolume);
 std::string statisticsText(const VoxelStatistics& v, double voxelVolume, bool hasOrientation);
 
 /// Seconds per stage, or "recorded": false where the run did not record them.
-JsonObject stageSecondsObject(const StageSeconds& stages);
+JsonObject stageReportObject(const StageSeconds& stages);
 
 /// The time per stage in a line (and the parts timed on their own threads in
 /// another), or why none was recorded.

@@ -86,7 +86,7 @@ std::string storeJson(const StoreSummary& s, bool verify) {
         .set("compression_ratio", s.bytesOnDisk ? double(s.valueBytes) / double(s.bytesOnDisk) : 0.0)
         .set("verified", s.verified)
         .set("bad_regions", s.badRegions)
-        .set("stages", stageSecondsObject(s.manifest.stageSeconds))
+        .set("stages", stageReportObject(s.manifest.stageSeconds))
         .set("region_table", rows);
     if (verify) out.set("voxels", statisticsJson(s.voxels, voxelVolume(s)));
     return out.dump() + "\n";

@@ -42,7 +42,7 @@ std::string vdbJson(const VdbSummary& s) {
                .set("grids", grids)
                .set("bytes_per_active_voxel", s.voxels.activeVoxels ? double(s.fileBytes) / double(s.voxels.activeVoxels) : 0.0)
                .set("voxels", statisticsJson(s.voxels, h3))
-               .set("stages", stageSecondsObject(s.stageSeconds))
+               .set("stages", stageReportObject(s.stageSeconds))
                .set("regions", std::uint64_t(s.regions.size()))
                .set("region_table", rows)
                .dump() +

@@ -26,11 +26,7 @@ class StageTimer {
     }
     const StageSeconds& laps() const { return laps_; }
     /// {"read": s, "slices": s, ...} for --stats.
-    JsonObject json() const {
-        JsonObject out;
-        for (const auto& [stage, seconds] : laps_) out.set(stage, seconds);
-        return out;
-    }
+    JsonObject json() const { return stageSecondsObject(laps_); }
 
   private:
     std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
