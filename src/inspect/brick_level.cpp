@@ -33,35 +33,72 @@ std::uint64_t levelGpuBytes(std::uint64_t bricks, glm::ivec3 dims, int bytesPerV
            std::uint64_t(dims.x) * std::uint64_t(dims.y) * std::uint64_t(dims.z) * 4u;
 }
 
+namespace {
+
+/// Level `level`'s plan from `bricks`, the occupied bricks of level
+/// `from` <= level inside the clip box.
+LevelPlan planFrom(const std::vector<glm::ivec3>& bricks, int from, int level, glm::ivec3 lo, glm::ivec3 hi,
+                   int bytesPerVoxel) {
+    LevelPlan p;
+    p.level = level;
+    p.scale = 1 << level;
+    p.fineBricks = bricks.size();
+    p.stored = from == level;
+    const int span = kBrickSize * p.scale;          // voxels per level brick
+    const int fromSpan = kBrickSize * (1 << from); // voxels per brick of `bricks`
+    p.originVoxel = floorDiv(lo * fromSpan, span) * span;
+    const glm::ivec3 end = floorDiv(hi * fromSpan + (span - 1), span) * span;
+    p.brickDims = glm::max((end - p.originVoxel) / span, glm::ivec3(1));
+    p.bricks.reserve(bricks.size());
+    for (const glm::ivec3& c : bricks) p.bricks.push_back(floorDiv(c * fromSpan - p.originVoxel, span));
+    std::sort(p.bricks.begin(), p.bricks.end(), [](glm::ivec3 a, glm::ivec3 b) { return relativeKey(a) < relativeKey(b); });
+    p.bricks.erase(std::unique(p.bricks.begin(), p.bricks.end()), p.bricks.end());
+    p.gpuBytes = levelGpuBytes(p.bricks.size(), p.brickDims, bytesPerVoxel);
+    return p;
+}
+
+/// The occupied bricks of stored level `level` that overlap `clip`, and
+/// their box [lo, hi) in that level's bricks.
+std::vector<glm::ivec3> clippedBricks(const VolumeSource& source, int level, const VoxelBox& clip, glm::ivec3& lo,
+                                      glm::ivec3& hi) {
+    const int span = kBrickSize << level;
+    lo = floorDiv(clip.min, span);
+    hi = floorDiv(clip.max + (span - 1), span);
+    std::vector<glm::ivec3> out;
+    for (const glm::ivec3& c : source.occupiedLevelBricks(level))
+        if (inside(c, lo, hi)) out.push_back(c);
+    return out;
+}
+
+} // namespace
+
 LevelPlan planLevel(const VolumeSource& source, const VoxelBox& clip, std::uint64_t budgetBytes, int bytesPerVoxel,
                     int maxTextureSize) {
-    glm::ivec3 lo, hi;
-    clipBricks(clip, lo, hi);
-    std::vector<glm::ivec3> fine;
-    for (const glm::ivec3& c : source.occupiedBricks())
-        if (inside(c, lo, hi)) fine.push_back(c);
+    const int side = std::max(1, maxTextureSize / kBrickSize); // atlas bricks a side
+    const auto fits = [&](const LevelPlan& p) {
+        return p.gpuBytes <= budgetBytes && p.brickDims.x <= maxTextureSize && p.brickDims.y <= maxTextureSize &&
+               p.brickDims.z <= maxTextureSize &&
+               p.bricks.size() <= std::uint64_t(side) * std::uint64_t(side) * std::uint64_t(side);
+    };
     std::uint64_t smallest = ~std::uint64_t(0);
-    for (int level = 0; level <= 21; ++level) {
-        LevelPlan p;
-        p.level = level;
-        p.scale = 1 << level;
-        p.fineBricks = fine.size();
-        const int span = kBrickSize * p.scale; // voxels per level brick
-        p.originVoxel = floorDiv(lo * kBrickSize, span) * span;
-        const glm::ivec3 end = floorDiv(hi * kBrickSize + (span - 1), span) * span;
-        p.brickDims = glm::max((end - p.originVoxel) / span, glm::ivec3(1));
-        p.bricks.reserve(fine.size());
-        for (const glm::ivec3& c : fine) p.bricks.push_back(floorDiv(c * kBrickSize - p.originVoxel, span));
-        std::sort(p.bricks.begin(), p.bricks.end(),
-                  [](glm::ivec3 a, glm::ivec3 b) { return relativeKey(a) < relativeKey(b); });
-        p.bricks.erase(std::unique(p.bricks.begin(), p.bricks.end()), p.bricks.end());
-        p.gpuBytes = levelGpuBytes(p.bricks.size(), p.brickDims, bytesPerVoxel);
-        smallest = std::min(smallest, p.gpuBytes);
-        const int side = std::max(1, maxTextureSize / kBrickSize); // atlas bricks a side
-        const bool fitsTextures = p.brickDims.x <= maxTextureSize && p.brickDims.y <= maxTextureSize &&
-                                  p.brickDims.z <= maxTextureSize &&
-                                  p.bricks.size() <= std::uint64_t(side) * std::uint64_t(side) * std::uint64_t(side);
-        if (p.gpuBytes <= budgetBytes && fitsTextures) return p;
+    glm::ivec3 lo, hi;
+    if (source.hasCoarseLevels()) {
+        for (int level : source.storedLevels()) {
+            // A level whose bricks cannot fit, whatever the clip, is not read.
+            if (source.occupiedBricksAtLeast(level) * kBrickVoxels * std::uint64_t(bytesPerVoxel) > budgetBytes &&
+                clip.min == source.bounds().min && clip.max == source.bounds().max)
+                continue;
+            const LevelPlan p = planFrom(clippedBricks(source, level, clip, lo, hi), level, level, lo, hi, bytesPerVoxel);
+            smallest = std::min(smallest, p.gpuBytes);
+            if (fits(p)) return p;
+        }
+    } else {
+        const std::vector<glm::ivec3> fine = clippedBricks(source, 0, clip, lo, hi);
+        for (int level = 0; level <= 21; ++level) {
+            const LevelPlan p = planFrom(fine, 0, level, lo, hi, bytesPerVoxel);
+            smallest = std::min(smallest, p.gpuBytes);
+            if (fits(p)) return p;
+        }
     }
     throw Error("the GPU budget of " + std::to_string(budgetBytes) + " bytes holds no level of this volume (the coarsest needs " +
                 std::to_string(smallest) + "): raise --gpu-budget");
@@ -70,11 +107,13 @@ LevelPlan planLevel(const VolumeSource& source, const VoxelBox& clip, std::uint6
 void streamLevelBricks(const VolumeSource& source, const VoxelBox& clip, const LevelPlan& plan, bool withOrientation,
                        const std::function<void(const LevelBrick&)>& visit) {
     glm::ivec3 lo, hi;
-    clipBricks(clip, lo, hi);
     LevelBrick out;
-    if (plan.level == 0) {
-        source.forEachBrick(lo, hi, [&](const SourceBrick& b) {
-            out.coord = b.coord - plan.originVoxel / kBrickSize;
+    if (plan.stored) {
+        const int span = kBrickSize * plan.scale;
+        lo = floorDiv(clip.min, span);
+        hi = floorDiv(clip.max + (span - 1), span);
+        source.forEachLevelBrick(plan.level, lo, hi, [&](const SourceBrick& b) {
+            out.coord = b.coord - plan.originVoxel / span;
             for (int x = 0; x < 8; ++x)
                 for (int y = 0; y < 8; ++y)
                     for (int z = 0; z < 8; ++z) {
@@ -87,6 +126,7 @@ void streamLevelBricks(const VolumeSource& source, const VoxelBox& clip, const L
         });
         return;
     }
+    clipBricks(clip, lo, hi);
     // Coarse: sums of density (and of density-weighted |axis|) per level voxel.
     struct Sums {
         std::array<float, 512> density{};

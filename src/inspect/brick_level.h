@@ -24,7 +24,8 @@ struct LevelPlan {
     glm::ivec3 brickDims{0};    ///< the indirection grid: level bricks along each axis
     std::vector<glm::ivec3> bricks; ///< occupied level bricks, relative to originVoxel, sorted
     std::uint64_t gpuBytes = 0; ///< atlas and indirection texture together
-    std::uint64_t fineBricks = 0; ///< occupied level-0 bricks inside the clip box
+    std::uint64_t fineBricks = 0; ///< occupied bricks inside the clip box of the level they are read from
+    bool stored = false;          ///< read from the source's stored level, not reduced from level 0
 };
 
 /// Bytes a level needs on the GPU: `bytesPerVoxel` for each voxel of each
@@ -33,8 +34,11 @@ std::uint64_t levelGpuBytes(std::uint64_t bricks, glm::ivec3 brickDims, int byte
 
 /// The finest level whose occupied bricks inside `clip` (voxel box), with
 /// the indirection grid, fit in `budgetBytes` and whose textures stay within
-/// `maxTextureSize` texels a side. Throws yv::Error when no level of a
-/// 2^21-voxel grid fits (a budget below a few bricks).
+/// `maxTextureSize` texels a side. A source with stored coarse levels (a
+/// .vdb with a pyramid) is drawn from one of its stored levels, so a large
+/// volume is never read whole; otherwise the level is reduced from level 0.
+/// Throws yv::Error when no level of a 2^21-voxel grid fits (a budget below
+/// a few bricks).
 LevelPlan planLevel(const VolumeSource& source, const VoxelBox& clip, std::uint64_t budgetBytes, int bytesPerVoxel,
                     int maxTextureSize);
 
@@ -45,9 +49,10 @@ struct LevelBrick {
     std::array<glm::vec3, 512> axisColour{}; ///< |axis|, density-weighted mean over the level voxel's cube
 };
 
-/// Streams the plan's bricks to `visit`, in any order: each level-0 brick as
-/// it is read, or, at a coarse level, each level brick once all of its
-/// voxels are summed. `withOrientation` false leaves axisColour zero.
+/// Streams the plan's bricks to `visit`, in any order: each brick of a
+/// stored level as it is read (the colour of a stored coarse level is its
+/// principal axis, |axis|), or, at a level reduced from level 0, each level
+/// brick once all of its voxels are summed. `withOrientation` false leaves axisColour zero.
 void streamLevelBricks(const VolumeSource& source, const VoxelBox& clip, const LevelPlan& plan, bool withOrientation,
                        const std::function<void(const LevelBrick&)>& visit);
 

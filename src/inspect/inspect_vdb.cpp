@@ -1,11 +1,17 @@
 #include "inspect/inspect_vdb.h"
 
 #include "core/error.h"
+#include "inspect/volume_source.h"
+#include "vdb/vdb_index.h"
 
 #include <openvdb/openvdb.h>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_reduce.h>
 
+#include <bit>
+#include <climits>
+#include <cstring>
 #include <filesystem>
 
 namespace yv {
@@ -28,6 +34,68 @@ template <typename GridT> GridSummary summarize(const GridT& grid, const std::st
 std::string compressionOf(const openvdb::GridBase& grid) {
     if (auto m = grid.getMetadata<openvdb::StringMetadata>(openvdb::GridBase::META_FILE_COMPRESSION)) return m->value();
     return "";
+}
+
+GridSummary summarizeStored(const VdbGridInfo& g, std::uint64_t leaves, std::uint64_t activeVoxels) {
+    GridSummary out;
+    out.name = g.name;
+    out.type = g.type;
+    out.activeVoxels = activeVoxels;
+    out.leaves = leaves;
+    out.boundsMin = glm::ivec3(INT_MAX);
+    out.boundsMax = glm::ivec3(INT_MIN);
+    const StoredMetadata* lo = g.find(openvdb::GridBase::META_FILE_BBOX_MIN);
+    const StoredMetadata* hi = g.find(openvdb::GridBase::META_FILE_BBOX_MAX);
+    if (activeVoxels > 0 && lo && hi && lo->value.size() == 12 && hi->value.size() == 12) {
+        std::memcpy(&out.boundsMin, lo->value.data(), 12);
+        std::memcpy(&out.boundsMax, hi->value.data(), 12);
+    }
+    out.halfFloat = g.half;
+    if (const StoredMetadata* c = g.find(openvdb::GridBase::META_FILE_COMPRESSION); c && c->type == "string")
+        out.compression.assign(c->value.begin(), c->value.end());
+    return out;
+}
+
+/// inspectVdb for a file in the subset yarnvox writes: headers from its
+/// index, the voxels read range by range in parallel and dropped, so memory
+/// stays at the leaf table whatever the volume.
+VdbSummary inspectOwnVdb(const VdbIndex& index) {
+    const std::string& path = index.path();
+    VdbSummary s;
+    s.path = path;
+    s.fileBytes = index.file().size();
+    s.libraryVersion = index.libraryVersion();
+    for (const StoredMetadata& m : index.fileMetadata()) {
+        s.fileMetadata.emplace_back(m.name, m.text());
+        if (m.name == "stage_seconds" && m.type == "string")
+            s.stageSeconds = parseStageSeconds(std::string(m.value.begin(), m.value.end()), path + ": metadata stage_seconds");
+    }
+    const VdbGridInfo* density = index.grid("density");
+    if (!density || density->vector) throw Error(path + ": has no float grid named 'density'");
+    const VdbGridInfo* orientation = index.grid("orientation");
+    const std::unique_ptr<VolumeSource> source = openVdbSource(path);
+    s.regions = [&] {
+        const StoredMetadata* r = density->find(kRegionsMetadataName);
+        if (!r || r->type != "string") return std::vector<RecordedRegion>{};
+        return decodeRegions(std::string(r->value.begin(), r->value.end()),
+                             path + ": density grid metadata " + kRegionsMetadataName);
+    }();
+    s.voxelSize = density->voxelSize;
+    s.hasOrientation = source->hasOrientation();
+    tbb::enumerable_thread_specific<VoxelStatistics> statistics;
+    source->forEachBrickConcurrently(glm::ivec3(INT_MIN), glm::ivec3(INT_MAX), [&](const SourceBrick& b) {
+        VoxelStatistics& acc = statistics.local();
+        for (int w = 0; w < kBrickVoxels / 64; ++w)
+            for (std::uint64_t bits = b.active[w]; bits; bits &= bits - 1) {
+                const int v = w * 64 + std::countr_zero(bits);
+                acc.add(b.density[v], b.orientation ? b.orientation[v] : glm::vec3(0.0f));
+            }
+    });
+    for (const VoxelStatistics& part : statistics) s.voxels += part;
+    const std::uint64_t leaves = source->occupiedBricks().size();
+    s.grids.push_back(summarizeStored(*density, leaves, s.voxels.activeVoxels));
+    if (s.hasOrientation) s.grids.push_back(summarizeStored(*orientation, leaves, s.voxels.activeVoxels));
+    return s;
 }
 
 } // namespace
@@ -59,6 +127,7 @@ std::vector<RecordedRegion> readVdbRegions(const std::string& path) {
 }
 
 VdbSummary inspectVdb(const std::string& path) {
+    if (const VdbIndex index(path); index.inSubset()) return inspectOwnVdb(index);
     openvdb::initialize();
     VdbSummary s;
     s.path = path;

@@ -67,7 +67,8 @@ class StoreSource final : public VolumeSource {
             if (r.info.id == id) return {r.info.min, r.info.max};
         throw Error(store_.dir() + ": has no region " + std::to_string(id));
     }
-    void forEachBrick(glm::ivec3 lo, glm::ivec3 hi, const std::function<void(const SourceBrick&)>& visit) const override {
+    void visitBricks(int level, glm::ivec3 lo, glm::ivec3 hi, const Visit& visit, bool) const override {
+        YV_CHECK(level == 0);
         const auto inside = [&](glm::ivec3 c) {
             return !glm::any(glm::lessThan(c, lo)) && !glm::any(glm::greaterThanEqual(c, hi));
         };

@@ -1,4 +1,5 @@
-// A .vdb as a render's source, through OpenVDB with delayed loading: opening
+// A .vdb as a render's source, through OpenVDB with delayed loading (files
+// outside the subset yarnvox reads itself, vdb_subset_source.cpp): opening
 // reads the topology only; a leaf's voxels are read from the file when a
 // render asks for that leaf.
 #include "inspect/volume_source.h"
@@ -46,7 +47,8 @@ class VdbSource final : public VolumeSource {
         throw Error(path_ + ": has no region " + std::to_string(id) + " (it records " + std::to_string(regions_.size()) +
                     " zoom regions)");
     }
-    void forEachBrick(glm::ivec3 lo, glm::ivec3 hi, const std::function<void(const SourceBrick&)>& visit) const override {
+    void visitBricks(int level, glm::ivec3 lo, glm::ivec3 hi, const Visit& visit, bool) const override {
+        YV_CHECK(level == 0);
         std::array<float, kBrickVoxels> density;
         std::array<glm::vec3, kBrickVoxels> axes;
         for (auto leaf = density_->tree().cbeginLeaf(); leaf; ++leaf) {
@@ -73,6 +75,8 @@ class VdbSource final : public VolumeSource {
 
 } // namespace
 
-std::unique_ptr<VolumeSource> openVdbSource(const std::string& path) { return std::make_unique<VdbSource>(path); }
+std::unique_ptr<VolumeSource> openVdbSourceThroughOpenVdb(const std::string& path) {
+    return std::make_unique<VdbSource>(path);
+}
 
 } // namespace yv

@@ -7,10 +7,16 @@
 
 namespace yv {
 
+const std::vector<glm::ivec3>& VolumeSource::occupiedLevelBricks(int level) const {
+    YV_CHECK(level == 0);
+    return occupied_;
+}
+
 VoxelBox VolumeSource::bounds() const {
-    if (occupied_.empty()) return {};
-    glm::ivec3 lo = occupied_.front(), hi = occupied_.front();
-    for (const glm::ivec3& c : occupied_) lo = glm::min(lo, c), hi = glm::max(hi, c);
+    const std::vector<glm::ivec3>& occupied = occupiedBricks();
+    if (occupied.empty()) return {};
+    glm::ivec3 lo = occupied.front(), hi = occupied.front();
+    for (const glm::ivec3& c : occupied) lo = glm::min(lo, c), hi = glm::max(hi, c);
     return {lo * kBrickSize, (hi + 1) * kBrickSize};
 }
 
@@ -28,7 +34,8 @@ class MemorySource final : public VolumeSource {
         if (id >= regions_.size()) throw Error("no region " + std::to_string(id) + " in this volume");
         return regions_[id];
     }
-    void forEachBrick(glm::ivec3 lo, glm::ivec3 hi, const std::function<void(const SourceBrick&)>& visit) const override {
+    void visitBricks(int level, glm::ivec3 lo, glm::ivec3 hi, const Visit& visit, bool) const override {
+        YV_CHECK(level == 0);
         std::array<float, kBrickVoxels> density;
         for (const VoxelBrick& b : bricks_) {
             const glm::ivec3 c = brickCoord(b.key);

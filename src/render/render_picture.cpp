@@ -90,6 +90,7 @@ std::string pictureJson(const PictureRequest& p, const Drawn& d) {
             .set("skip_empty", r.skipEmpty && marchesRays(r.kind))
             .set("gpu_budget_bytes", rep.budgetBytes)
             .set("level", rep.level)
+            .set("level_stored", rep.storedLevel)
             .set("fine_bricks", rep.fineBricks)
             .set("level_bricks", rep.levelBricks)
             .set("gpu_bytes", rep.gpuBytes)
@@ -110,7 +111,13 @@ std::string volumeText(const PictureRequest& p, const RenderReport& rep) {
     const RenderRequest& r = p.render;
     const char* median = r.repeat > 1 ? " (median)" : "";
     std::string out;
-    if (rep.level > 0)
+    if (rep.storedLevel)
+        appendf(out,
+                "  drawn at level %d of the file's level-of-detail grids, the finest within the GPU budget (%s): each "
+                "voxel the mean of %dx%dx%d voxels (%llu bricks, %s)\n",
+                rep.level, bytesText(double(rep.budgetBytes)).c_str(), 1 << rep.level, 1 << rep.level, 1 << rep.level,
+                static_cast<unsigned long long>(rep.levelBricks), bytesText(double(rep.gpuBytes)).c_str());
+    else if (rep.level > 0)
         appendf(out,
                 "  the %llu occupied bricks exceed the GPU budget (%s): drawn at level %d, each voxel the mean of "
                 "%dx%dx%d voxels (%llu bricks, %s)\n",

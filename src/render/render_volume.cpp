@@ -47,6 +47,7 @@ std::unique_ptr<BrickAtlas> loadAtlas(const GlContext& gl, const VolumeSource& s
     streamLevelBricks(source, box, plan, orientation, [&](const LevelBrick& b) { atlas->upload(b); });
     atlas->finish();
     report.level = plan.level;
+    report.storedLevel = plan.stored && plan.level > 0;
     report.fineBricks = plan.fineBricks;
     report.levelBricks = plan.bricks.size();
     report.gpuBytes = plan.gpuBytes;

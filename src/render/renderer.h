@@ -24,6 +24,7 @@ struct RenderReport {
     RgbImage image;
     std::string renderer;        ///< the GL renderer's name (empty for a cut)
     int level = 0;               ///< 0: full resolution; L: means of 2^L voxels a side
+    bool storedLevel = false;    ///< a coarse level read from the file's density_lodL grids, not reduced from level 0
     std::uint64_t fineBricks = 0, levelBricks = 0, gpuBytes = 0, proxyTriangles = 0;
     /// Slices drawn (slices: the garment's; texture-slicing and half-angle:
     /// planes) and splats drawn (splatting).
