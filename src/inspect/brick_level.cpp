@@ -6,6 +6,7 @@
 #include <glm/vector_relational.hpp>
 
 #include <algorithm>
+#include <mutex>
 #include <unordered_map>
 
 namespace yv {
@@ -127,38 +128,50 @@ void streamLevelBricks(const VolumeSource& source, const VoxelBox& clip, const L
         return;
     }
     clipBricks(clip, lo, hi);
-    // Coarse: sums of density (and of density-weighted |axis|) per level voxel.
-    struct Sums {
-        std::array<float, 512> density{};
-        std::vector<glm::vec3> axis;
-    };
-    std::unordered_map<std::uint64_t, Sums> sums;
+    // Coarse: per plan brick a block of sums of density (and of density-
+    // weighted |axis|). A level-0 brick lies inside one level brick (level
+    // bricks span 8 * 2^L >= 16 voxels and are aligned), so a visit finds its
+    // block once and adds its voxels there, on the source's threads; blocks
+    // are locked in stripes, since above level 3 several level-0 bricks add
+    // to one level voxel. The sums take about 8/6 of the GPU bytes the plan
+    // fits in the budget, whatever the volume.
+    const std::size_t slots = plan.bricks.size();
+    std::vector<float> density(slots * kBrickVoxels, 0.0f);
+    std::vector<glm::vec3> axis(withOrientation ? slots * kBrickVoxels : 0, glm::vec3(0.0f));
+    std::vector<std::uint8_t> touched(slots, 0);
+    std::unordered_map<std::uint64_t, std::uint32_t> slotOf;
+    slotOf.reserve(slots);
+    for (std::size_t i = 0; i < slots; ++i) slotOf.emplace(relativeKey(plan.bricks[i]), std::uint32_t(i));
+    std::array<std::mutex, 512> stripes;
     const float weight = 1.0f / float(plan.scale * plan.scale * plan.scale);
-    source.forEachBrick(lo, hi, [&](const SourceBrick& b) {
+    source.forEachBrickConcurrently(lo, hi, [&](const SourceBrick& b) {
         const glm::ivec3 base = b.coord * kBrickSize - plan.originVoxel;
+        const auto found = slotOf.find(relativeKey((base >> plan.level) >> 3));
+        YV_CHECK(found != slotOf.end());
+        const std::size_t slot = found->second;
+        float* sums = density.data() + slot * kBrickVoxels;
+        glm::vec3* axisSums = withOrientation ? axis.data() + slot * kBrickVoxels : nullptr;
+        std::lock_guard lock(stripes[slot % stripes.size()]);
         for (int x = 0; x < 8; ++x)
             for (int y = 0; y < 8; ++y)
                 for (int z = 0; z < 8; ++z) {
                     const int from = brickOffset(x, y, z);
                     const float d = b.density[from];
                     if (d == 0.0f) continue;
-                    const glm::ivec3 q = (base + glm::ivec3(x, y, z)) >> plan.level;
-                    Sums& s = sums[relativeKey(q >> 3)];
-                    const glm::ivec3 l = q & 7;
+                    const glm::ivec3 l = ((base + glm::ivec3(x, y, z)) >> plan.level) & 7;
                     const std::size_t to = std::size_t(l.x + 8 * l.y + 64 * l.z);
-                    s.density[to] += d * weight;
-                    if (withOrientation && b.orientation) {
-                        if (s.axis.empty()) s.axis.assign(512, glm::vec3(0.0f));
-                        s.axis[to] += d * glm::abs(b.orientation[from]);
-                    }
+                    sums[to] += d * weight;
+                    touched[slot] = 1;
+                    if (axisSums && b.orientation) axisSums[to] += d * glm::abs(b.orientation[from]);
                 }
     });
-    for (auto& [key, s] : sums) {
-        out.coord = brickCoord(key);
-        for (std::size_t v = 0; v < 512; ++v) {
-            out.density[v] = s.density[v];
-            const float total = s.density[v] / weight;
-            out.axisColour[v] = s.axis.empty() || total <= 0.0f ? glm::vec3(0.0f) : s.axis[v] / total;
+    for (std::size_t i = 0; i < slots; ++i) {
+        if (!touched[i]) continue;
+        out.coord = plan.bricks[i];
+        for (std::size_t v = 0; v < std::size_t(kBrickVoxels); ++v) {
+            out.density[v] = density[i * kBrickVoxels + v];
+            const float total = out.density[v] / weight;
+            out.axisColour[v] = axis.empty() || total <= 0.0f ? glm::vec3(0.0f) : axis[i * kBrickVoxels + v] / total;
         }
         visit(out);
     }

@@ -8,6 +8,9 @@
 #include "store/brick_store.h"
 #include "store/region_file.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -67,20 +70,29 @@ class StoreSource final : public VolumeSource {
             if (r.info.id == id) return {r.info.min, r.info.max};
         throw Error(store_.dir() + ": has no region " + std::to_string(id));
     }
-    void visitBricks(int level, glm::ivec3 lo, glm::ivec3 hi, const Visit& visit, bool) const override {
+    void visitBricks(int level, glm::ivec3 lo, glm::ivec3 hi, const Visit& visit, bool concurrent) const override {
         YV_CHECK(level == 0);
         const auto inside = [&](glm::ivec3 c) {
             return !glm::any(glm::lessThan(c, lo)) && !glm::any(glm::greaterThanEqual(c, hi));
         };
-        std::array<float, kBrickVoxels> density;
         for (const Region& r : regions_) {
             if (std::none_of(r.bricks.begin(), r.bricks.end(), inside)) continue;
-            for (const VoxelBrick& b : store_.readRegion(r.info.id)) {
+            const std::vector<VoxelBrick> bricks = store_.readRegion(r.info.id);
+            const auto visitOne = [&](const VoxelBrick& b, std::array<float, kBrickVoxels>& density) {
                 const glm::ivec3 c = brickCoord(b.key);
-                if (!inside(c)) continue;
+                if (!inside(c)) return;
                 for (int v = 0; v < kBrickVoxels; ++v)
                     density[std::size_t(v)] = b.isActive(v) ? b.density[std::size_t(v)] : 0.0f;
-                visit(SourceBrick{c, density.data(), b.orientation.data()});
+                visit(SourceBrick{c, density.data(), b.orientation.data(), b.activeMask.data()});
+            };
+            if (concurrent) {
+                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bricks.size(), 64), [&](const auto& range) {
+                    std::array<float, kBrickVoxels> density;
+                    for (std::size_t i = range.begin(); i != range.end(); ++i) visitOne(bricks[i], density);
+                });
+            } else {
+                std::array<float, kBrickVoxels> density;
+                for (const VoxelBrick& b : bricks) visitOne(b, density);
             }
         }
     }
