@@ -3,9 +3,15 @@
 #include "core/error.h"
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 
 namespace yv {
+
+VolumeSource::VolumeSource() {
+    static std::atomic<std::uint64_t> next{1};
+    id_ = next++;
+}
 
 const std::vector<glm::ivec3>& VolumeSource::occupiedLevelBricks(int level) const {
     YV_CHECK(level == 0);

@@ -36,7 +36,13 @@ struct SourceBrick {
 class VolumeSource {
   public:
     using Visit = std::function<void(const SourceBrick&)>;
+    VolumeSource();
     virtual ~VolumeSource() = default;
+    VolumeSource(const VolumeSource&) = delete;
+    VolumeSource& operator=(const VolumeSource&) = delete;
+
+    /// A number no other source of this process has: what caches key on.
+    std::uint64_t id() const { return id_; }
 
     /// The levels the source stores, ascending: 0 (the volume), then the
     /// coarse levels a .vdb holds as density_lodL grids (formats/vdb-subset.md).
@@ -77,6 +83,7 @@ class VolumeSource {
     virtual void visitBricks(int level, glm::ivec3 brickMin, glm::ivec3 brickMax, const Visit& visit,
                              bool concurrent) const = 0;
 
+    std::uint64_t id_;
     std::vector<glm::ivec3> occupied_; ///< level 0, for sources that list it when opened
     std::vector<int> storedLevels_{0};
     bool hasOrientation_ = false;

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <optional>
 #include "core/run_metadata.h"
@@ -94,9 +95,17 @@ RegionRenders renderHottestRegions(ReportPictures& pictures, const std::vector<R
 
 std::string workDirPage(RenderContext& context, const HtmlReportRequest& o, const fs::path& dir, HtmlReportResult& result) {
     const std::string& input = o.input;
-    const StoreSummary s = inspectStore(input, true);
-    const VoxelGrid& grid = s.manifest.grid;
+    // The tables need every voxel read (statistics, checksums): that runs on
+    // its own thread while this one draws from the region headers' list.
+    std::future<StoreSummary> verified = std::async(std::launch::async, [&] { return inspectStore(input, true); });
+    const StoreSummary listed = inspectStore(input, false);
     ReportPictures pictures{context, o, dir, openVolumeSource(input)};
+    const RegionRenders renders = renderHottestRegions(pictures, listed.regions);
+    const std::string volumeRenders = pictures.source->occupiedBricks().empty()
+                                          ? "<p>The volume has no active voxels: nothing to render.</p>\n"
+                                          : wholeVolumeRenders(pictures);
+    const StoreSummary s = verified.get();
+    const VoxelGrid& grid = s.manifest.grid;
     result.regions = s.regions.size();
 
     HtmlRows summary = {
@@ -116,7 +125,6 @@ std::string workDirPage(RenderContext& context, const HtmlReportRequest& o, cons
                                    {"bytes on disk", bytesText(double(s.bytesOnDisk))},
                                    {"compression ratio", numberText("%.2f", ratio) + " (values " + bytesText(double(s.valueBytes)) + ")"}});
 
-    const RegionRenders renders = renderHottestRegions(pictures, s.regions);
     result.renderedRegions = renders.files.size();
 
     std::string page = "<h1>yarnvox inspect: " + htmlEscape(fs::path(input).filename().string()) + "</h1>\n";
@@ -124,8 +132,7 @@ std::string workDirPage(RenderContext& context, const HtmlReportRequest& o, cons
     page += stageSection(s.manifest.stageSeconds, s.manifest.completeRegions ? "made by a yarnvox that did not record them"
                                                                              : "the run has not finished");
     page += "<h2 id=\"histogram\">Density</h2>\n" + histogramSvg(s.voxels) + htmlTable(statisticsRows(s.voxels, true));
-    if (pictures.source->occupiedBricks().empty()) page += "<p>The volume has no active voxels: nothing to render.</p>\n";
-    else page += wholeVolumeRenders(pictures);
+    page += volumeRenders;
 
     page += regionHeatSection(renders, s.regions, grid.dims, o.regionRenders);
 
@@ -149,8 +156,13 @@ std::string workDirPage(RenderContext& context, const HtmlReportRequest& o, cons
 
 std::string vdbPage(RenderContext& context, const HtmlReportRequest& o, const fs::path& dir, HtmlReportResult& result) {
     const std::string& input = o.input;
-    const VdbSummary s = inspectVdb(input);
+    // The statistics read every voxel on their own thread while this one draws.
+    std::future<VdbSummary> summarized = std::async(std::launch::async, [&] { return inspectVdb(input); });
     ReportPictures pictures{context, o, dir, openVolumeSource(input)};
+    const std::string volumeRenders = pictures.source->occupiedBricks().empty()
+                                          ? "<p>The volume has no active voxels: nothing to render.</p>\n"
+                                          : wholeVolumeRenders(pictures);
+    const VdbSummary s = summarized.get();
     HtmlRows summary = {{"file", s.path},
                     {"OpenVDB file version", s.libraryVersion},
                     {"bytes on disk", bytesText(double(s.fileBytes))},
@@ -167,8 +179,7 @@ std::string vdbPage(RenderContext& context, const HtmlReportRequest& o, const fs
     if (s.regions.empty())
         page += "<h2 id=\"regions\">Regions</h2>\n<p>The file has no zoom regions (yarnvox voxelize and merge record "
                 "them; a work directory has them): the renders below are of the whole volume.</p>\n";
-    if (pictures.source->occupiedBricks().empty()) page += "<p>The volume has no active voxels: nothing to render.</p>\n";
-    else page += wholeVolumeRenders(pictures);
+    page += volumeRenders;
     if (s.regions.empty()) return page;
 
     // The regions the file records: their boxes and active voxels, no bytes (the store's alone).

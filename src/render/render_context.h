@@ -3,10 +3,12 @@
 // draws many) shares the context, and no renderer makes its own. The EGL
 // context itself is only created when the first picture needs it, so a cut,
 // a report of an empty volume, or a request refused for its input runs where
-// no GL is.
+// no GL is. The bricks its pictures load stay on the GPU for the next
+// picture of the same volume (render/brick_cache.h).
 #pragma once
 
 #include "gpu/egl_context.h"
+#include "render/brick_cache.h"
 
 #include <optional>
 
@@ -26,9 +28,13 @@ class RenderContext {
         return *context_;
     }
 
+    /// The atlases this command's pictures share.
+    BrickCache& bricks() { return bricks_; }
+
   private:
     int device_;
     std::optional<GlContext> context_;
+    BrickCache bricks_; ///< after the context: its textures go first
 };
 
 } // namespace yv

@@ -33,25 +33,23 @@ const BrickAtlas& atlasOf(const RenderInput& input) {
 
 /// The level the budget allows (capped at half the free GPU memory where the
 /// driver tells), its bricks streamed into an atlas; the report gets the
-/// level, its bricks and bytes.
-std::unique_ptr<BrickAtlas> loadAtlas(const GlContext& gl, const VolumeSource& source, const VoxelBox& box,
-                                      const RenderRequest& request, RenderReport& report) {
+/// The atlas of `source` framed by `box`, at the finest level the budget
+/// allows (capped at half the free GPU memory where the driver tells), from
+/// the command's brick cache; the report gets the level, its bricks and bytes.
+const BrickAtlas& loadAtlas(RenderContext& context, const VolumeSource& source, const VoxelBox& box,
+                            const RenderRequest& request, RenderReport& report) {
+    const GlContext& gl = context.gl();
     const bool orientation = request.kind == RenderKind::Orientation;
     report.budgetBytes = request.gpuBudgetBytes;
     if (const long long free = gl.queryFreeMemoryBytes(); free > 0)
         report.budgetBytes = std::min(report.budgetBytes, std::uint64_t(free) / 2);
-    const LevelPlan plan =
-        planLevel(source, box, report.budgetBytes, atlasBytesPerVoxel(orientation), gl.info().max3dTextureSize);
-    if (plan.bricks.empty()) throw Error("nothing to render: no active voxel inside the framed box");
-    auto atlas = std::make_unique<BrickAtlas>(plan, orientation, gl.info().max3dTextureSize);
-    streamLevelBricks(source, box, plan, orientation, [&](const LevelBrick& b) { atlas->upload(b); });
-    atlas->finish();
-    report.level = plan.level;
-    report.storedLevel = plan.stored && plan.level > 0;
-    report.fineBricks = plan.fineBricks;
-    report.levelBricks = plan.bricks.size();
-    report.gpuBytes = plan.gpuBytes;
-    return atlas;
+    const AtlasLoad load = context.bricks().load(gl, source, box, report.budgetBytes, orientation);
+    report.level = load.level;
+    report.storedLevel = load.storedLevel;
+    report.fineBricks = load.fineBricks;
+    report.levelBricks = load.levelBricks;
+    report.gpuBytes = load.gpuBytes;
+    return *load.atlas;
 }
 
 /// The garment's slices, framed like the volume renders.
@@ -127,9 +125,9 @@ RenderReport renderVolume(RenderContext& context, const VolumeSource& source, co
     const GlContext& gl = context.gl();
     report.renderer = gl.info().renderer;
     const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<BrickAtlas> atlas = loadAtlas(gl, source, box, request, report);
+    const BrickAtlas& atlas = loadAtlas(context, source, box, request, report);
     report.loadSeconds = secondsSince(start);
-    const std::unique_ptr<Renderer> renderer = makeRenderer(request, RenderInput{.atlas = atlas.get()});
+    const std::unique_ptr<Renderer> renderer = makeRenderer(request, RenderInput{.atlas = &atlas});
     const Camera camera = frameBox(box, request.view, request.width, request.height);
     drawFrames(*renderer, camera, request.repeat, report);
     drawRegionOutlines(report.image, camera, request.outlines);
