@@ -4,6 +4,7 @@
 // keeps what the fuzzer found in the normal suite, and in its sanitizer run.
 #include "bcc.h"
 #include "core/error.h"
+#include "inspect/volume_source.h"
 #include "garment/cross_section.h"
 #include "inspect/transfer_function.h"
 #include "store/manifest.h"
@@ -80,6 +81,17 @@ TEST_CASE("Fuzz corpus: every region-file input is read or refused with an error
         yv::decodeRegionBody(b.data(), h, "region-0.yvb", &bricks);
     });
     CHECK(accepted >= 3);
+}
+
+TEST_CASE("Fuzz corpus: every .vdb input is read whole or refused with an error", "[fuzz-corpus][vdb]") {
+    const int accepted = replay("vdb", [](const fs::path& p, const Bytes&) {
+        const auto source = yv::openVdbSource(p.string());
+        std::uint64_t bricks = 0;
+        for (int level : source->storedLevels())
+            source->forEachLevelBrick(level, glm::ivec3(-(1 << 28)), glm::ivec3(1 << 28), [&](const yv::SourceBrick&) { ++bricks; });
+        CHECK(bricks >= source->occupiedBricks().size());
+    });
+    CHECK(accepted >= 2); // the seeds yarnvox wrote whole
 }
 
 TEST_CASE("A PNG too short for the image its header claims is refused before the image is allocated", "[fuzz-corpus][png]") {
