@@ -136,7 +136,7 @@ VdbSummary inspectVdb(const std::string& path) {
     if (ec) throw Error(path + ": cannot read: " + ec.message());
     openvdb::io::File file(path);
     try {
-        file.open(/*delayLoad=*/false);
+        file.open(/*delayLoad=*/true); // topology: the counts and bounds need no values
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": not an OpenVDB file OpenVDB can read (" + e.what() + ")");
     }
@@ -161,28 +161,17 @@ VdbSummary inspectVdb(const std::string& path) {
     if (orientation) s.grids.push_back(summarize(*orientation, compressionOf(*orientation)));
     s.hasOrientation = bool(orientation);
 
-    // Voxel statistics leaf by leaf, in parallel.
-    std::vector<const openvdb::FloatGrid::TreeType::LeafNodeType*> leaves;
-    leaves.reserve(density->tree().leafCount());
-    for (auto it = density->tree().cbeginLeaf(); it; ++it) leaves.push_back(it.getLeaf());
-    s.voxels = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, leaves.size()), VoxelStatistics{},
-        [&](const tbb::blocked_range<std::size_t>& r, VoxelStatistics acc) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                const openvdb::Vec3STree::LeafNodeType* axisLeaf =
-                    orientation ? orientation->tree().probeConstLeaf(leaves[i]->origin()) : nullptr;
-                for (auto v = leaves[i]->cbeginValueOn(); v; ++v) {
-                    glm::vec3 axis(0.0f);
-                    if (axisLeaf) {
-                        const openvdb::Vec3s a = axisLeaf->getValue(v.pos());
-                        axis = {a.x(), a.y(), a.z()};
-                    }
-                    acc.add(*v, axis);
+    density.reset();
+    orientation.reset();
+    // Voxel statistics leaf by leaf, each leaf freed once counted.
+    openVdbSourceThroughOpenVdb(path)->forEachBrickConcurrently(
+        glm::ivec3(INT_MIN), glm::ivec3(INT_MAX), [&](const SourceBrick& b) {
+            for (int w = 0; w < kBrickVoxels / 64; ++w)
+                for (std::uint64_t bits = b.active[w]; bits; bits &= bits - 1) {
+                    const int v = w * 64 + std::countr_zero(bits);
+                    s.voxels.add(b.density[v], b.orientation ? b.orientation[v] : glm::vec3(0.0f));
                 }
-            }
-            return acc;
-        },
-        [](VoxelStatistics a, const VoxelStatistics& b) { return a += b; });
+        });
     return s;
 }
 
