@@ -9,29 +9,35 @@
 namespace yv {
 namespace {
 
-/// Where the octant of `childKey` starts in its parent brick, in voxels.
-glm::ivec3 octantOrigin(std::uint64_t childKey) { return (brickCoord(childKey) & 1) * (kBrickSize / 2); }
+/// Where the octant of `childKey` starts in its parent brick `skip` levels
+/// up, in voxels: the child covers (8 >> skip)^3 of the parent's voxels.
+glm::ivec3 octantOrigin(std::uint64_t childKey, int skip) {
+    return (brickCoord(childKey) & ((1 << skip) - 1)) * (kBrickSize >> skip);
+}
 
-/// Sums over each 2^3 block of a brick: block (x, y, z) of the 4^3 covers
-/// voxels (2x..2x+1, ...). `density(v)` and `tensor(v, t)` read voxel v.
-/// `colour(v, c)`, when `withAlbedo`, gives voxel v's density times colour.
+/// Sums over each block of 2^skip voxels a side of a brick: block (x, y, z)
+/// of the (8 >> skip)^3 covers voxels (2^skip x .. 2^skip (x + 1) - 1, ...).
+/// `density(v)` and `tensor(v, t)` read voxel v. `colour(v, c)`, when
+/// `withAlbedo`, gives voxel v's density times colour.
 template <typename DensityFn, typename TensorFn, typename ColourFn>
-void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active, DensityFn density,
+void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active, int skip, DensityFn density,
                       TensorFn tensor, bool withAlbedo, ColourFn colour, std::vector<std::uint8_t>& out) {
-    constexpr int kBlocks = 64;
+    constexpr int kMostBlocks = 64;
+    const int side = kBrickSize >> skip, size = 1 << skip;
     std::uint64_t mask = 0;
-    double densities[kBlocks];
-    float tensors[kBlocks][6];
-    float colours[kBlocks][3];
+    double densities[kMostBlocks];
+    float tensors[kMostBlocks][6];
+    float colours[kMostBlocks][3];
     int n = 0;
-    for (int bx = 0; bx < 4; ++bx)
-        for (int by = 0; by < 4; ++by)
-            for (int bz = 0; bz < 4; ++bz) {
+    for (int bx = 0; bx < side; ++bx)
+        for (int by = 0; by < side; ++by)
+            for (int bz = 0; bz < side; ++bz) {
                 double d = 0.0, t[6] = {0, 0, 0, 0, 0, 0}, rgb[3] = {0, 0, 0};
                 bool any = false;
-                // Children in OpenVDB's voxel order: the same sum on every run.
-                for (int c = 0; c < 8; ++c) {
-                    const int v = brickOffset(2 * bx + (c >> 2), 2 * by + ((c >> 1) & 1), 2 * bz + (c & 1));
+                // Voxels in OpenVDB's voxel order: the same sum on every run.
+                for (int c = 0; c < size * size * size; ++c) {
+                    const int v = brickOffset(size * bx + (c >> (2 * skip)), size * by + ((c >> skip) & (size - 1)),
+                                              size * bz + (c & (size - 1)));
                     if (!((active[v >> 6] >> (v & 63)) & 1)) continue;
                     any = true;
                     d += density(v);
@@ -45,7 +51,7 @@ void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active
                     }
                 }
                 if (!any) continue;
-                const int block = (bx << 4) | (by << 2) | bz;
+                const int block = (bx * side + by) * side + bz;
                 mask |= std::uint64_t(1) << block;
                 densities[n] = d;
                 for (int i = 0; i < 6; ++i) tensors[n][i] = static_cast<float>(t[i]);
@@ -98,19 +104,24 @@ int checkedLodLevels(int levels, const VoxelGrid& grid) {
     return levels;
 }
 
-void CoarseBrick::clear(std::uint64_t k, bool withAlbedo) {
-    key = k;
-    albedo = withAlbedo;
-    touched.fill(0);
-    densitySum.fill(0.0);
-    for (auto& t : tensor) t.fill(0.0);
-    if (albedo)
-        for (auto& c : albedoSum) c.fill(0.0);
+std::size_t octantBytesAtMost(int skip, bool albedo) {
+    const std::size_t side = std::size_t(kBrickSize >> skip);
+    return sizeof(std::uint64_t) + side * side * side * (sizeof(double) + (albedo ? 9 : 6) * sizeof(float));
 }
 
-void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out) {
+void CoarseBrick::clear(std::uint64_t k, bool withAlbedo, int levelsSkipped) {
+    YV_CHECK(levelsSkipped >= 1 && levelsSkipped <= 3);
+    key = k;
+    albedo = withAlbedo;
+    skip = levelsSkipped;
+    // The sums of untouched voxels are never read: at 28 KB a brick,
+    // clearing them was most of a sparse parent's time.
+    touched.fill(0);
+}
+
+void appendOctant(const VoxelBrick& brick, int skip, std::vector<std::uint8_t>& out) {
     appendOctantSums(
-        brick.activeMask, [&](int v) { return double(brick.density[v]); },
+        brick.activeMask, skip, [&](int v) { return double(brick.density[v]); },
         [&](int v, double t[6]) { densityTensor(brick.density[v], brick.orientation[v], t); },
         !brick.albedo.empty(),
         [&](int v, double c[3]) {
@@ -120,7 +131,7 @@ void appendOctant(const VoxelBrick& brick, std::vector<std::uint8_t>& out) {
 }
 
 void appendOctant(const PackedBricks& packed, std::size_t i, const std::array<std::uint64_t, kBrickVoxels / 64>& active,
-                  std::vector<std::uint8_t>& out) {
+                  int skip, std::vector<std::uint8_t>& out) {
     // Voxel v's place among the packed voxels: firstVoxel plus the active voxels before it.
     std::array<std::uint32_t, kBrickVoxels> at{};
     std::uint32_t n = packed.headers[i].firstVoxel;
@@ -128,7 +139,7 @@ void appendOctant(const PackedBricks& packed, std::size_t i, const std::array<st
         for (std::uint64_t bits = active[w]; bits; bits &= bits - 1) at[w * 64 + std::countr_zero(bits)] = n++;
     const bool withAlbedo = !packed.albedo.empty();
     appendOctantSums(
-        active, [&](int v) { return double(packed.voxels[at[v]].density); },
+        active, skip, [&](int v) { return double(packed.voxels[at[v]].density); },
         [&](int v, double t[6]) {
             const PackedVoxel& p = packed.voxels[at[v]];
             densityTensor(p.density, glm::vec3(p.axis[0], p.axis[1], p.axis[2]), t);
@@ -142,7 +153,7 @@ void appendOctant(const PackedBricks& packed, std::size_t i, const std::array<st
 
 void appendOctant(const CoarseBrick& sums, const VoxelBrick& resolved, std::vector<std::uint8_t>& out) {
     appendOctantSums(
-        resolved.activeMask, [&](int v) { return double(resolved.density[v]); },
+        resolved.activeMask, 1, [&](int v) { return double(resolved.density[v]); },
         [&](int v, double t[6]) { std::copy(sums.tensor[v].begin(), sums.tensor[v].end(), t); },
         !resolved.albedo.empty(),
         // The written density and colour: the next level keeps the written colour mass.
@@ -164,11 +175,14 @@ void placeOctant(std::span<const std::uint8_t> bytes, std::uint64_t childKey, Co
     const std::uint8_t* densities = bytes.data() + sizeof mask;
     const std::uint8_t* tensors = densities + n * sizeof(double);
     const std::uint8_t* colours = tensors + n * 6 * sizeof(float);
-    const glm::ivec3 o = octantOrigin(childKey);
+    const int side = kBrickSize >> parent.skip;
+    if (side * side * side < 64 && mask >> (side * side * side))
+        throw Error("level-of-detail scratch record with blocks beyond its " + std::to_string(side * side * side));
+    const glm::ivec3 o = octantOrigin(childKey, parent.skip);
     int i = 0;
-    for (int block = 0; block < 64; ++block) {
+    for (int block = 0; block < side * side * side; ++block) {
         if (!((mask >> block) & 1)) continue;
-        const int v = brickOffset(o.x + (block >> 4), o.y + ((block >> 2) & 3), o.z + (block & 3));
+        const int v = brickOffset(o.x + block / (side * side), o.y + (block / side) % side, o.z + block % side);
         double d;
         float t[6];
         std::memcpy(&d, densities + i * sizeof(double), sizeof d);
@@ -197,8 +211,8 @@ bool resolveCoarseBrick(const CoarseBrick& sums, VoxelBrick& out) {
         out.density[v] = 0.0f;
         out.orientation[v] = glm::vec3(0.0f);
         if (!((sums.touched[v >> 6] >> (v & 63)) & 1)) continue;
-        // The mean over all 8 children: empty ones count as 0.
-        const float density = static_cast<float>(sums.densitySum[v] / 8.0);
+        // The mean over all the 8^skip voxels below it: empty ones count as 0.
+        const float density = static_cast<float>(sums.densitySum[v] / double(1 << (3 * sums.skip)));
         if (!(density > 0.0f)) continue;
         out.density[v] = density;
         out.orientation[v] = glm::vec3(canonicalAxis(principalAxis(sums.tensor[v].data())));
