@@ -1,6 +1,7 @@
 #include "vdb/coarse_levels.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 #include "vdb/lod_pyramid.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -28,6 +29,7 @@ std::span<const std::uint8_t> OctantSource::bytes(const OctantRecord& r, ByteVec
 
 void buildLevel(PyramidLevel& level, int skip, const OctantSource& from, std::vector<OctantRecord>& octants,
                 SpillFile& spill, std::vector<OctantRecord>* next) {
+    const TraceSpan span("build a level of detail");
     tbb::parallel_sort(octants.begin(), octants.end(), [skip](const OctantRecord& a, const OctantRecord& b) {
         const std::uint64_t pa = parentBrickKey(a.childKey, skip), pb = parentBrickKey(b.childKey, skip);
         return pa != pb ? pa < pb : a.childKey < b.childKey;

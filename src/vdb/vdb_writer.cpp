@@ -172,6 +172,7 @@ void VdbAssembler::Impl::sortLeaves() {
 /// file), each level above from the one below's in the scratch file. Returns
 /// its seconds.
 double VdbAssembler::Impl::buildPyramid() {
+    const TraceSpan span("build the level-of-detail pyramid");
     const auto start = std::chrono::steady_clock::now();
     std::vector<OctantRecord> pending = std::move(octants), next;
     for (std::size_t l = 1; l < levels.size(); ++l) {
