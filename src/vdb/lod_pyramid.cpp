@@ -15,41 +15,49 @@ glm::ivec3 octantOrigin(std::uint64_t childKey, int skip) {
     return (brickCoord(childKey) & ((1 << skip) - 1)) * (kBrickSize >> skip);
 }
 
-/// Sums over each block of 2^skip voxels a side of a brick: block (x, y, z)
-/// of the (8 >> skip)^3 covers voxels (2^skip x .. 2^skip (x + 1) - 1, ...).
-/// `density(v, r)` and `tensor(v, r, t)` read voxel v, the r-th active one.
-/// `colour(v, r, c)`, when `withAlbedo`, gives its density times colour.
-template <typename DensityFn, typename TensorFn, typename ColourFn>
-void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active, int skip, DensityFn density,
-                      TensorFn tensor, bool withAlbedo, ColourFn colour, std::vector<std::uint8_t>& out) {
-    constexpr int kMostBlocks = 64;
-    const int side = kBrickSize >> skip, blocks = side * side * side;
-    struct Sums {
-        double d, t[6], rgb[3];
-    };
-    Sums sums[kMostBlocks];
-    std::memset(sums, 0, sizeof(Sums) * std::size_t(blocks));
+/// One block's sums: density, tensor (xx yy zz xy xz yz), density times colour.
+struct BlockSums {
+    double d, t[6], rgb[3];
+};
+
+/// Sums over each block of 2^Skip voxels a side of a brick: block (x, y, z)
+/// of the (8 >> Skip)^3 covers voxels (2^Skip x .. 2^Skip (x + 1) - 1, ...).
+/// One pass over the active voxels in OpenVDB's voxel order, so each block's
+/// sum runs in that order, the same on every run. `density(v, r)` and
+/// `tensor(v, r, t)` read voxel v, the r-th active one; `colour(v, r, c)`
+/// gives its density times colour. Returns the mask of blocks with an active
+/// voxel; `out` gets the sums of all (8 >> Skip)^3.
+template <int Skip, bool WithAlbedo, typename DensityFn, typename TensorFn, typename ColourFn>
+std::uint64_t blockSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active, DensityFn density, TensorFn tensor,
+                        ColourFn colour, BlockSums* out) {
+    constexpr int kSide = kBrickSize >> Skip, kBlocks = kSide * kSide * kSide;
+    // Local, so the preview's one block a brick stays in registers.
+    BlockSums sums[kBlocks] = {};
     std::uint64_t mask = 0;
-    // One pass over the active voxels in OpenVDB's voxel order (so each
-    // block's sum runs in that order, the same on every run), not a pass per
-    // block: the preview's one block a brick made that 512 tests a brick.
     int rank = 0;
     for (int w = 0; w < kBrickVoxels / 64; ++w)
         for (std::uint64_t bits = active[w]; bits; bits &= bits - 1, ++rank) {
             const int v = w * 64 + std::countr_zero(bits);
-            const int block = (((v >> 6) >> skip) * side + (((v >> 3) & 7) >> skip)) * side + ((v & 7) >> skip);
+            const int block = (((v >> 6) >> Skip) * kSide + (((v >> 3) & 7) >> Skip)) * kSide + ((v & 7) >> Skip);
             mask |= std::uint64_t(1) << block;
-            Sums& s = sums[block];
+            BlockSums& s = sums[block];
             s.d += density(v, rank);
             double tv[6];
             tensor(v, rank, tv);
             for (int i = 0; i < 6; ++i) s.t[i] += tv[i];
-            if (withAlbedo) {
+            if constexpr (WithAlbedo) {
                 double cv[3];
                 colour(v, rank, cv);
                 for (int i = 0; i < 3; ++i) s.rgb[i] += cv[i];
             }
         }
+    std::copy(sums, sums + kBlocks, out);
+    return mask;
+}
+
+/// Appends the octant record of `sums` (format in lod_pyramid.h): the mask,
+/// then the blocks' density sums, tensor sums and colour sums in block order.
+void appendOctantRecord(std::uint64_t mask, const BlockSums* sums, bool withAlbedo, std::vector<std::uint8_t>& out) {
     const int n = std::popcount(mask);
     const std::size_t at = out.size();
     const int colourFloats = withAlbedo ? 3 : 0;
@@ -60,7 +68,7 @@ void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active
     std::uint8_t* tensors = p + n * sizeof(double);
     std::uint8_t* colours = tensors + n * 6 * sizeof(float);
     for (std::uint64_t bits = mask; bits; bits &= bits - 1) {
-        const Sums& s = sums[std::countr_zero(bits)];
+        const BlockSums& s = sums[std::countr_zero(bits)];
         std::memcpy(p, &s.d, sizeof(double));
         p += sizeof(double);
         float f[6];
@@ -72,6 +80,27 @@ void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active
         std::memcpy(colours, f, 3 * sizeof(float));
         colours += 3 * sizeof(float);
     }
+}
+
+/// The octant of a brick for its parent `skip` levels up (1 to 3), from
+/// its active voxels (blockSums).
+template <typename DensityFn, typename TensorFn, typename ColourFn>
+void appendOctantSums(const std::array<std::uint64_t, kBrickVoxels / 64>& active, int skip, DensityFn density,
+                      TensorFn tensor, bool withAlbedo, ColourFn colour, std::vector<std::uint8_t>& out) {
+    BlockSums sums[64];
+    std::uint64_t mask = 0;
+    // The number of levels skipped and the albedo as constants: the block
+    // index then costs nothing for the preview's one block.
+    const auto sum = [&]<int Skip>() {
+        mask = withAlbedo ? blockSums<Skip, true>(active, density, tensor, colour, sums)
+                          : blockSums<Skip, false>(active, density, tensor, colour, sums);
+    };
+    switch (skip) {
+    case 1: sum.template operator()<1>(); break;
+    case 2: sum.template operator()<2>(); break;
+    default: YV_CHECK(skip == 3); sum.template operator()<3>(); break;
+    }
+    appendOctantRecord(mask, sums, withAlbedo, out);
 }
 
 /// A voxel's structure tensor weighted by its density, d a a^T (xx, yy, zz,
