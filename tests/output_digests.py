@@ -259,6 +259,12 @@ GARMENTS = {
 # fragment budget splits the runs into several zoom regions.
 COMMON = "--twist 2 --fragment-budget 60000 --quiet"
 R = "--resolution 128"
+# No level-of-detail grids: what a .vdb held without --lod before the preview
+# pyramid became voxelize's and merge's default. The golden lines name
+# outputs, not commands: the runs that wrote a .vdb without --lod ask for
+# none, so their files are the bytes of 8d8d9c1 still (the preview has tests
+# of its own, tests/test_lod_preview.cpp).
+NO_LOD = "--lod 0"
 
 # (name, needs, commands, outputs[, written]): commands run in order in
 # DIR/name (each a yarnvox command line, "mpi: ..." for mpirun -np 2 yarnvox
@@ -323,26 +329,26 @@ for be in ("cpu", "gl"):
     CASES += [
         # In memory (the default), fibres cross-section, with --stats.
         (f"{be}-memory", needs,
-         [f"voxelize {G}knit-cylinder.bcc -o out.vdb {B} --stats stats.json"],
+         [f"voxelize {G}knit-cylinder.bcc -o out.vdb {B} {NO_LOD} --stats stats.json"],
          ["out.vdb", "stats.json"]),
         # --work-dir DIR: region files and manifest; then merge, with options
         # of its own; then --resume after the completed run.
         (f"{be}-workdir", needs,
-         [f"voxelize {G}twill-flat.bcc -o out.vdb {B} --work-dir work --stats stats.json",
-          "merge work -o merged.vdb --quiet",
+         [f"voxelize {G}twill-flat.bcc -o out.vdb {B} {NO_LOD} --work-dir work --stats stats.json",
+          f"merge work -o merged.vdb {NO_LOD} --quiet",
           "merge work -o merged-lod1-half-zip.vdb --lod 1 --precision half --vdb-compression zip --quiet",
           copy_dir("work", "work-resumed"),
-          f"voxelize {G}twill-flat.bcc -o resumed.vdb {B} --work-dir work-resumed --resume "
+          f"voxelize {G}twill-flat.bcc -o resumed.vdb {B} {NO_LOD} --work-dir work-resumed --resume "
           "--stats resumed.json"],
          ["out.vdb", "stats.json", "work", "merged.vdb", "merged-lod1-half-zip.vdb", "work-resumed",
           "resumed.vdb", "resumed.json"]),
         # The default work dir kept (--keep-work-dir); then --resume after a
         # partial run (regions missing, one damaged, no `complete`).
         (f"{be}-keep-resume", needs,
-         [f"voxelize {G}plain-cylinder.bcc -o out.vdb {B} --keep-work-dir --cross-section disk",
+         [f"voxelize {G}plain-cylinder.bcc -o out.vdb {B} {NO_LOD} --keep-work-dir --cross-section disk",
           copy_dir("out.vdb.work", "work-partial"),
           partial("work-partial"),
-          f"voxelize {G}plain-cylinder.bcc -o resumed.vdb {B} --cross-section disk "
+          f"voxelize {G}plain-cylinder.bcc -o resumed.vdb {B} {NO_LOD} --cross-section disk "
           "--work-dir work-partial --resume --stats resumed.json"],
          ["out.vdb", "out.vdb.work", "resumed.vdb", "work-partial", "resumed.json"]),
         # Level-of-detail grids, half precision, blosc.
@@ -353,7 +359,7 @@ for be in ("cpu", "gl"):
         # The paper's max reduce, summed overlap, supersampling (at 64: it
         # makes 4 times the samples), no compression.
         (f"{be}-max", needs,
-         [f"voxelize {G}twill-flat.bcc -o out.vdb {B64} --reduce max --overlap sum --supersample 2 "
+         [f"voxelize {G}twill-flat.bcc -o out.vdb {B64} {NO_LOD} --reduce max --overlap sum --supersample 2 "
           "--vdb-compression none --stats stats.json"],
          ["out.vdb", "stats.json"]),
         # Colour: --albedo from the PNG, with --lod 1, in a work dir; export
@@ -377,10 +383,12 @@ for be in ("cpu", "gl"):
         # export --bbox-world with --format.
         (f"{be}-options", needs,
          [f"voxelize {G}knit-cylinder.bcc {G}plain-cylinder.bcc -o multi --backend {be} --voxel-size 0.25 "
-          "--slice-spacing 0.1 --yarn-radius 0.35 --twist 1 --fragment-budget 60000 --quiet --stats multi-stats",
+          f"--slice-spacing 0.1 --yarn-radius 0.35 --twist 1 --fragment-budget 60000 {NO_LOD} --quiet "
+          "--stats multi-stats",
           write_text("garments.txt", f"{G}twill-flat.bcc\n{G}plain-cylinder.bcc\n"),
           f"voxelize --list garments.txt -o listed --backend {be} --resolution 64 --slices-per-segment 3 "
-          "--cross-section fibers --reduce mean --overlap clamp --precision float --vdb-compression mask --quiet",
+          f"--cross-section fibers --reduce mean --overlap clamp --precision float --vdb-compression mask {NO_LOD} "
+          "--quiet",
           "export multi/knit-cylinder.vdb -o world.vol --format vol --bbox-world -2,-2,-1,2,2,1 --quiet"],
          ["multi", "multi-stats", "listed", "world.vol", "world.orientation.vol"], ["garments.txt"]),
     ]
@@ -409,19 +417,19 @@ CASES += [
     # between the ranks and is removed), and in a work dir then resumed by
     # one process.
     ("mpi-cpu", {"mpi"},
-     [f"mpi: voxelize {G}knit-cylinder.bcc -o out.vdb --backend cpu {R} {COMMON} --stats stats.json",
+     [f"mpi: voxelize {G}knit-cylinder.bcc -o out.vdb --backend cpu {R} {COMMON} {NO_LOD} --stats stats.json",
       f"mpi: voxelize {G}twill-flat.bcc -o work.vdb --backend cpu {R} {COMMON} --work-dir work --lod 1 "
       "--stats work.json"],
      ["out.vdb", "stats.json", "work.vdb", "work", "work.json"]),
     ("mpi-gl", {"mpi", "gl"},
-     [f"mpi: voxelize {G}knit-cylinder.bcc -o out.vdb --backend gl {R} {COMMON} --cross-section {G}colour.png "
-      "--albedo --stats stats.json",
-      f"mpi: voxelize {G}plain-cylinder.bcc -o work.vdb --backend gl {R} {COMMON} --work-dir work "
+     [f"mpi: voxelize {G}knit-cylinder.bcc -o out.vdb --backend gl {R} {COMMON} {NO_LOD} --cross-section "
+      f"{G}colour.png --albedo --stats stats.json",
+      f"mpi: voxelize {G}plain-cylinder.bcc -o work.vdb --backend gl {R} {COMMON} {NO_LOD} --work-dir work "
       "--stats work.json",
       copy_dir("work", "work-partial"),
       partial("work-partial"),
-      f"mpi: voxelize {G}plain-cylinder.bcc -o resumed.vdb --backend gl {R} {COMMON} --work-dir work-partial "
-      "--resume --stats resumed.json"],
+      f"mpi: voxelize {G}plain-cylinder.bcc -o resumed.vdb --backend gl {R} {COMMON} {NO_LOD} --work-dir "
+      "work-partial --resume --stats resumed.json"],
      ["out.vdb", "stats.json", "work.vdb", "work", "work.json", "resumed.vdb", "work-partial",
       "resumed.json"]),
 ]

@@ -51,10 +51,15 @@ TEST_CASE("CLI: gen then voxelize writes a readable .vdb and stats", "[cli]") {
     file.open();
     auto grids = file.getGrids();
     file.close();
-    REQUIRE(grids->size() == 2);
+    // Level 0 and the preview pyramid: a grid 80 voxels long has level 3 only
+    // (getGrids lists them by name).
+    REQUIRE(grids->size() == 4);
     CHECK(grids->at(0)->getName() == "density");
-    CHECK(grids->at(1)->getName() == "orientation");
+    CHECK(grids->at(1)->getName() == "density_lod3");
+    CHECK(grids->at(2)->getName() == "orientation");
+    CHECK(grids->at(3)->getName() == "orientation_lod3");
     CHECK(grids->at(0)->activeVoxelCount() > 100);
+    CHECK(grids->at(1)->activeVoxelCount() > 0);
 }
 
 TEST_CASE("CLI: YV_TRACE writes a timeline of the run's threads, and only when asked", "[cli]") {

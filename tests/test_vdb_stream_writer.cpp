@@ -112,9 +112,10 @@ openvdb::GridPtrVec lodGridsFrom(const fs::path& ours, const VoxelGrid& grid, in
 
 /// The same grids built as OpenVDB trees and written by OpenVDB's io::File,
 /// with the file metadata of `ours` (whose serialisation is also compared);
-/// with `lodLevels`, the pyramid's grids after them (lodGridsFrom).
+/// with `lodLevels`, the pyramid's grids of levels lodFirst..lodLevels after
+/// them (lodGridsFrom).
 void writeWithOpenVdb(const fs::path& path, const BrickVolume& volume, const fs::path& ours, VdbCompression c,
-                      bool half, int lodLevels = 0) {
+                      bool half, int lodLevels = 0, int lodFirst = 1) {
     auto density = openvdb::FloatGrid::create(0.0f);
     auto orientation = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
     for (const VoxelBrick& b : volume.bricks) {
@@ -149,18 +150,18 @@ void writeWithOpenVdb(const fs::path& path, const BrickVolume& volume, const fs:
     openvdb::io::File file(path.string());
     file.setCompression(flags);
     openvdb::GridPtrVec grids{density, orientation};
-    for (int level = 1; level <= lodLevels; ++level)
+    for (int level = lodFirst; level <= lodLevels; ++level)
         for (const openvdb::GridBase::Ptr& g : lodGridsFrom(ours, volume.grid, level, half)) grids.push_back(g);
     file.write(grids, *meta);
 }
 
 /// Every value of both files' grids, read back through OpenVDB, is the same.
-void checkSameGrids(const fs::path& a, const fs::path& b, int lodLevels = 0) {
+void checkSameGrids(const fs::path& a, const fs::path& b, int lodLevels = 0, int lodFirst = 1) {
     openvdb::io::File fa(a.string()), fb(b.string());
     fa.open();
     fb.open();
     std::vector<std::string> names{"density", "orientation"};
-    for (int level = 1; level <= lodLevels; ++level)
+    for (int level = lodFirst; level <= lodLevels; ++level)
         for (const char* base : {"density_lod", "orientation_lod"}) names.push_back(base + std::to_string(level));
     for (const std::string& name : names) {
         INFO(name);
@@ -191,14 +192,14 @@ void checkSameGrids(const fs::path& a, const fs::path& b, int lodLevels = 0) {
 
 /// Both files hold the same bytes (but OpenVDB's random UUID) and read back
 /// as the same grids.
-void checkSameFile(const fs::path& ours, const fs::path& theirs, int lodLevels = 0) {
+void checkSameFile(const fs::path& ours, const fs::path& theirs, int lodLevels = 0, int lodFirst = 1) {
     const auto a = test::vdbBytesWithoutUuid(ours), b = test::vdbBytesWithoutUuid(theirs);
     CHECK(a.size() == b.size());
     const auto mismatch = std::mismatch(a.begin(), a.end(), b.begin(), b.end());
     INFO("first difference at byte " << (mismatch.first - a.begin()));
     const bool sameBytes = a == b;
     CHECK(sameBytes);
-    checkSameGrids(ours, theirs, lodLevels);
+    checkSameGrids(ours, theirs, lodLevels, lodFirst);
 }
 
 VolumeMetadata someMetadata() {
@@ -256,18 +257,22 @@ TEST_CASE("With --lod the file is OpenVDB's own for the same grids, for every co
     openvdb::initialize();
     const BrickVolume volume = treeShapedVolume();
     const fs::path ours = scratch("lod-ours.vdb"), theirs = scratch("lod-theirs.vdb");
-    for (VdbCompression c : {VdbCompression::ActiveMask, VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::None})
-        for (VdbPrecision p : {VdbPrecision::Float, VdbPrecision::Half}) {
-            INFO(toString(c) << ", " << toString(p));
-            VdbWriteOptions options;
-            options.compression = c;
-            options.precision = p;
-            options.lodLevels = 3;
-            options.outputChunkBytes = 8192; // chunks cut through every level's records
-            writeVdb(ours.string(), volume, someMetadata(), options);
-            writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half, options.lodLevels);
-            checkSameFile(ours, theirs, options.lodLevels);
-        }
+    // Every level 1..3 (--lod 3), and the preview's 3..5 (its lod_first_level
+    // is in the file metadata OpenVDB is given).
+    for (const auto& [first, last] : {std::pair(1, 3), std::pair(3, 5)})
+        for (VdbCompression c : {VdbCompression::ActiveMask, VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::None})
+            for (VdbPrecision p : {VdbPrecision::Float, VdbPrecision::Half}) {
+                INFO(toString(c) << ", " << toString(p) << ", levels " << first << " to " << last);
+                VdbWriteOptions options;
+                options.compression = c;
+                options.precision = p;
+                options.lodFirstLevel = first;
+                options.lodLevels = last;
+                options.outputChunkBytes = 8192; // chunks cut through every level's records
+                writeVdb(ours.string(), volume, someMetadata(), options);
+                writeWithOpenVdb(theirs, volume, ours, c, p == VdbPrecision::Half, last, first);
+                checkSameFile(ours, theirs, last, first);
+            }
     fs::remove(ours);
     fs::remove(theirs);
 }
@@ -377,11 +382,13 @@ TEST_CASE("Bricks added packed, as the GPU resolved them, give the file that vox
         const std::vector<VoxelBrick> second(volume.bricks.begin() + std::ptrdiff_t(half), volume.bricks.end());
         for (VdbCompression c : {VdbCompression::ActiveMask, VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::None})
             for (VdbPrecision p : {VdbPrecision::Float, VdbPrecision::Half})
-                for (int lod : {0, 2}) {
-                    INFO(toString(c) << ", " << toString(p) << ", lod " << lod << ", albedo " << albedo);
+                // No pyramid, every level 1..2, the preview's 3..4.
+                for (const auto& [firstLevel, lod] : {std::pair(1, 0), std::pair(1, 2), std::pair(3, 4)}) {
+                    INFO(toString(c) << ", " << toString(p) << ", levels " << firstLevel << " to " << lod << ", albedo " << albedo);
                     VdbWriteOptions options;
                     options.compression = c;
                     options.precision = p;
+                    options.lodFirstLevel = firstLevel;
                     options.lodLevels = lod;
                     options.albedo = albedo;
                     {

@@ -20,7 +20,7 @@ void addMergeCommand(CLI::App& app) {
         std::string workDir, output;
         VdbCompression compression = VdbCompression::ActiveMask;
         VdbPrecision precision = VdbPrecision::Float;
-        int lod = 0;
+        LodRequest lod;
         bool quiet = false;
     };
     auto args = std::make_shared<Args>();
@@ -33,9 +33,12 @@ void addMergeCommand(CLI::App& app) {
     cmd->add_option("--precision", args->precision, "float or half: how the grids' values are stored (as voxelize's option)")
         ->default_str("float")
         ->transform(oneOf(kPrecisionWords));
-    cmd->add_option("--lod", args->lod, "Level-of-detail grids density_lod1..N and orientation_lod1..N (as voxelize's option)")
-        ->capture_default_str()
-        ->check(CLI::Range(0, 20));
+    cmd->add_option_function<std::string>(
+           "--lod", [args](const std::string& text) { args->lod = parseLodRequest(text); },
+           "Level-of-detail grids: preview (levels 3 to the coarsest), 0 (none) or N (every level 1..N), as "
+           "voxelize's option")
+        ->default_str("preview")
+        ->check(lodWords());
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
     cmd->callback([args] {
         const auto start = std::chrono::steady_clock::now();
@@ -44,7 +47,10 @@ void addMergeCommand(CLI::App& app) {
         VdbWriteOptions options;
         options.compression = args->compression;
         options.precision = args->precision;
-        options.lodLevels = args->lod; // checked against the store's grid by the writer, before any region is read
+        // Checked against the store's grid before any region is read.
+        const LodLevels lod = lodLevelsFor(args->lod, manifest.grid);
+        options.lodFirstLevel = lod.first;
+        options.lodLevels = lod.last;
         const VolumeMetadata metadata = manifest.run;
         options.albedo = metadata.albedo; // the run's bricks carry it: so does the merged file
         mergeStoreToVdb(args->workDir, args->output, metadata, options);

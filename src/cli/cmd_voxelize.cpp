@@ -65,7 +65,7 @@ void addGeometryOptions(CLI::App* cmd, VoxelizeJob& a) {
     cmd->add_flag("--albedo", a.albedo,
                   "Also write the fibres' colour: an 'albedo' grid (linear RGB) from the RGB of the --cross-section PNG "
                   "(read as sRGB), the density-weighted mean of each voxel's samples. Needs a colour PNG and the mean "
-                  "reduction (either backend); not with --method dense. With --lod, albedo_lod1..N too "
+                  "reduction (either backend); not with --method dense. With a pyramid (--lod), albedo_lodL too "
                   "(mass-weighted)");
 }
 
@@ -89,11 +89,14 @@ void addVolumeOptions(CLI::App* cmd, VoxelizeJob& a) {
                     "within 2^-11 relative)")
         ->default_str("float")
         ->transform(oneOf(kPrecisionWords));
-    cmd->add_option("--lod", a.lod,
-                    "Level-of-detail grids: adds density_lod1..N and orientation_lod1..N (and albedo_lod1..N with --albedo), each level half the "
-                    "resolution of the one before (mean density, structure-tensor axis)")
-        ->capture_default_str()
-        ->check(CLI::Range(0, 20));
+    cmd->add_option_function<std::string>(
+           "--lod", [&a](const std::string& text) { a.lod = parseLodRequest(text); },
+           "Level-of-detail grids density_lodL and orientation_lodL (and albedo_lodL with --albedo), level L at "
+           "2^-L of the resolution (mean density, structure-tensor axis): preview (levels 3 to the coarsest, whose "
+           "voxel is one 8^3 brick: a small pyramid made as the bricks are written; none on a grid under 64 voxels, "
+           "with --method dense, or for a .vol or .nvdb output), 0 (none) or N (every level 1..N)")
+        ->default_str("preview")
+        ->check(lodWords());
 }
 
 /// Sampling, the GPU, the work dir and what the run prints.
@@ -164,8 +167,11 @@ void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std
     }
     Cluster* const group = cluster() && cluster()->size() > 1 ? cluster() : nullptr;
     const auto voxelizeOne = [&](const GarmentJob& job, bool alone) {
+        const bool vdbOutput = resolveOutputFormat(format, job.output, true) == OutputFormat::Vdb;
         voxelizeInFormat(format, job.output, job.input, a.quiet, [&](const std::string& vdbPath) {
             VoxelizeJob run = a;
+            // A .vdb converted to .vol or .nvdb and removed: the conversion reads level 0 only.
+            if (!vdbOutput && run.lod.kind == LodRequest::Kind::Preview) run.lod = LodRequest::none();
             run.input = job.input;
             run.output = vdbPath;
             run.workDir = job.workDir;

@@ -3,8 +3,10 @@
 // refuses any other word, naming the ones it takes.
 #pragma once
 
+#include "core/error.h"
 #include "core/sampling.h"
 #include "pipeline/voxelize_job.h"
+#include "vdb/lod_request.h"
 #include "vdb/vdb_writer.h"
 
 #include <CLI/CLI.hpp>
@@ -47,6 +49,21 @@ CLI::Validator oneOf(const std::map<std::string, Enum>& words) {
             return {};
         },
         "{" + names + "}", "word");
+}
+
+/// --lod's value: preview, 0 or N (vdb/lod_request.h); any other text is
+/// refused with what it takes. The option's callback then parses it.
+inline CLI::Validator lodWords() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            try {
+                parseLodRequest(text);
+                return {};
+            } catch (const Error& e) {
+                return e.what();
+            }
+        },
+        "{preview, 0, N}", "level of detail");
 }
 
 } // namespace yv

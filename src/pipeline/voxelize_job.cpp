@@ -27,6 +27,11 @@ void checkJob(const VoxelizeJob& job, bool sharedByRanks) {
     checkSupersample(job.supersample);
 }
 
+LodRequest lodOf(const VoxelizeJob& job) {
+    if (job.method == VoxelizeMethod::Dense && job.lod.kind == LodRequest::Kind::Preview) return LodRequest::none();
+    return job.lod;
+}
+
 const char* toString(BackendRequest b) {
     switch (b) {
     case BackendRequest::Gl: return "gl";

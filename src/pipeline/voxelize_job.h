@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/sampling.h"
+#include "vdb/lod_request.h"
 #include "vdb/vdb_writer.h"
 
 #include <cstdint>
@@ -40,7 +41,7 @@ struct VoxelizeJob {
     int supersample = 1;                                ///< --supersample
     int device = -1;                                    ///< --device (-1: first GPU, else llvmpipe)
     std::uint64_t fragmentCapacity = 0;                 ///< --fragment-budget (0: from the machine)
-    int lod = 0;                                        ///< --lod: level-of-detail grids in the .vdb
+    LodRequest lod;                                     ///< --lod: level-of-detail grids in the .vdb (lodOf)
     bool albedo = false;  ///< --albedo: the cross-section PNG's colour as an "albedo" grid
     bool resume = false, keepWorkDir = false;           ///< --resume, --keep-work-dir
     bool quiet = false, verbose = false;                ///< --quiet, --verbose
@@ -59,6 +60,11 @@ struct VoxelizeJob {
 /// the dense method and --albedo need. `sharedByRanks`: the run's regions are
 /// shared by the ranks of an MPI run. Throws yv::Error with one line.
 void checkJob(const VoxelizeJob& job, bool sharedByRanks);
+
+/// The pyramid the job's .vdb gets: --lod as asked, but the preview (the
+/// default) only with the sparse method: the dense method is the paper's
+/// baseline and writes no pyramid unless --lod N asks for one.
+LodRequest lodOf(const VoxelizeJob& job);
 
 /// "auto", "gl" or "cpu", as the option is spelled.
 const char* toString(BackendRequest b);

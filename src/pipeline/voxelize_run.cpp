@@ -13,7 +13,7 @@
 #include "pipeline/run_stats.h"
 #include "pipeline/sliced_garment.h"
 #include "plan/grid.h"
-#include "vdb/lod_pyramid.h"
+#include "vdb/lod_request.h"
 
 #include <cstdio>
 #include <future>
@@ -65,7 +65,10 @@ VdbWriteOptions writeOptionsFor(const VoxelizeJob& job, const VoxelGrid& grid, c
     VdbWriteOptions options;
     options.compression = job.compression;
     options.precision = job.precision;
-    options.lodLevels = checkedLodLevels(job.lod, grid);
+    // Refused here, before any work, when --lod N asks for more levels than the grid has.
+    const LodLevels lod = lodLevelsFor(lodOf(job), grid);
+    options.lodFirstLevel = lod.first;
+    options.lodLevels = lod.last;
     options.albedo = sliced.xs.hasAlbedo();
     options.timings = &timings;
     return options;

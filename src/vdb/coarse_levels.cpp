@@ -1,6 +1,7 @@
 #include "vdb/coarse_levels.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 #include "vdb/lod_pyramid.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -19,15 +20,24 @@ constexpr std::size_t kPyramidPiece = 1024;
 
 } // namespace
 
-void buildLevel(PyramidLevel& level, SpillFile& spill, std::vector<OctantRecord>& octants,
-                std::vector<OctantRecord>* next) {
-    tbb::parallel_sort(octants.begin(), octants.end(), [](const OctantRecord& a, const OctantRecord& b) {
-        const std::uint64_t pa = parentBrickKey(a.childKey), pb = parentBrickKey(b.childKey);
+std::span<const std::uint8_t> OctantSource::bytes(const OctantRecord& r, ByteVector& buffer) const {
+    if (memory) return memory->bytes(r);
+    buffer.resize(r.bytes());
+    spill.read(r.at(), buffer);
+    return buffer;
+}
+
+void buildLevel(PyramidLevel& level, int skip, const OctantSource& from, std::vector<OctantRecord>& octants,
+                SpillFile& spill, std::vector<OctantRecord>* next) {
+    const TraceSpan span("build a level of detail");
+    tbb::parallel_sort(octants.begin(), octants.end(), [skip](const OctantRecord& a, const OctantRecord& b) {
+        const std::uint64_t pa = parentBrickKey(a.childKey, skip), pb = parentBrickKey(b.childKey, skip);
         return pa != pb ? pa < pb : a.childKey < b.childKey;
     });
     std::vector<std::size_t> groups; // where each parent's octants start
     for (std::size_t i = 0; i < octants.size(); ++i)
-        if (i == 0 || parentBrickKey(octants[i].childKey) != parentBrickKey(octants[i - 1].childKey)) groups.push_back(i);
+        if (i == 0 || parentBrickKey(octants[i].childKey, skip) != parentBrickKey(octants[i - 1].childKey, skip))
+            groups.push_back(i);
     groups.push_back(octants.size());
     const std::size_t parents = groups.size() - 1;
 
@@ -46,12 +56,9 @@ void buildLevel(PyramidLevel& level, SpillFile& spill, std::vector<OctantRecord>
             if (!sums) sums = std::make_unique<CoarseBrick>();
             ByteVector& buffer = buffers.local();
             const std::size_t g = first + i;
-            sums->clear(parentBrickKey(octants[groups[g]].childKey), level.gridCount > 2);
-            for (std::size_t k = groups[g]; k < groups[g + 1]; ++k) {
-                buffer.resize(octants[k].bytes());
-                spill.read(octants[k].at(), buffer);
-                placeOctant(buffer, octants[k].childKey, *sums);
-            }
+            sums->clear(parentBrickKey(octants[groups[g]].childKey, skip), level.gridCount > 2, skip);
+            for (std::size_t k = groups[g]; k < groups[g + 1]; ++k)
+                placeOctant(from.bytes(octants[k], buffer), octants[k].childKey, *sums);
             keep[i] = resolveCoarseBrick(*sums, bricks[i]);
             if (next && keep[i]) appendOctant(*sums, bricks[i], nextOctants[i]);
         });
@@ -72,7 +79,7 @@ void buildLevel(PyramidLevel& level, SpillFile& spill, std::vector<OctantRecord>
                 if (kept != i) bricks[kept] = bricks[i];
                 ++kept;
             }
-        addBatch(level, encodeBatch(level, spill, VoxelBrickBatch{std::span(bricks.data(), kept)}, nullptr), 0);
+        addBatch(level, encodeBatch(level, spill, VoxelBrickBatch{std::span(bricks.data(), kept)}), 0);
     }
 }
 

@@ -7,7 +7,7 @@
 namespace yv {
 
 openvdb::MetaMap vdbFileMetadata(const VolumeMetadata& metadata, const VoxelGrid& grid, Reduce reduce, int lodLevels,
-                                 bool albedo) {
+                                 int lodFirstLevel, bool albedo) {
     openvdb::MetaMap meta;
     meta.insertMeta("yarnvox_version", openvdb::StringMetadata(YV_VERSION));
     for (const MetadataField& field : metadataFields(metadata)) {
@@ -22,6 +22,7 @@ openvdb::MetaMap vdbFileMetadata(const VolumeMetadata& metadata, const VoxelGrid
     meta.insertMeta("reduce", openvdb::StringMetadata(toString(reduce)));
     meta.insertMeta("grid_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(grid.dims.x, grid.dims.y, grid.dims.z)));
     if (lodLevels > 0) meta.insertMeta("lod_levels", openvdb::Int32Metadata(lodLevels));
+    if (lodLevels > 0 && lodFirstLevel != 1) meta.insertMeta("lod_first_level", openvdb::Int32Metadata(lodFirstLevel));
     if (albedo) meta.insertMeta("albedo", openvdb::StringMetadata("linear RGB, density-weighted mean"));
     return meta;
 }

@@ -15,10 +15,12 @@ namespace yv {
 /// The items of the file's metadata: yarnvox_version; every field of
 /// metadataFields(metadata) but albedo, as string, int32, int64 or double
 /// items; voxel_size, reduce and grid_dims of `grid`; lod_levels with
-/// `lodLevels` > 0; and "albedo" (what the albedo grids hold) with `albedo`.
-/// OpenVDB writes them sorted by name, whatever the order they are added in.
+/// `lodLevels` > 0, and lod_first_level too when `lodFirstLevel` is not 1
+/// (the preview pyramid: files with every level keep the items they had);
+/// and "albedo" (what the albedo grids hold) with `albedo`. OpenVDB writes
+/// them sorted by name, whatever the order they are added in.
 openvdb::MetaMap vdbFileMetadata(const VolumeMetadata& metadata, const VoxelGrid& grid, Reduce reduce, int lodLevels,
-                                 bool albedo);
+                                 int lodFirstLevel, bool albedo);
 
 /// The run's description a .vdb's file metadata holds (what vdbFileMetadata
 /// wrote), read through runMetadataFromJson: fields the file lacks (older or

@@ -47,8 +47,7 @@ openvdb::CoordBBox activeBounds(std::uint64_t key, const BrickMask& mask) {
 } // namespace
 
 template <typename Batch>
-EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batch& bricks,
-                         std::vector<OctantRecord>* octants) {
+EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batch& bricks, OctantOutput octants) {
     // In tree order within the batch: the write then reads runs of neighbours with one call.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> order(bricks.size());
     for (std::size_t i = 0; i < bricks.size(); ++i) order[i] = {treeOrderKey(brickCoord(bricks.key(i))), std::uint32_t(i)};
@@ -69,25 +68,29 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batc
             LeafRecord& r = batch.records[first + i];
             r.mask = bricks.mask(b);
             for (int g = 0; g < level.gridCount; ++g) r.load[g] = bricks.encode(*level.encoders[g], b, r.mask, encoded[g][i]);
-            if (octants) bricks.octant(b, r.mask, encoded[kOctants][i]);
+            if (octants.skip) bricks.octant(b, r.mask, octants.skip, encoded[kOctants][i]);
             pieceBounds[i] = activeBounds(bricks.key(b), r.mask);
             for (std::uint64_t word : r.mask) activeCounts[i] += std::uint32_t(std::popcount(word));
         });
         // Each grid's piece (and the octants) in one range of the scratch
         // file, written in blocks on every core: joined and written by one
         // thread, a region's pieces were most of its encode time.
+        // Octants kept in memory are joined into the batch's bytes instead.
+        const bool spillOctants = octants.skip && !octants.inMemory;
         std::vector<std::uint64_t> blockAt[kMaxGrids + 1]; // where each block of kSpillBlock leaves goes
         for (int g = 0; g <= kOctants; ++g) {
-            if (g == kOctants ? !octants : g >= level.gridCount) continue;
+            if (g == kOctants ? !octants.skip : g >= level.gridCount) continue;
             std::uint64_t at = 0;
             for (std::size_t i = 0; i < count; ++i) at += encoded[g][i].size();
-            at = spill.reserve(at);
+            at = g == kOctants && !spillOctants ? batch.octantBytes.size() : spill.reserve(at);
             for (std::size_t i = 0; i < count; ++i) {
                 if (i % kSpillBlock == 0) blockAt[g].push_back(at);
                 LeafRecord& r = batch.records[first + i];
                 if (g == kOctants) {
                     YV_CHECK(encoded[g][i].size() < 0x10000);
-                    octants->push_back({bricks.key(order[first + i].second), at << 16 | encoded[g][i].size()});
+                    batch.octants.push_back({bricks.key(order[first + i].second), at << 16 | encoded[g][i].size()});
+                    if (!spillOctants)
+                        batch.octantBytes.insert(batch.octantBytes.end(), encoded[g][i].begin(), encoded[g][i].end());
                 } else {
                     r.at[g] = at;
                     r.bytes[g] = std::uint32_t(encoded[g][i].size());
@@ -98,7 +101,7 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batc
         const std::size_t blocks = (count + kSpillBlock - 1) / kSpillBlock;
         tbb::parallel_for(std::size_t(0), std::size_t(kOctants + 1) * blocks, [&](std::size_t task) {
             const int g = int(task / blocks);
-            if (g == kOctants ? !octants : g >= level.gridCount) return;
+            if (g == kOctants ? !spillOctants : g >= level.gridCount) return;
             const std::size_t block = task % blocks, begin = block * kSpillBlock, end = std::min(count, begin + kSpillBlock);
             ByteVector joined;
             for (std::size_t i = begin; i < end; ++i) joined.insert(joined.end(), encoded[g][i].begin(), encoded[g][i].end());
@@ -120,7 +123,7 @@ void addBatch(PyramidLevel& level, EncodedBatch&& batch, std::uint32_t source) {
     level.activeVoxels += batch.activeVoxels;
 }
 
-template EncodedBatch encodeBatch(const PyramidLevel&, SpillFile&, const VoxelBrickBatch&, std::vector<OctantRecord>*);
-template EncodedBatch encodeBatch(const PyramidLevel&, SpillFile&, const PackedBrickBatch&, std::vector<OctantRecord>*);
+template EncodedBatch encodeBatch(const PyramidLevel&, SpillFile&, const VoxelBrickBatch&, OctantOutput);
+template EncodedBatch encodeBatch(const PyramidLevel&, SpillFile&, const PackedBrickBatch&, OctantOutput);
 
 } // namespace yv

@@ -39,6 +39,7 @@ struct LeafRecord {
 /// grids' encodings (density, orientation, and albedo where the run has it),
 /// and its leaves in the scratch file.
 struct PyramidLevel {
+    int number = 0; ///< L: a voxel covers 2^L level-0 voxels a side
     openvdb::math::Transform::Ptr transform;
     int gridCount = 2;
     openvdb::GridBase::Ptr skeleton[kMaxGrids];
@@ -49,20 +50,32 @@ struct PyramidLevel {
     std::uint64_t activeVoxels = 0;
 };
 
-/// Where the octant a brick gives its parent lies in the scratch file
-/// (lod_pyramid.h): 16 bytes per brick of the level below.
+/// Where the octant a brick gives its parent lies, in the scratch file or
+/// in memory (OctantOutput): 16 bytes per brick of the level below.
 struct OctantRecord {
     std::uint64_t childKey = 0;
-    std::uint64_t place = 0; ///< offset << 16 | bytes (an octant is at most 2056 bytes)
+    std::uint64_t place = 0; ///< offset << 16 | bytes (an octant is at most 2,824 bytes)
     std::uint64_t at() const { return place >> 16; }
     std::uint32_t bytes() const { return std::uint32_t(place & 0xffff); }
 };
 
-/// Leaves encoded from one batch of bricks, in tree order within the batch.
+/// What encodeBatch makes of each brick for the first coarse level: nothing
+/// (skip 0), or its octant for the parent `skip` levels up (lod_pyramid.h),
+/// put in the scratch file, or kept in memory (EncodedBatch::octantBytes).
+struct OctantOutput {
+    int skip = 0;
+    bool inMemory = false;
+};
+
+/// Leaves encoded from one batch of bricks, in tree order within the batch,
+/// and the octants the bricks gave (with an OctantOutput).
 struct EncodedBatch {
     std::vector<LeafRecord> records;
     openvdb::CoordBBox bounds;
     std::uint64_t activeVoxels = 0;
+    std::vector<OctantRecord> octants;
+    /// The octants' bytes when kept in memory; their places count from its start.
+    ByteVector octantBytes;
 };
 
 using BrickMask = std::array<std::uint64_t, kBrickVoxels / 64>;
@@ -76,7 +89,7 @@ struct VoxelBrickBatch {
     LeafLoadInfo encode(const LeafEncoder& encoder, std::size_t i, const BrickMask&, ByteVector& out) const {
         return encoder.encode(bricks[i], out);
     }
-    void octant(std::size_t i, const BrickMask&, ByteVector& out) const { appendOctant(bricks[i], out); }
+    void octant(std::size_t i, const BrickMask&, int skip, ByteVector& out) const { appendOctant(bricks[i], skip, out); }
 };
 
 /// ... or the GPU's resolved bricks as they came back, packed: at 8192 filling
@@ -90,15 +103,16 @@ struct PackedBrickBatch {
     LeafLoadInfo encode(const LeafEncoder& encoder, std::size_t i, const BrickMask& mask, ByteVector& out) const {
         return encoder.encode(packed, i, mask, out);
     }
-    void octant(std::size_t i, const BrickMask& mask, ByteVector& out) const { appendOctant(packed, i, mask, out); }
+    void octant(std::size_t i, const BrickMask& mask, int skip, ByteVector& out) const {
+        appendOctant(packed, i, mask, skip, out);
+    }
 };
 
 /// Encodes `bricks` into leaf records of `level`'s grids in the scratch
-/// file, in pieces; with `octants`, also puts each brick's octant for the
-/// next level there. Defined for VoxelBrickBatch and PackedBrickBatch.
+/// file, in pieces, and each brick's octant as `octants` says. Defined for
+/// VoxelBrickBatch and PackedBrickBatch.
 template <typename Batch>
-EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batch& bricks,
-                         std::vector<OctantRecord>* octants);
+EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batch& bricks, OctantOutput octants = {});
 
 /// Adds a batch's leaves to `level`, tagged with `source` (for errors).
 void addBatch(PyramidLevel& level, EncodedBatch&& batch, std::uint32_t source);

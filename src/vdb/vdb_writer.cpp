@@ -10,6 +10,7 @@
 #include "vdb/grid_layout.h"
 #include "vdb/leaf_batches.h"
 #include "vdb/lod_pyramid.h"
+#include "vdb/octant_memory.h"
 #include "vdb/openvdb_encoding.h"
 #include "vdb/spill_file.h"
 #include "vdb/tree_order.h"
@@ -30,6 +31,12 @@
 
 namespace yv {
 namespace {
+
+/// Level 0's octants stay in memory when each takes at most this many bytes:
+/// the preview's 40 (52 with albedo), 3.19 M bricks and 180 MB with their
+/// places at 8192 (vdb/octant_memory.h). The full pyramid's, up to 2 KB a
+/// brick and gigabytes at 8192, go to the scratch file.
+constexpr std::size_t kOctantsInMemoryAtMost = 64;
 
 double secondsSince(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -53,11 +60,13 @@ struct VdbAssembler::Impl {
     VoxelGrid grid;
     Reduce reduce = Reduce::Mean;
     VdbWriteOptions options;
-    std::vector<PyramidLevel> levels; ///< level 0, then --lod's coarser ones
+    std::vector<PyramidLevel> levels; ///< level 0, then the pyramid's, lodFirstLevel..lodLevels
     std::unique_ptr<SpillFile> spill;
+    OctantOutput octantOutput; ///< what each level-0 brick gives the first coarse level
 
     mutable std::mutex mutex;
-    std::vector<OctantRecord> octants; ///< what each level-0 brick gives level 1 (with --lod)
+    std::vector<OctantRecord> octants; ///< where each level-0 brick's octant lies
+    OctantMemory octantMemory;         ///< their bytes, when kept in memory
     std::vector<std::string> sources;
     double encodeSeconds = 0.0;
     bool written = false;
@@ -76,20 +85,26 @@ VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduc
     m.grid = grid;
     m.reduce = reduce;
     m.options = options;
-    m.levels.resize(std::size_t(checkedLodLevels(options.lodLevels, grid)) + 1);
+    const int last = checkedLodLevels(options.lodLevels, grid), first = options.lodFirstLevel;
+    YV_CHECK(first >= 1 && first <= 3 && (last == 0 || first <= last));
+    m.levels.resize(last == 0 ? 1 : std::size_t(last - first) + 2);
+    for (std::size_t l = 1; l < m.levels.size(); ++l) m.levels[l].number = first + int(l) - 1;
+    if (last > 0) {
+        m.octantOutput.skip = first;
+        m.octantOutput.inMemory = octantBytesAtMost(first, options.albedo) <= kOctantsInMemoryAtMost;
+    }
     for (PyramidLevel& level : m.levels) level.gridCount = options.albedo ? 3 : 2;
     const bool half = options.precision == VdbPrecision::Half;
     const std::uint32_t flags = archiveFlags(options.compression);
-    for (std::size_t l = 0; l < m.levels.size(); ++l) {
-        PyramidLevel& level = m.levels[l];
-        // Level l's voxel (i, j, k) covers level 0's voxels 2^l (i, j, k) to 2^l (i + 1, j + 1, k + 1) - 1.
-        const double h = grid.voxelSize * double(1u << l);
+    for (PyramidLevel& level : m.levels) {
+        // Level L's voxel (i, j, k) covers level 0's voxels 2^L (i, j, k) to 2^L (i + 1, j + 1, k + 1) - 1.
+        const double h = grid.voxelSize * double(1u << level.number);
         level.transform = openvdb::math::Transform::createLinearTransform(h);
         const glm::dvec3 c = grid.origin + 0.5 * h;
         level.transform->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
         for (int g = 0; g < level.gridCount; ++g) {
             const auto kind = GridKind(g);
-            level.skeleton[g] = makeSkeletonGrid(kind, level.transform, half, int(l));
+            level.skeleton[g] = makeSkeletonGrid(kind, level.transform, half, level.number);
             level.encoding[g] = {kind, gridCompression(flags, *level.skeleton[g]), flags, half};
             level.encoders[g] = std::make_unique<LeafEncoder>(level.encoding[g]);
         }
@@ -112,15 +127,15 @@ template <typename Batch> void VdbAssembler::addBatchOf(const Batch& bricks, con
     const TraceSpan span("encode leaves");
     Impl& m = *impl_;
     const auto start = std::chrono::steady_clock::now();
-    std::vector<OctantRecord> octants;
-    EncodedBatch batch = encodeBatch(m.levels[0], *m.spill, bricks, m.levels.size() > 1 ? &octants : nullptr);
+    EncodedBatch batch = encodeBatch(m.levels[0], *m.spill, bricks, m.octantOutput);
     const double seconds = secondsSince(start);
     std::lock_guard lock(m.mutex);
     YV_CHECK(!m.written);
     const auto tag = static_cast<std::uint32_t>(m.sources.size());
     m.sources.push_back(source);
+    if (m.octantOutput.inMemory) m.octantMemory.keep(batch.octants, batch.octantBytes);
+    m.octants.insert(m.octants.end(), batch.octants.begin(), batch.octants.end());
     addBatch(m.levels[0], std::move(batch), tag);
-    m.octants.insert(m.octants.end(), octants.begin(), octants.end());
     m.encodeSeconds += seconds;
 }
 
@@ -152,13 +167,19 @@ void VdbAssembler::Impl::sortLeaves() {
     }
 }
 
-/// The pyramid, level by level from the octants each level's bricks left in
-/// the scratch file: only the octants' places are held. Returns its seconds.
+/// The pyramid, level by level from the octants each level's bricks left:
+/// the first coarse level from level 0's (in memory, or in the scratch
+/// file), each level above from the one below's in the scratch file. Returns
+/// its seconds.
 double VdbAssembler::Impl::buildPyramid() {
+    const TraceSpan span("build the level-of-detail pyramid");
     const auto start = std::chrono::steady_clock::now();
     std::vector<OctantRecord> pending = std::move(octants), next;
     for (std::size_t l = 1; l < levels.size(); ++l) {
-        buildLevel(levels[l], *spill, pending, l + 1 < levels.size() ? &next : nullptr);
+        const int skip = levels[l].number - levels[l - 1].number;
+        const OctantSource from{*spill, l == 1 && octantOutput.inMemory ? &octantMemory : nullptr};
+        buildLevel(levels[l], skip, from, pending, *spill, l + 1 < levels.size() ? &next : nullptr);
+        if (l == 1) octantMemory = OctantMemory();
         std::vector<OctantRecord>().swap(pending);
         std::swap(pending, next);
         tbb::parallel_sort(levels[l].leaves.begin(), levels[l].leaves.end(), treeOrder);
@@ -167,8 +188,8 @@ double VdbAssembler::Impl::buildPyramid() {
 }
 
 FileLayout VdbAssembler::Impl::layOut(const VolumeMetadata& metadata) {
-    const openvdb::MetaMap fileMeta =
-        vdbFileMetadata(metadata, grid, reduce, int(levels.size()) - 1, levels[0].gridCount > 2);
+    const openvdb::MetaMap fileMeta = vdbFileMetadata(metadata, grid, reduce, levels.back().number,
+                                                      levels.size() > 1 ? levels[1].number : 1, levels[0].gridCount > 2);
     // Zoom regions on the density grid, not the file: a summary lists the
     // file's items, and a large run has thousands of regions.
     if (!metadata.regions.empty())

@@ -1,7 +1,7 @@
 // OpenVDB output: a float grid "density" (fog volume, background 0) and a
 // vec3 grid "orientation" sharing one transform, written leaf by leaf; with
-// --albedo, a vec3 grid "albedo" (linear RGB) too; with --lod, the same grids
-// again at each coarser level.
+// --albedo, a vec3 grid "albedo" (linear RGB) too; with a pyramid (--lod,
+// the preview by default), the same grids again at each coarser level.
 #pragma once
 
 #include "core/bricks.h"
@@ -49,10 +49,13 @@ struct VdbWriteTimings {
 struct VdbWriteOptions {
     VdbCompression compression = VdbCompression::ActiveMask;
     VdbPrecision precision = VdbPrecision::Float;
-    /// --lod: grids density_lodL and orientation_lodL for L = 1..lodLevels,
-    /// each at half the resolution of the level before (vdb/lod_pyramid.h);
-    /// at most maxLodLevels(grid).
+    /// --lod: grids density_lodL and orientation_lodL for L = lodFirstLevel
+    /// ..lodLevels (none when lodLevels is 0), level L at 2^-L of level 0's
+    /// resolution (vdb/lod_pyramid.h); lodLevels at most maxLodLevels(grid).
+    /// The first level is 1 (the full pyramid, --lod N) or 3 (the preview,
+    /// vdb/lod_request.h): any of 1 to 3 is built from level 0 directly.
     int lodLevels = 0;
+    int lodFirstLevel = 1;
     /// --albedo: a third grid "albedo" from VoxelBrick::albedo, which every
     /// brick must then have (and albedo_lodL with lodLevels).
     bool albedo = false;
@@ -78,6 +81,7 @@ void writeVdb(const std::string& path, const BrickVolume& volume, const VolumeMe
 class VdbAssembler {
   public:
     /// Throws yv::Error when `grid` cannot have options.lodLevels levels (checkedLodLevels).
+    /// lodFirstLevel is 1 to 3, and at most lodLevels when that is not 0.
     VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduce, const VdbWriteOptions& options = {});
     ~VdbAssembler();
     VdbAssembler(const VdbAssembler&) = delete;
@@ -90,9 +94,9 @@ class VdbAssembler {
     void add(const PackedBricks& bricks, const std::string& source = "");
     /// Bricks added so far.
     std::size_t brickCount() const;
-    /// Builds the level-of-detail grids (options.lodLevels) from the bricks'
-    /// octants in the scratch file and writes the file; throws yv::Error when
-    /// a brick was added twice. Call once.
+    /// Builds the level-of-detail grids (options.lodFirstLevel..lodLevels)
+    /// from the bricks' octants and writes the file; throws yv::Error when a
+    /// brick was added twice. Call once.
     void write(const VolumeMetadata& metadata);
 
   private:
