@@ -2,6 +2,7 @@
 #include "bcc.h"
 #include "cli/commands.h"
 #include "cli/option_checks.h"
+#include "core/output_path.h"
 #include "garment/generate.h"
 
 #include <CLI/CLI.hpp>
@@ -35,6 +36,7 @@ void addGenCommand(CLI::App& app) {
     cmd->add_option("-o,--output", args->output, "Output .bcc file")->required();
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
     cmd->callback([args] {
+        checkOutputPath(args->output, "-o", {}); // before the garment is generated, as every command does
         GenerateOptions opt;
         opt.pattern = parseWeavePattern(args->pattern);
         opt.shape = parseGarmentShape(args->shape);

@@ -141,7 +141,7 @@ PictureRequest pictureRequest(const InspectArgs& a) {
     if (a.regions && r.kind == RenderKind::VolumetricTriangles)
         throw Error("--regions goes with the renders of a volume, not volumetric-triangles");
     if (a.regions && r.kind == RenderKind::Cut) throw Error("--regions goes with the perspective renders, not a cut");
-    checkOutputPath(a.output, "-o", {a.path});
+    checkOutputPath(a.output, "-o", {a.path, a.garment});
     if (r.kind != RenderKind::Cut) r.transferFunction = loadTransferFunction(a.tf); // a bad --tf fails before any work
     p.input = a.path;
     p.output = a.output;
