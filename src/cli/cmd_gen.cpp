@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <limits>
 #include <memory>
 
 namespace yv {
@@ -24,9 +25,11 @@ void addGenCommand(CLI::App& app) {
     cmd->add_option("--pattern", args->pattern, "Weave or knit: plain, twill, satin, knit")->capture_default_str();
     cmd->add_option("--crossings", args->crossings, "Number of yarn crossings (the paper's dense vest has 410000)")
         ->capture_default_str()
-        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(100'000'000)));
+        ->check(wholeNumber<std::uint64_t>(1, 100'000'000));
     cmd->add_option("--shape", args->shape, "Garment shape: flat, cylinder, sphere")->capture_default_str();
-    cmd->add_option("--seed", args->seed, "Seed of the control-point jitter")->capture_default_str();
+    cmd->add_option("--seed", args->seed, "Seed of the control-point jitter")
+        ->capture_default_str()
+        ->check(wholeNumber<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
     cmd->add_option("--spacing", args->spacing, "Distance between neighbouring yarns, world units")
         ->capture_default_str()
         ->check(worldLength());

@@ -1,6 +1,7 @@
 // `yarnvox merge`: a finished work directory to one .vdb (voxelize does this
 // itself at its end; this re-runs it, e.g. after a merge failed for disk space).
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/option_words.h"
 #include "pipeline/run_fingerprint.h"
 #include "core/output_path.h"
@@ -35,7 +36,7 @@ void addMergeCommand(CLI::App& app) {
         ->transform(oneOf(kPrecisionWords));
     cmd->add_option("--lod", args->lod, "Level-of-detail grids density_lod1..N and orientation_lod1..N (as voxelize's option)")
         ->capture_default_str()
-        ->check(CLI::Range(0, 20));
+        ->check(wholeNumber(0, 20));
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
     cmd->callback([args] {
         const auto start = std::chrono::steady_clock::now();
