@@ -111,7 +111,7 @@ void addRunOptions(CLI::App* cmd, VoxelizeJob& a) {
         ->check(wholeNumber<std::uint64_t>(1, 0x7fffffffu));
     cmd->add_option("--work-dir", a.workDir,
                     "Directory for the per-region brick files (default: OUT.vdb.work, removed after the merge)");
-    cmd->add_flag("--resume", a.resume, "Re-use the complete, verified regions in --work-dir and compute the rest");
+    cmd->add_flag("--resume", a.resume, "Re-use the complete, verified regions in --work-dir (needed) and compute the rest");
     cmd->add_flag("--keep-work-dir", a.keepWorkDir, "Keep the default work directory after the merge");
     cmd->add_option("--stats", a.statsPath, "Write run statistics (JSON) to this file");
     cmd->add_flag("-q,--quiet", a.quiet, "No progress and no summary");
