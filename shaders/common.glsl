@@ -74,6 +74,17 @@ vec3 catmullRomSecondDerivative(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float t) {
     return 0.5 * ((4.0 - 6.0 * t) * p0 + (-10.0 + 18.0 * t) * p1 + (8.0 - 18.0 * t) * p2 + (-2.0 + 6.0 * t) * p3);
 }
 
+// The tangent a segment leaves its first knot by (src/garment/catmull_rom.h:
+// knotDirection): the derivative at t = 0; at a cusp, where the knot's
+// neighbours coincide (equal numbers, so the derivative is exactly zero),
+// the second derivative, or where that is zero too, the third.
+vec3 knotTangent(vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
+    vec3 d = catmullRomDerivative(p0, p1, p2, p3, 0.0);
+    if (d == vec3(0.0)) d = catmullRomSecondDerivative(p0, p1, p2, p3, 0.0);
+    if (d == vec3(0.0)) d = 3.0 * (-p0 + 3.0 * p1 - 3.0 * p2 + p3);
+    return normalize(d);
+}
+
 // Projection axis: the dominant component of the slice normal; components
 // within a relative 2^-10 of the largest go to the lowest index, so that
 // float here and double on the CPU agree at exact 45-degree ties
@@ -109,7 +120,7 @@ SliceRecord placeSlice(GpuSegment seg, uint k) {
     vec3 tangent = normalize(d1);
     float thickness = catmullRomArcLength(p0, p1, p2, p3, float(k) / K, float(k + 1u) / K);
 
-    vec3 t0 = normalize(catmullRomDerivative(p0, p1, p2, p3, 0.0));
+    vec3 t0 = knotTangent(p0, p1, p2, p3);
     vec3 up = rotateMinimal(seg.up.xyz, t0, tangent);
     up = normalize(up - dot(up, tangent) * tangent);
     float twistRate = seg.p[0].w;

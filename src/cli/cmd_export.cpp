@@ -1,6 +1,7 @@
 // `yarnvox export`: an existing .vdb to renderer formats (Mitsuba .vol,
 // NanoVDB .nvdb), whole or a box of it, from the leaves already written.
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/output_format.h"
 #include "core/error.h"
 #include "core/output_path.h"
@@ -82,6 +83,27 @@ std::optional<VoxelBox> requestedBox(const ExportArgs& a, const FiberGrids& grid
     return std::nullopt;
 }
 
+/// "[x0, x1) x [y0, y1) x [z0, z1)", as the export's summary prints boxes.
+std::string boxText(glm::ivec3 lo, glm::ivec3 hi) {
+    std::string s;
+    for (int i = 0; i < 3; ++i)
+        s += (i ? " x [" : "[") + std::to_string(lo[i]) + ", " + std::to_string(hi[i]) + ")";
+    return s;
+}
+
+/// Refuses a box that holds none of the volume's active voxels: its export
+/// was a box of zeros, with exit 0. `asked` is the option as typed.
+void checkBoxMeetsVolume(const VoxelBox& box, const FiberGrids& grids, const std::string& asked) {
+    if (grids.density->activeVoxelCount() == 0) throw Error(asked + ": the volume has no active voxels: nothing to export");
+    const openvdb::CoordBBox active = grids.density->evalActiveVoxelBoundingBox();
+    const glm::ivec3 lo(active.min().x(), active.min().y(), active.min().z());
+    const glm::ivec3 hi = glm::ivec3(active.max().x(), active.max().y(), active.max().z()) + 1;
+    for (int i = 0; i < 3; ++i)
+        if (box.max[i] <= lo[i] || box.min[i] >= hi[i])
+            throw Error(asked + ": holds voxels " + boxText(box.min, box.max) + ", none of the volume's, which lie in " +
+                        boxText(lo, hi) + ": nothing to export");
+}
+
 void runExport(const ExportArgs& a) {
     const OutputFormat format = resolveOutputFormat(a.format, a.output, false);
     VolExportOptions vol;
@@ -97,6 +119,8 @@ void runExport(const ExportArgs& a) {
         throw Error("--region " + std::to_string(a.region) + " needs --work-dir DIR: zoom regions are recorded in the run's work directory, not in the .vdb");
     const FiberGrids grids = readFiberGrids(a.input);
     vol.box = requestedBox(a, grids);
+    if (vol.box && a.region < 0)
+        checkBoxMeetsVolume(*vol.box, grids, a.bbox.empty() ? "--bbox-world " + a.bboxWorld : "--bbox " + a.bbox);
     for (const std::string& p : exportPaths(format, a.output, bool(grids.orientation), vol, bool(grids.albedo)))
         checkOutputPath(p, "-o", {a.input});
     convertVdb(a.input, format, a.output, vol, a.quiet);
@@ -122,7 +146,7 @@ void addExportCommand(CLI::App& app) {
                                   "x0,y0,z0,x1,y1,z1: world-unit box; every voxel whose cell overlaps it is exported")
                       ->excludes(bbox);
     auto* region = cmd->add_option("--region", a->region, "Zoom region id from the run's work directory (needs --work-dir)")
-                       ->check(CLI::Range(std::int64_t(0), std::int64_t(1) << 62))
+                       ->check(wholeNumber<std::int64_t>(0, std::int64_t(1) << 62))
                        ->excludes(bbox)
                        ->excludes(world);
     cmd->add_option("--work-dir", a->workDir, "The voxelize run's work directory (--work-dir or --keep-work-dir), for --region")
@@ -143,7 +167,7 @@ void addExportCommand(CLI::App& app) {
     cmd->add_option("--sggx", a->sggx,
                     "Also write OUT.sggx.vol: SGGX matrices of fibre-like microflakes of this roughness (0 to 1] along "
                     "each voxel's fibre axis, for Mitsuba 3's sggx phase function")
-        ->check(CLI::Range(1e-6, 1.0));
+        ->check(finiteRange(1e-6, 1.0));
     cmd->add_flag("-q,--quiet", a->quiet, "Print nothing on success");
     cmd->callback([a] { runExport(*a); });
 }

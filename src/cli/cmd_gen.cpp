@@ -2,11 +2,13 @@
 #include "bcc.h"
 #include "cli/commands.h"
 #include "cli/option_checks.h"
+#include "core/output_path.h"
 #include "garment/generate.h"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <limits>
 #include <memory>
 
 namespace yv {
@@ -23,9 +25,11 @@ void addGenCommand(CLI::App& app) {
     cmd->add_option("--pattern", args->pattern, "Weave or knit: plain, twill, satin, knit")->capture_default_str();
     cmd->add_option("--crossings", args->crossings, "Number of yarn crossings (the paper's dense vest has 410000)")
         ->capture_default_str()
-        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(100'000'000)));
+        ->check(wholeNumber<std::uint64_t>(1, 100'000'000));
     cmd->add_option("--shape", args->shape, "Garment shape: flat, cylinder, sphere")->capture_default_str();
-    cmd->add_option("--seed", args->seed, "Seed of the control-point jitter")->capture_default_str();
+    cmd->add_option("--seed", args->seed, "Seed of the control-point jitter")
+        ->capture_default_str()
+        ->check(wholeNumber<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
     cmd->add_option("--spacing", args->spacing, "Distance between neighbouring yarns, world units")
         ->capture_default_str()
         ->check(worldLength());
@@ -35,6 +39,7 @@ void addGenCommand(CLI::App& app) {
     cmd->add_option("-o,--output", args->output, "Output .bcc file")->required();
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
     cmd->callback([args] {
+        checkOutputPath(args->output, "-o", {}); // before the garment is generated, as every command does
         GenerateOptions opt;
         opt.pattern = parseWeavePattern(args->pattern);
         opt.shape = parseGarmentShape(args->shape);

@@ -5,6 +5,7 @@
 // the inspect and render layers return for them; it makes the GL context
 // (once, where a picture needs it) and lends it to whatever draws.
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "core/error.h"
 #include "core/output_path.h"
 #include "inspect/mesh_report.h"
@@ -48,7 +49,8 @@ struct InspectArgs {
     std::size_t htmlRenders = 8; ///< --html-renders N
 };
 
-/// "512M", "2G", "65536": bytes, with an optional K, M or G (powers of 1024).
+/// "512M", "2G", "65536": bytes, with an optional K, M or G (powers of 1024);
+/// at least one byte ("0.5" was a budget of 0 bytes).
 std::uint64_t parseBytes(const std::string& text, const char* option) {
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
@@ -58,7 +60,7 @@ std::uint64_t parseBytes(const std::string& text, const char* option) {
     else if (unit == "M" || unit == "m") scale = 1024.0 * 1024.0;
     else if (unit == "G" || unit == "g") scale = 1024.0 * 1024.0 * 1024.0;
     else if (!unit.empty()) scale = -1.0;
-    if (end == text.c_str() || scale < 0.0 || !(v > 0.0) || v * scale > 1e15)
+    if (end == text.c_str() || scale < 0.0 || !(v * scale >= 1.0) || v * scale > 1e15)
         throw Error(std::string(option) + " '" + text + "': expected a positive size in bytes, with K, M or G");
     return std::uint64_t(v * scale);
 }
@@ -141,7 +143,7 @@ PictureRequest pictureRequest(const InspectArgs& a) {
     if (a.regions && r.kind == RenderKind::VolumetricTriangles)
         throw Error("--regions goes with the renders of a volume, not volumetric-triangles");
     if (a.regions && r.kind == RenderKind::Cut) throw Error("--regions goes with the perspective renders, not a cut");
-    checkOutputPath(a.output, "-o", {a.path});
+    checkOutputPath(a.output, "-o", {a.path, a.garment});
     if (r.kind != RenderKind::Cut) r.transferFunction = loadTransferFunction(a.tf); // a bad --tf fails before any work
     p.input = a.path;
     p.output = a.output;
@@ -213,7 +215,8 @@ void addReportOptions(CLI::App* cmd, InspectArgs& a) {
         ->capture_default_str()
         ->check(CLI::IsMember(columns));
     cmd->add_option("--limit", a.limit, "Work directory: rows of the region table to print (0: all; JSON has all)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(wholeNumber<std::size_t>(0, 1'000'000'000));
 }
 
 /// --render and the options every picture takes.
@@ -238,7 +241,7 @@ void addPictureOptions(CLI::App* cmd, InspectArgs& a) {
     cmd->add_option("--region", a.region,
                     "--render: frame and draw only this zoom region of a work directory or of a .vdb that records its "
                     "regions (yarnvox voxelize and merge write them)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(wholeNumber<std::int64_t>(0, std::int64_t(1) << 62));
     cmd->add_flag("--regions", a.regions,
                   "--render (not cut): draw the zoom-region boxes of the work directory or of the .vdb over the "
                   "picture, coloured by "
@@ -250,7 +253,7 @@ void addPictureOptions(CLI::App* cmd, InspectArgs& a) {
     cmd->add_option("--yarn-radius", a.yarnRadius,
                     "--render slices|volumetric-triangles: yarn radius in world units, instead of the one the run "
                     "recorded (a bare garment: the garment file's, else estimated)")
-        ->check(CLI::PositiveNumber);
+        ->check(worldLength());
     std::string presets;
     for (const std::string& n : transferFunctionPresets()) presets += (presets.empty() ? "" : ", ") + n;
     cmd->add_option("--tf", a.tf,
@@ -264,35 +267,35 @@ void addModeOptions(CLI::App* cmd, InspectArgs& a) {
     cmd->add_option("--slices", a.slices,
                     "--render texture-slicing|half-angle: slices through the box (0: one per voxel of the drawn "
                     "level across the box's depth)")
-        ->check(CLI::Range(0, 100000))
+        ->check(wholeNumber(0, 100000))
         ->capture_default_str();
     cmd->add_option("--light", a.light,
                     "--render half-angle: azimuth,elevation the light comes from, degrees as in --view (default 75,45)");
     cmd->add_flag("--no-skip", a.noSkip, "--render raycast|mip|orientation|isosurface: march every ray through the whole box (no empty-space skipping)");
     cmd->add_flag("--show-samples", a.showSamples, "--render raycast|mip|orientation|isosurface: picture the samples taken per pixel instead");
     cmd->add_option("--iso", a.iso, "--render isosurface and --mesh: the density the surface lies at")
-        ->check(CLI::Range(1e-6, 1e6))
+        ->check(finiteRange(1e-6, 1e6))
         ->capture_default_str();
     cmd->add_option("--mesh", a.mesh,
                     "Write the isosurface at --iso as a mesh (.ply binary or .obj, voxel coordinates), extracted by "
                     "OpenVDB's volumeToMesh; refused when larger than about 100 million triangles unless --mesh-level");
     cmd->add_option("--mesh-level", a.meshLevel,
                     "--mesh: extract at this level of detail (0: full resolution; L: each voxel the mean of 2^L a side)")
-        ->check(CLI::Range(0, 20));
+        ->check(wholeNumber(0, 20));
     cmd->add_option("--resolution", a.preview.resolution,
                     "--render volumetric-triangles of a garment: voxels on the longest axis of the grid it is drawn on "
                     "(sets the blur and the slice spacing; default " + std::to_string(kPreviewResolution) + ")")
-        ->check(CLI::Range(8, 1 << 20));
+        ->check(wholeNumber(8, 1 << 20));
     cmd->add_option("--slice-spacing", a.preview.spacing,
                     "--render volumetric-triangles: distance between slices along a yarn, world units (default: one "
                     "voxel, as voxelize)")
-        ->check(CLI::PositiveNumber);
+        ->check(worldLength());
     cmd->add_option("--cross-section", a.preview.crossSection,
                     "--render volumetric-triangles: fibre density on each slice, fibers, disk or FILE.png; its mean "
                     "over the yarn's disk is the preview's density (default: the volume's, else fibers)");
     cmd->add_option("--slices-per-segment", a.preview.slicesPerSegment,
                     "--render volumetric-triangles: slices per curve segment, instead of --slice-spacing")
-        ->check(CLI::Range(1, 100000));
+        ->check(wholeNumber(1, 100000));
     cmd->add_option("--cut", a.cut, "--render cut: the plane, x|y|z:INDEX (voxel index)");
 }
 
@@ -303,10 +306,11 @@ void addDeviceAndReportOptions(CLI::App* cmd, InspectArgs& a) {
                     "coarser level")
         ->capture_default_str();
     cmd->add_option("--repeat", a.repeat, "--render: draw the frame this many times and report the median time")
-        ->check(CLI::Range(1, 1000))
+        ->check(wholeNumber(1, 1000))
         ->capture_default_str();
     cmd->add_option("--device", a.device, "--render: EGL device index (-1: the first GPU, else llvmpipe)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(wholeNumber(-1, 1023));
     cmd->add_option("--html", a.html,
                     "Write a report to this directory, for a browser without a server: summary, density histogram, "
                     "time per stage, regions coloured by heat linked to their table rows, and renders (PNG files) of "
@@ -314,7 +318,7 @@ void addDeviceAndReportOptions(CLI::App* cmd, InspectArgs& a) {
                     "directory is replaced whole at the end; an existing one must be empty or an earlier report");
     cmd->add_option("--html-renders", a.htmlRenders, "--html: render this many regions, those with the most active voxels")
         ->capture_default_str()
-        ->check(CLI::Range(0, 10000));
+        ->check(wholeNumber<std::size_t>(0, 10000));
 }
 
 } // namespace

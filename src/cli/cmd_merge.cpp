@@ -1,6 +1,7 @@
 // `yarnvox merge`: a finished work directory to one .vdb (voxelize does this
 // itself at its end; this re-runs it, e.g. after a merge failed for disk space).
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/option_words.h"
 #include "pipeline/run_fingerprint.h"
 #include "core/output_path.h"

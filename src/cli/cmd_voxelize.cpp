@@ -42,7 +42,7 @@ void voxelizeAndReport(const VoxelizeJob& request) {
 /// The grid, the slices and the cross-section.
 void addGeometryOptions(CLI::App* cmd, VoxelizeJob& a) {
     auto* res = cmd->add_option("--resolution", a.resolution, "Voxels on the longest axis of the padded garment box")
-                    ->check(CLI::Range(8, 1 << 20));
+                    ->check(wholeNumber(8, 1 << 20));
     cmd->add_option("--voxel-size", a.voxelSize, "Voxel edge length, world units (instead of --resolution)")
         ->check(worldLength())
         ->excludes(res);
@@ -52,7 +52,7 @@ void addGeometryOptions(CLI::App* cmd, VoxelizeJob& a) {
     auto* perSegment =
         cmd->add_option("--slices-per-segment", a.slicesPerSegment,
                         "Slices per curve segment (the paper uses 25 and 50; default: one slice per voxel along the yarn)")
-            ->check(CLI::Range(1, 100000));
+            ->check(wholeNumber(1, 100000));
     cmd->add_option("--slice-spacing", a.spacing,
                     "Distance between slices, world units (default: the voxel size over --supersample)")
         ->check(worldLength())
@@ -103,18 +103,18 @@ void addVolumeOptions(CLI::App* cmd, VoxelizeJob& a) {
 void addRunOptions(CLI::App* cmd, VoxelizeJob& a) {
     cmd->add_option("--supersample", a.supersample, "Samples per voxel face along each axis")
         ->capture_default_str()
-        ->check(CLI::Range(1, kMaxSupersample));
+        ->check(wholeNumber(1, kMaxSupersample));
     cmd->add_option("--device", a.device, "GL backend: EGL device index (default: first GPU, else llvmpipe)")
-        ->check(CLI::Range(0, 1023));
+        ->check(wholeNumber(0, 1023));
     // The GL append counter is 32 bits, and a pass that reaches 2^31 counts as overflowed.
     cmd->add_option("--fragment-budget", a.fragmentCapacity,
                     "Fragments (samples) one zoom region may produce (default: from GPU limits and free memory; "
                     "for the CPU backend from host memory, and at most what a quarter of it holds); zoom regions "
                     "are sized to it")
-        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(0x7fffffffu)));
+        ->check(wholeNumber<std::uint64_t>(1, 0x7fffffffu));
     cmd->add_option("--work-dir", a.workDir,
                     "Directory for the per-region brick files (default: OUT.vdb.work, removed after the merge)");
-    cmd->add_flag("--resume", a.resume, "Re-use the complete, verified regions in --work-dir and compute the rest");
+    cmd->add_flag("--resume", a.resume, "Re-use the complete, verified regions in --work-dir (needed) and compute the rest");
     cmd->add_flag("--keep-work-dir", a.keepWorkDir, "Keep the default work directory after the merge");
     cmd->add_option("--stats", a.statsPath, "Write run statistics (JSON) to this file");
     cmd->add_flag("-q,--quiet", a.quiet, "No progress and no summary");

@@ -6,9 +6,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <string>
+#include <type_traits>
 
 namespace yv {
 
@@ -45,6 +47,45 @@ inline CLI::Validator finiteNumber(double limit) {
             return {};
         },
         "NUMBER", "finite number");
+}
+
+/// A finite number in [lo, hi]. CLI11's Range lets nan through (nan < lo is
+/// false): an isosurface at nan drew nothing, with exit 0.
+inline CLI::Validator finiteRange(double lo, double hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& text) -> std::string {
+            double v = 0.0;
+            if (!detail::parseWholeNumber(text, v)) return "'" + text + "' is not a number";
+            if (!std::isfinite(v)) return "'" + text + "' is not a finite number";
+            if (v < lo || v > hi) return "'" + text + "' is not in [" + numberText(lo) + ", " + numberText(hi) + "]";
+            return {};
+        },
+        "NUMBER in [" + numberText(lo) + ", " + numberText(hi) + "]", "finite number");
+}
+
+/// A whole number in [lo, hi] (a count, an index, a level), in digits. CLI11's
+/// Range called 1.5 "not in range" and its conversion "could not convert";
+/// this says which it is: not a number, not a whole number, another spelling
+/// of one ("1e3", which CLI11 cannot convert), or outside the range.
+template <class T>
+CLI::Validator wholeNumber(T lo, T hi) {
+    static_assert(std::is_integral_v<T>);
+    return CLI::Validator(
+        [lo, hi](std::string& text) -> std::string {
+            double v = 0.0;
+            if (!detail::parseWholeNumber(text, v)) return "'" + text + "' is not a number";
+            if (!std::isfinite(v) || v != std::floor(v)) return "'" + text + "' is not a whole number";
+            const std::string outside =
+                "'" + text + "' is not in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+            if (v < double(lo) || v > double(hi)) return outside; // also -1 for an unsigned option
+            // The digits read exactly: a double rounds beyond 2^53.
+            errno = 0;
+            char* end = nullptr;
+            const auto n = std::is_signed_v<T> ? T(std::strtoll(text.c_str(), &end, 10)) : T(std::strtoull(text.c_str(), &end, 10));
+            if (end != text.c_str() + text.size()) return "'" + text + "': write the whole number in digits";
+            return errno == ERANGE || n < lo || n > hi ? outside : std::string();
+        },
+        "whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", "whole number");
 }
 
 } // namespace yv

@@ -1,6 +1,7 @@
 #include "core/atomic_file.h"
 
 #include "core/error.h"
+#include "core/output_path.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -50,7 +51,20 @@ void fsyncDir(int dirFd, const std::string& dir) {
         throw Error("cannot fsync directory " + dir + ": " + errnoText(errno));
 }
 
+namespace {
+
+/// Refuses to publish over what is not a regular file (core/output_path.h):
+/// the commands check their outputs before any work, and this holds for every
+/// writer, and for a target that changed while the file was being written.
+void checkTarget(const std::string& path) {
+    if (const std::string kind = nonRegularKind(path); !kind.empty())
+        throw Error("cannot write " + path + ": it is " + kind + ", not a regular file: refusing to replace it");
+}
+
+} // namespace
+
 PendingFile::PendingFile(std::string path, int dirFd) : path_(std::move(path)), dirFd_(dirFd) {
+    checkTarget(path_); // before the temporary is made beside it (in /dev, say)
     static std::atomic<unsigned> counter{0};
     const std::filesystem::path parent = std::filesystem::path(path_).parent_path();
     dir_ = parent.empty() ? "." : parent.string();
@@ -101,6 +115,7 @@ void PendingFile::sync() {
 void PendingFile::publish() {
     YV_CHECK(!published_);
     if (fd_ >= 0) sync();
+    checkTarget(path_);
     if (::rename(tmp_.c_str(), path_.c_str()) != 0) fail("rename", errno);
     published_ = true;
     // The rename itself is durable only once the directory is synced.

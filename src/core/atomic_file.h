@@ -42,8 +42,11 @@ void fsyncDir(int dirFd, const std::string& dir);
 /// directory (created exclusively, so two writers of one output never share
 /// it), then published: fsync, rename over `path`, fsync of the directory.
 /// Until publish() returns, `path` is untouched: after a crash it is the old
-/// file, absent, or complete. Every failure throws yv::Error "cannot write
-/// PATH: STEP TMP: reason"; the temporary is removed unless published.
+/// file, absent, or complete. A `path` that is not a regular file (a link, a
+/// device, a FIFO, a directory: nonRegularKind) is never replaced: refused
+/// when the PendingFile is made and again before the rename. Every failure
+/// throws yv::Error "cannot write PATH: ..."; the temporary is removed unless
+/// published.
 class PendingFile {
   public:
     /// `dirFd`: an open descriptor of the directory of `path` that the caller

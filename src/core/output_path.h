@@ -7,6 +7,14 @@
 
 namespace yv {
 
+/// What `path` itself is (never what a link points to) when it exists and is
+/// not a regular file: "a symbolic link", "a directory", "a device", "a FIFO",
+/// "a socket" or "not a regular file"; "" for a regular file or nothing.
+/// Renaming a finished file over any of these would destroy it (a device
+/// node, a FIFO another program reads, a link the user made), so no yarnvox
+/// file is published over one (checkOutputPath, PendingFile).
+std::string nonRegularKind(const std::string& path);
+
 /// Throws yv::Error, naming `path` and `what` ("-o", "--stats"), when `path`
 /// is not a place for a new or replaced regular file: a directory, a device,
 /// a FIFO, a socket or a symbolic link; a directory that does not exist; or

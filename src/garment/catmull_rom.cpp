@@ -5,6 +5,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace yv {
@@ -87,6 +88,26 @@ glm::dvec3 evalCatmullRomSecondDerivative(const SegmentPoints& p, double t) {
     const double w2 = 8.0 - 18.0 * t;
     const double w3 = -2.0 + 6.0 * t;
     return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
+}
+
+glm::dvec3 evalCatmullRomThirdDerivative(const SegmentPoints& p) {
+    return 3.0 * (-p[0] + 3.0 * p[1] - 3.0 * p[2] + p[3]);
+}
+
+glm::dvec3 knotDirection(const SegmentPoints& p, bool atEnd, bool* cusp) {
+    const double least = 1e-12 * (std::max(glm::length(p[1]), glm::length(p[2])) + 1.0);
+    const double t = atEnd ? 1.0 : 0.0;
+    const glm::dvec3 d1 = evalCatmullRomDerivative(p, t);
+    const bool stops = !(glm::length(d1) > least);
+    if (cusp) *cusp = stops;
+    if (!stops) return d1;
+    // C'(t + s) = C'(t) + s C''(t) + s^2 / 2 C''' with C'(t) gone: the tangent
+    // as s -> 0 follows s C''(t), or C''' where that vanishes too. At the end
+    // s is negative, so the curve arrives along -C''(1).
+    const glm::dvec3 d2 = evalCatmullRomSecondDerivative(p, t);
+    if (glm::length(d2) > least) return atEnd ? -d2 : d2;
+    const glm::dvec3 d3 = evalCatmullRomThirdDerivative(p);
+    return glm::length(d3) > least ? d3 : glm::dvec3(0.0);
 }
 
 void catmullRomBounds(const SegmentPoints& p, glm::dvec3& lo, glm::dvec3& hi) {

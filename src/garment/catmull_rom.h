@@ -38,6 +38,19 @@ double catmullRomArcLength(const SegmentPoints& p, double t0, double t1);
 /// Second derivative with respect to t.
 glm::dvec3 evalCatmullRomSecondDerivative(const SegmentPoints& p, double t);
 
+/// Third derivative with respect to t (a cubic's is the same for every t).
+glm::dvec3 evalCatmullRomThirdDerivative(const SegmentPoints& p);
+
+/// Which way the curve leaves the segment's start (atEnd false: the limit of
+/// the tangent as t falls to 0) or arrives at its end (atEnd true: as t rises
+/// to 1), not normalized. That is the first derivative there; where it
+/// vanishes (a cusp: the knot's neighbours coincide, so the curve stops there
+/// and turns straight back), the first higher derivative that does not,
+/// signed the way the curve moves. `cusp` is set when the first derivative
+/// vanished. Zero only where the segment does not move at all. A derivative
+/// counts as zero below 1e-12 of the size of the segment's end points.
+glm::dvec3 knotDirection(const SegmentPoints& p, bool atEnd, bool* cusp = nullptr);
+
 /// Exact bounding box of the segment for t in [0, 1]: the end points and, per
 /// axis, the cubic's extrema (roots of its quadratic derivative) inside (0, 1).
 void catmullRomBounds(const SegmentPoints& p, glm::dvec3& lo, glm::dvec3& hi);

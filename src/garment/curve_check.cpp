@@ -69,29 +69,39 @@ void checkCount(const Yarn& yarn, CurveType type, std::size_t filePoints, const 
                     "(open) or 3k (closed: the last segment ends at the first point)");
 }
 
-/// Refuses a knot where the curve's derivative vanishes: the slices there
-/// would have no normal. Checked at each segment's start and end.
-void checkTangents(const Yarn& yarn, CurveType type, const std::vector<std::size_t>& original, const std::string& where) {
-    const std::size_t segments = yarnSegmentCount(yarn, type);
+/// The file index of the knot at one end of segment `s`: for Catmull-Rom and
+/// polylines the segment's start or end point; for B-splines and Bezier
+/// curves the segment's first control point is as close as one can name it.
+std::size_t knotPoint(const Yarn& yarn, CurveType type, std::size_t s, int end, const std::vector<std::size_t>& original) {
     const std::size_t n = yarn.points.size();
+    const std::size_t local = type == CurveType::Bezier    ? (3 * s + 3 * end) % n
+                              : type == CurveType::BSpline ? (yarn.closed ? s + n - 1 + end : s + end) % n
+                                                           : (s + end) % n;
+    return original[local];
+}
+
+/// The knots (file indices, ascending, each once) where the curve's
+/// derivative vanishes: cusps, where the knot's neighbours coincide and the
+/// curve turns straight back. The slicer takes each side's one-sided
+/// tangent there (knotDirection). Refuses a segment that does not move at
+/// all: its slices would have no normal.
+std::vector<std::size_t> findCusps(const Yarn& yarn, CurveType type, const std::vector<std::size_t>& original,
+                                   const std::string& where) {
+    std::vector<std::size_t> cusps;
+    const std::size_t segments = yarnSegmentCount(yarn, type);
     for (std::size_t s = 0; s < segments; ++s) {
         const SegmentPoints p = segmentPoints(yarn, s, type);
-        // Derivatives at t = 0 and t = 1 are (P2 - P0) / 2 and (P3 - P1) / 2.
         for (int end = 0; end < 2; ++end) {
-            const glm::dvec3 d = end == 0 ? p[2] - p[0] : p[3] - p[1];
-            const double scale = std::max(glm::length(p[1]), glm::length(p[2])) + 1.0;
-            if (glm::length(d) > 1e-12 * scale) continue;
-            // The knot's point in the file: for Catmull-Rom and polylines the
-            // segment's start or end point; for B-splines and Bezier curves the
-            // segment's first control point is as close as one can name it.
-            const std::size_t local =
-                type == CurveType::Bezier ? (3 * s + 3 * end) % n
-                : type == CurveType::BSpline ? (yarn.closed ? s + n - 1 + end : s + end) % n
-                                               : (s + end) % n;
-            throw Error(where + " point " + std::to_string(original[local]) +
-                        ": the curve stops there (its neighbours coincide, so it turns straight back): no tangent, not a curve");
+            bool cusp = false;
+            if (knotDirection(p, end == 1, &cusp) == glm::dvec3(0.0))
+                throw Error(where + " point " + std::to_string(knotPoint(yarn, type, s, end, original)) +
+                            ": the curve does not move from there (the control points of its segment coincide): not a curve");
+            if (cusp) cusps.push_back(knotPoint(yarn, type, s, end, original));
         }
     }
+    std::sort(cusps.begin(), cusps.end());
+    cusps.erase(std::unique(cusps.begin(), cusps.end()), cusps.end());
+    return cusps;
 }
 
 /// The warning for a span far longer than the curve's median span, or "".
@@ -118,7 +128,26 @@ struct CurveFinding {
     CurveCheckReport dropped; ///< its dropped spans (no warnings)
     std::string error;        ///< why the curve cannot be used, or ""
     std::string longSpan;     ///< longSpanWarning's text, or ""
+    std::vector<std::size_t> cusps; ///< findCusps's knots
 };
+
+/// One line for every cusp of the garment ("" when there is none): the
+/// point when there is one, else the count and the first in file order.
+std::string cuspWarning(const std::string& name, const std::vector<CurveFinding>& findings, std::size_t& count) {
+    count = 0;
+    std::string first;
+    for (std::size_t i = 0; i < findings.size(); ++i) {
+        if (first.empty() && !findings[i].cusps.empty())
+            first = "curve " + std::to_string(i) + " point " + std::to_string(findings[i].cusps.front());
+        count += findings[i].cusps.size();
+    }
+    if (count == 0) return {};
+    if (count == 1)
+        return name + ": " + first + ": the curve stops there and turns straight back (its neighbours coincide: no " +
+               "tangent); voxelized as a cusp, each side along its own tangent";
+    return name + ": " + std::to_string(count) + " points where a curve stops and turns straight back (their neighbours " +
+           "coincide: no tangent), the first at " + first + "; voxelized as cusps, each side along its own tangent";
+}
 
 } // namespace
 
@@ -151,7 +180,7 @@ CurveCheckReport checkCurves(Garment& garment, const std::string& name) {
         }
         try {
             checkCount(yarn, garment.curveType, filePoints, where);
-            checkTangents(yarn, garment.curveType, original, where);
+            found.cusps = findCusps(yarn, garment.curveType, original, where);
         } catch (const Error& e) {
             found.error = e.what();
             return;
@@ -159,10 +188,12 @@ CurveCheckReport checkCurves(Garment& garment, const std::string& name) {
         found.longSpan = longSpanWarning(yarn, garment.curveType, original, where);
     });
 
+    for (const CurveFinding& found : findings)
+        if (!found.error.empty()) throw Error(found.error); // the first curve that cannot be used
     CurveCheckReport report;
+    if (std::string cusps = cuspWarning(name, findings, report.cusps); !cusps.empty()) report.warnings.push_back(cusps);
     std::size_t curvesWithLongSpans = 0;
     for (const CurveFinding& found : findings) {
-        if (!found.error.empty()) throw Error(found.error); // the first curve that cannot be used
         report.droppedSpans += found.dropped.droppedSpans;
         report.droppedClosingSpans += found.dropped.droppedClosingSpans;
         if (!found.longSpan.empty() && ++curvesWithLongSpans <= kMaxLongSpanLines) report.warnings.push_back(found.longSpan);

@@ -15,6 +15,7 @@ namespace yv {
 struct CurveCheckReport {
     std::size_t droppedSpans = 0;        ///< zero-length spans removed (a point repeating its predecessor)
     std::size_t droppedClosingSpans = 0; ///< of them: a closed curve's last point repeating its first
+    std::size_t cusps = 0;               ///< knots where a curve turns straight back (no tangent), voxelized as cusps
     std::vector<std::string> warnings;   ///< one line each, without "warning: "
 
     /// One line for stderr saying what was dropped ("" when nothing was).
@@ -26,9 +27,12 @@ struct CurveCheckReport {
 /// to the one before it, and a closed curve's last point equal to its first;
 /// for Bezier curves only the latter). Throws yv::Error, naming `name`, the
 /// curve and the point, for what cannot be a curve: all points in one place,
-/// a knot where the curve turns straight back (no tangent), a B-spline or
-/// Bezier curve with a point count its type cannot use. Warns about a span
-/// far longer than the rest of its curve.
+/// a segment that does not move, a B-spline or Bezier curve with a point count
+/// its type cannot use. Warns, in one line for the whole garment, about knots
+/// where a curve turns straight back (its neighbours coincide, so it has no
+/// tangent there): real knits have them, renderers draw them, and the slicer
+/// takes each side's own tangent there (knotDirection). Warns about a span far
+/// longer than the rest of its curve.
 CurveCheckReport checkCurves(Garment& garment, const std::string& name);
 
 } // namespace yv

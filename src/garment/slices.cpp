@@ -48,7 +48,9 @@ glm::dvec3 unitTangent(const glm::dvec3& d, std::uint32_t yarn) {
 void frameAndTwistYarn(const Yarn& yarn, double twist, std::span<SegmentRecord> segments) {
     for (std::size_t i = 0; i < segments.size(); ++i) {
         SegmentRecord& rec = segments[i];
-        const glm::dvec3 t0 = unitTangent(evalCatmullRomDerivative(rec.points, 0.0), rec.yarn);
+        // At a cusp (the curve turns straight back at the knot) the frame
+        // starts from the tangent the curve leaves the knot by.
+        const glm::dvec3 t0 = unitTangent(knotDirection(rec.points, false), rec.yarn);
         rec.knotTangent = t0;
         if (i == 0) {
             rec.arcStart = 0.0;

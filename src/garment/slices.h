@@ -37,7 +37,7 @@ struct SliceOptions {
 /// record on the thread that fills it), see DefaultInitAllocator.
 struct SegmentRecord {
     SegmentPoints points;      ///< P[i-1], P[i], P[i+1], P[i+2]
-    glm::dvec3 knotTangent;    ///< unit tangent at t = 0
+    glm::dvec3 knotTangent;    ///< unit tangent at t = 0 (at a cusp, the one the curve leaves by)
     glm::dvec3 knotUp;         ///< frame "up" at t = 0, perpendicular to knotTangent
     double arcStart;           ///< arc length of the yarn before this segment
     double length;             ///< arc length of this segment (sum of its slices' thicknesses)
@@ -93,8 +93,11 @@ inline double slabScale(const Slice& slice, double x, double y) {
 /// transported from knot to knot without flips. On a closed yarn the frame's
 /// holonomy (the angle it comes back turned by) and the twist are spread
 /// evenly over the loop, so the cross-section turns by the same angle per
-/// unit length across the closing point as anywhere else. Throws yv::Error on
-/// a yarn with fewer than 2 points or with repeated points that leave no tangent.
+/// unit length across the closing point as anywhere else. At a knot where
+/// the curve turns straight back (a cusp, no tangent) the frame is carried
+/// over to the tangent the curve leaves by (knotDirection): the curve itself
+/// is unchanged. Throws yv::Error on a yarn with fewer than 2 points or with
+/// repeated points that leave no tangent.
 SlicePlan planSlices(const Garment& garment, const SliceOptions& options);
 
 /// What the slice bounds need of slice `k`: where it sits, how thick it is

@@ -49,6 +49,7 @@ ViewAngles parseView(const std::string& text) {
     v.azimuth = (*numbers)[0];
     v.elevation = (*numbers)[1];
     v.distance = (*numbers)[2];
+    if (v.azimuth < -360.0 || v.azimuth > 360.0) throw Error("--view '" + text + "': azimuth must lie in [-360, 360] degrees");
     if (v.elevation < -90.0 || v.elevation > 90.0)
         throw Error("--view '" + text + "': elevation must lie in [-90, 90] degrees");
     if (v.distance <= 0.0 || v.distance > 1e6) throw Error("--view '" + text + "': distance must lie in (0, 1e6] sphere radii");
@@ -59,6 +60,7 @@ LightAngles parseLight(const std::string& text) {
     const std::optional<std::vector<double>> numbers = parseNumberList(text, 2);
     if (!numbers) throw Error("--light '" + text + "': expected azimuth,elevation (degrees, degrees)");
     LightAngles l{(*numbers)[0], (*numbers)[1]};
+    if (l.azimuth < -360.0 || l.azimuth > 360.0) throw Error("--light '" + text + "': azimuth must lie in [-360, 360] degrees");
     if (l.elevation < -90.0 || l.elevation > 90.0) throw Error("--light '" + text + "': elevation must lie in [-90, 90] degrees");
     return l;
 }

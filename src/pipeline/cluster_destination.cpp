@@ -55,19 +55,20 @@ class ClaimSink : public StoreSink {
 /// What each rank reports at the end of the hand-out, summed on rank 0.
 struct RankTotals {
     bool interrupted = false;
-    std::uint64_t rasterized = 0, resumed = 0, recomputed = 0;
+    std::uint64_t rasterized = 0, resumed = 0, missing = 0, damaged = 0;
     ResolveTally tally;
 
     /// The values the cluster sums, in one fixed order (fromSums reads it back).
     std::vector<double> values() const {
-        return {interrupted ? 1.0 : 0.0,        double(rasterized),         double(resumed),
-                double(recomputed),             double(tally.activeVoxels), double(tally.voxelsOverOne),
-                tally.densitySum,               tally.rawDensitySum,        tally.excessOverOne};
+        return {interrupted ? 1.0 : 0.0,  double(rasterized),         double(resumed),
+                double(missing),          double(damaged),            double(tally.activeVoxels),
+                double(tally.voxelsOverOne), tally.densitySum,        tally.rawDensitySum,
+                tally.excessOverOne};
     }
     static RankTotals fromSums(const std::vector<double>& s) {
         const auto count = [](double v) { return static_cast<std::uint64_t>(v); };
-        return {s[0] > 0.0, count(s[1]), count(s[2]), count(s[3]),
-                ResolveTally{count(s[4]), count(s[5]), s[6], s[7], s[8]}};
+        return {s[0] > 0.0, count(s[1]), count(s[2]), count(s[3]), count(s[4]),
+                ResolveTally{count(s[5]), count(s[6]), s[7], s[8], s[9]}};
     }
 };
 
@@ -93,7 +94,7 @@ class ClusterDestination : public WorkDirDestination {
     std::optional<RunTotals> collect() override {
         RunTotals totals = localTotals();
         const RankTotals mine{interruptSignal() != 0, totals.regionsRasterized, totals.regionsResumed,
-                              totals.regionsRecomputed, totals.writer.tally};
+                              totals.regionsMissing, totals.regionsDamaged, totals.writer.tally};
         const RankTotals all = RankTotals::fromSums(group_.endHandout(mine.values()));
         if (job_.verbose && !job_.quiet)
             note_("rank " + std::to_string(group_.rank()) + ": " + std::to_string(mine.rasterized) +
@@ -102,7 +103,8 @@ class ClusterDestination : public WorkDirDestination {
         if (all.interrupted) throw Error(interruptedMessage("a signal", all.rasterized + all.resumed));
         totals.regionsRasterized = all.rasterized;
         totals.regionsResumed = all.resumed;
-        totals.regionsRecomputed = all.recomputed;
+        totals.regionsMissing = all.missing;
+        totals.regionsDamaged = all.damaged;
         totals.writer.tally = all.tally;
         return totals;
     }

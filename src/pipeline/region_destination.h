@@ -28,7 +28,8 @@ namespace yv {
 struct RunTotals {
     std::uint64_t regionsRasterized = 0; ///< regions rasterized and handed to the writer
     std::uint64_t regionsResumed = 0;    ///< regions found complete and verified in a resumed work dir
-    std::uint64_t regionsRecomputed = 0; ///< damaged region files found on resume, computed again
+    std::uint64_t regionsMissing = 0;    ///< regions with no file on resume, computed
+    std::uint64_t regionsDamaged = 0;    ///< region files that failed a check on resume, computed again
     std::uint64_t activeVoxels = 0, bricks = 0;
     std::uint64_t storeBytes = 0;        ///< the work dir's bytes once merged (0 in memory)
     RegionWriterStats writer;            ///< the writer's times; its tally covers the regions rasterized here

@@ -43,16 +43,16 @@ class StoreSink : public QueueSink {
     StoreSink(BrickStore& store, RegionWriter& writer, bool resume) : QueueSink(writer), store_(store), resume_(resume) {}
     bool alreadyDone(const ZoomRegion& r) override {
         if (!resume_) return false;
-        std::string why;
-        if (store_.hasVerifiedRegion(r.id, r.min, r.max, &why)) {
-            ++resumed;
-            return true;
+        switch (store_.verifyRegion(r.id, r.min, r.max)) {
+        case BrickStore::RegionState::Verified: ++resumed; return true;
+        case BrickStore::RegionState::Missing: ++missing; return false;
+        case BrickStore::RegionState::Damaged: ++damaged; return false;
         }
-        if (!why.empty()) ++recomputed;
         return false;
     }
-    std::uint64_t resumed = 0;    ///< regions found complete and verified
-    std::uint64_t recomputed = 0; ///< damaged region files found on resume
+    std::uint64_t resumed = 0; ///< regions found complete and verified
+    std::uint64_t missing = 0; ///< regions with no file on resume (the run stopped before them): computed
+    std::uint64_t damaged = 0; ///< region files that failed a check on resume, deleted: computed again
 
   private:
     BrickStore& store_;

@@ -14,15 +14,24 @@
 namespace yv {
 namespace {
 
+/// Where the run writes: the output's directory, and the work dir's.
+RunPlace runPlace(const VoxelizeJob& job, bool throughWorkDir) {
+    const std::string outputDir = std::filesystem::path(job.output).parent_path().string();
+    return {outputDir, throughWorkDir ? (job.workDir.empty() ? outputDir : job.workDir) : ""};
+}
+
+/// How the grid was asked for, as the messages name it.
+std::string scaleOption(const VoxelizeJob& job) {
+    return job.resolution > 0 ? "--resolution " + std::to_string(job.resolution) : "--voxel-size " + numberText(job.voxelSize);
+}
+
 /// Refuses a run that needs more disk than the output's (and the work
 /// dir's) file system has, before minutes of work.
 void checkDiskNeeds(const VoxelizeJob& job, bool throughWorkDir, const Garment& garment, double radius,
                     double voxelSize, const std::string& voxelSource) {
-    const std::string outputDir = std::filesystem::path(job.output).parent_path().string();
-    const RunPlace place{outputDir, throughWorkDir ? (job.workDir.empty() ? outputDir : job.workDir) : ""};
     const TraceSpan span("estimate what the run needs");
-    const std::string problem = checkNeeds(
-        estimateNeeds(garment, radius, voxelSize, job.precision == VdbPrecision::Half), place, voxelSource);
+    const std::string problem = checkNeeds(estimateNeeds(garment, radius, voxelSize, job.precision == VdbPrecision::Half),
+                                           runPlace(job, throughWorkDir), voxelSource);
     if (!problem.empty()) throw Error(job.input + ": " + problem);
 }
 
@@ -46,10 +55,7 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
     // slice per (supersampled) voxel along the yarn, unless asked otherwise.
     const double voxelSize = voxelSizeFor(s.garment, s.radius.radius, job.resolution, job.voxelSize);
     // A run that would leave no voxels is refused before any slicing.
-    const RunScale scale{s.radius.radius, s.radius.description, voxelSize,
-                         job.resolution > 0 ? "--resolution " + std::to_string(job.resolution)
-                                            : "--voxel-size " + numberText(job.voxelSize),
-                         job.supersample, job.spacing};
+    const RunScale scale{s.radius.radius, s.radius.description, voxelSize, scaleOption(job), job.supersample, job.spacing};
     for (const std::string& w : checkRunScale(scale, s.xs)) tell("warning: " + w);
     checkDiskNeeds(job, throughWorkDir, s.garment, s.radius.radius, voxelSize, scale.voxelSource);
 
@@ -66,6 +72,14 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
     }();
     timer.lap("slices");
     return s;
+}
+
+void checkOutputFits(const VoxelizeJob& job, bool throughWorkDir, const SlicedGarment& sliced, const VoxelGrid& grid,
+                     const VdbShape& shape) {
+    const TraceSpan span("estimate the output");
+    const std::string problem =
+        checkExpectedDisk(outputPlan(sliced.plan, grid, sliced.xs, shape), runPlace(job, throughWorkDir), scaleOption(job));
+    if (!problem.empty()) throw Error(job.input + ": " + problem);
 }
 
 } // namespace yv

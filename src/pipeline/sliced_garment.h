@@ -7,6 +7,7 @@
 #include "pipeline/stage_timer.h"
 #include "pipeline/voxelize_job.h"
 #include "pipeline/yarn_radius.h"
+#include "plan/resource_estimate.h"
 
 namespace yv {
 
@@ -27,5 +28,13 @@ struct SlicedGarment {
 /// job says otherwise). Laps "read" and "slices" on `timer`; warnings go to
 /// `tell`. Throws yv::Error naming the input.
 SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Tell& tell, StageTimer& timer);
+
+/// Refuses, once the slices lie on `grid`, a run whose expected output (the
+/// .vdb as `shape` stores it, its scratch file, the work dir's regions) does
+/// not fit the free disk: the bound sliceGarment checks before slicing
+/// catches only runs far too large. Throws yv::Error naming the input, the
+/// bytes expected and free, and what to change.
+void checkOutputFits(const VoxelizeJob& job, bool throughWorkDir, const SlicedGarment& sliced, const VoxelGrid& grid,
+                     const VdbShape& shape);
 
 } // namespace yv

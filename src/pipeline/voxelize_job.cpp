@@ -18,6 +18,10 @@ void checkJob(const VoxelizeJob& job, bool sharedByRanks) {
     if (dense && sharedByRanks) throw Error("--method dense runs in one process, not under mpirun -np 2 or more");
     if (dense && job.backend == BackendRequest::Cpu) throw Error("--method dense needs --backend gl");
     if (dense && (!job.workDir.empty() || job.resume)) throw Error("--work-dir and --resume need the sparse method");
+    // Without it the run went to memory and --resume was silently ignored.
+    if (job.resume && job.workDir.empty())
+        throw Error("--resume needs --work-dir DIR: the work directory of the run to go on with (one kept by "
+                    "--keep-work-dir is " + job.output + ".work)");
     // --albedo's limits: the sparse method with the mean reduction carries the colour (on either backend).
     if (job.albedo && dense) throw Error("--albedo: the dense method has no albedo; use --method sparse");
     if (job.albedo && job.reduce != Reduce::Mean)

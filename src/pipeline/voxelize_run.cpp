@@ -225,6 +225,8 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
     VolumeMetadata meta = describeRun(job, backend, sliced);
     VdbWriteTimings writeTimings;
     const VdbWriteOptions writeOptions = writeOptionsFor(job, grid, sliced, writeTimings);
+    checkOutputFits(job, job.throughWorkDir(group != nullptr), sliced, grid,
+                    {job.precision == VdbPrecision::Half, writeOptions.albedo, writeOptions.lodLevels});
 
     RunTotals totals;
     double voxelizeSeconds = 0.0;

@@ -23,7 +23,8 @@ RunTotals WorkDirDestination::localTotals() {
     RunTotals totals;
     totals.regionsRasterized = sink_->consumed;
     totals.regionsResumed = sink_->resumed;
-    totals.regionsRecomputed = sink_->recomputed;
+    totals.regionsMissing = sink_->missing;
+    totals.regionsDamaged = sink_->damaged;
     totals.writer = writer_->stats();
     return totals;
 }
@@ -31,9 +32,10 @@ RunTotals WorkDirDestination::localTotals() {
 std::string WorkDirDestination::interruptedMessage(const std::string& signal, std::uint64_t regionsDone) const {
     const std::string& line = commandLine();
     const bool resuming = line.find(" --resume") != std::string::npos;
+    // --resume needs the work dir named, also where it was the default one.
     return "interrupted by " + signal + " after " + std::to_string(regionsDone) + " of " +
            std::to_string(regions_.size()) + " regions, all of them kept in " + workDir_ + "; go on with: " + line +
-           (resuming ? "" : " --resume");
+           (job_.workDir.empty() ? " --work-dir " + workDir_ : "") + (resuming ? "" : " --resume");
 }
 
 std::optional<RunTotals> WorkDirDestination::collect() {

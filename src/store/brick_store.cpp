@@ -236,25 +236,25 @@ void BrickStore::requireWritable(const char* what) const {
 
 std::string BrickStore::regionPath(std::uint64_t id) const { return joinPath(dir_, regionName(id)); }
 
-bool BrickStore::hasVerifiedRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::string* whyNot) {
+BrickStore::RegionState BrickStore::verifyRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::string* whyNot) {
     requireWritable("check regions");
     const std::string path = regionPath(id);
     const auto bytes = readWholeFile(path);
     if (!bytes) {
         if (whyNot) *whyNot = path + ": not on disk";
-        return false;
+        return RegionState::Missing;
     }
     try {
         const RegionHeader h = parseRegionHeader(bytes->data(), bytes->size(), path);
         checkRegionIdentity(h, manifest_, id, &min, &max, path);
         decodeRegionBody(bytes->data(), h, path, nullptr);
-        return true;
+        return RegionState::Verified;
     } catch (const Error& e) {
         if (whyNot) *whyNot = e.what();
     }
     removeOwnFile(dir_, regionName(id));
     fsyncDir(dirFd_, dir_);
-    return false;
+    return RegionState::Damaged;
 }
 
 RegionInfo BrickStore::writeRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::vector<VoxelBrick> bricks,

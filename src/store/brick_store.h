@@ -53,10 +53,20 @@ class BrickStore {
     BrickStore(const BrickStore&) = delete;
     BrickStore& operator=(const BrickStore&) = delete;
 
+    /// What verifyRegion found of a region's file.
+    enum class RegionState {
+        Verified, ///< on disk, of this run and these bounds, every check passed
+        Missing,  ///< no file: the run never wrote it
+        Damaged,  ///< a file that fails a check (or is another run's): deleted
+    };
     /// Whether region `id` is on disk, belongs to this run with these bounds and
     /// passes every check (checksums, decompression). A file that fails is
-    /// deleted, the reason put in `whyNot`, and false returned: the caller recomputes.
-    bool hasVerifiedRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::string* whyNot = nullptr);
+    /// deleted and the reason put in `whyNot` ("not on disk" when there is
+    /// none): the caller recomputes the region.
+    RegionState verifyRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::string* whyNot = nullptr);
+    bool hasVerifiedRegion(std::uint64_t id, glm::ivec3 min, glm::ivec3 max, std::string* whyNot = nullptr) {
+        return verifyRegion(id, min, max, whyNot) == RegionState::Verified;
+    }
     /// Writes the bricks of one region (any order; written sorted by key)
     /// atomically: afterwards the file is complete, or absent after a crash.
     /// Bricks must be distinct and overlap [min, max). Also call it for a region
