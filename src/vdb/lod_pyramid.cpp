@@ -146,8 +146,8 @@ void CoarseBrick::clear(std::uint64_t k, bool withAlbedo, int levelsSkipped) {
     key = k;
     albedo = withAlbedo;
     skip = levelsSkipped;
-    // The sums of untouched voxels are never read: at 28 KB a brick,
-    // clearing them was most of a sparse parent's time.
+    // The sums of untouched voxels are never read: clearing all 28 KB of
+    // them for a parent with a few children was work for nothing.
     touched.fill(0);
 }
 

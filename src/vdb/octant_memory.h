@@ -1,6 +1,6 @@
 // The octants of the preview pyramid's first level (lod_request.h) kept in
 // memory instead of the scratch file: one record of sums per level-0 brick,
-// 40 bytes (52 with albedo). Read back from the scratch file, each was a
+// 40 bytes (52 with albedo). Read back from the scratch file, each would be a
 // system call for 40 bytes; in memory, with its 16-byte place, it is about a
 // quarter of what level 0's index holds per leaf. The full pyramid's octants
 // (up to 2 KB a brick) stay in the scratch file.
