@@ -12,7 +12,7 @@ namespace yv {
 namespace {
 
 /// Regions read at once by a verify.
-constexpr std::size_t kRegionsInFlight = 4;
+constexpr std::size_t kRegionsInFlight = 8;
 
 } // namespace
 

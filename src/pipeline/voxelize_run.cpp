@@ -226,7 +226,8 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
     VdbWriteTimings writeTimings;
     const VdbWriteOptions writeOptions = writeOptionsFor(job, grid, sliced, writeTimings);
     checkOutputFits(job, job.throughWorkDir(group != nullptr), sliced, grid,
-                    {job.precision == VdbPrecision::Half, writeOptions.albedo, writeOptions.lodLevels});
+                    {job.precision == VdbPrecision::Half, writeOptions.albedo, writeOptions.lodLevels,
+                     writeOptions.lodFirstLevel});
 
     RunTotals totals;
     double voxelizeSeconds = 0.0;

@@ -128,8 +128,8 @@ ExpectedOutput expectOutput(const OutputPlan& run) {
     const VdbShape& shape = run.shape;
     const int grids = shape.albedo ? 3 : 2;
     const double values = shape.albedo ? 28.0 : 16.0; // density, axis (and colour) as floats
-    double levels = 0.0; // each coarser level holds about a quarter of the voxels of the one before
-    for (int l = 0; l <= shape.lodLevels; ++l) levels += std::pow(0.25, l);
+    double levels = 1.0; // each coarser level holds about a quarter of the voxels of the one before
+    for (int l = std::max(1, shape.lodFirstLevel); l <= shape.lodLevels; ++l) levels += std::pow(0.25, l);
     ExpectedOutput e;
     e.activeVoxels = run.yarnLength * area / (h * h * h);
     e.vdbBytes = e.activeVoxels * levels * (values * (shape.halfPrecision ? 0.5 : 1.0) + kLeafBytesPerVoxel * grids);

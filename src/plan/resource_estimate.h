@@ -42,7 +42,8 @@ std::string checkNeeds(const ResourceNeeds& needs, const RunPlace& place, const 
 struct VdbShape {
     bool halfPrecision = false; ///< --precision half
     bool albedo = false;        ///< an albedo grid beside density and orientation
-    int lodLevels = 0;          ///< --lod
+    int lodLevels = 0;          ///< --lod: the coarsest level (0: none)
+    int lodFirstLevel = 1;      ///< the finest coarse level: 1, or 3 for the preview pyramid
 };
 
 /// A run as the disk estimate sees it, once its slices and grid are known.
