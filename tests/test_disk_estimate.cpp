@@ -88,12 +88,12 @@ TEST_CASE("Disk estimate: a yarn's voxels from its length and grown cross-sectio
     CHECK(yv::expectOutput(run).vdbBytes == Approx(31.0 * voxels));
     run.shape = {false, false, 2};
     CHECK(yv::expectOutput(run).vdbBytes == Approx(18.0 * voxels * (1.0 + 0.25 + 0.0625)));
-    // The preview pyramid (levels 3 to 11) adds under 2 %, not the third a full pyramid would.
+    // The preview pyramid (levels 3 to 11) adds about 2 %, not the third a full pyramid would.
     run.shape = {false, false, 11, 3};
     double preview = 1.0;
     for (int l = 3; l <= 11; ++l) preview += std::pow(0.25, l);
     CHECK(yv::expectOutput(run).vdbBytes == Approx(18.0 * voxels * preview));
-    CHECK(preview < 1.02);
+    CHECK(preview < 1.025);
 }
 
 TEST_CASE("Disk estimate: refused without a 5 % margin, with the bytes, the free space and a grid that fits",
