@@ -186,13 +186,13 @@ TEST_CASE("A pending file reaches its name whole at publish, and one never publi
     CHECK(fileBytes(path) == published);
     CHECK(temporaries() == 0);
 
-    // A rename that fails (a directory with a file in it holds the name):
-    // one error naming the step, and the temporary is gone.
+    // A directory holding the name: refused before any temporary is made,
+    // one error naming what is there, and nothing is left.
     const fs::path blocked = scratch("blocked");
     fs::create_directories(blocked / "inside");
     const std::uint8_t byte = 1;
     CHECK_THROWS_WITH(writeFileAtomically(blocked.string(), std::span(&byte, 1)),
-                      Catch::StartsWith("cannot write " + blocked.string() + ": rename " + blocked.string() + ".partial-"));
+                      Catch::StartsWith("cannot write " + blocked.string() + ": it is a directory"));
     std::size_t left = 0;
     for (const auto& e : fs::directory_iterator(blocked.parent_path()))
         left += e.path().filename().string().starts_with("blocked.partial-");
