@@ -88,14 +88,7 @@ class VdbSubsetSource final : public VolumeSource {
         return {(*lo >> 3) * kBrickSize, ((*hi >> 3) + 1) * kBrickSize};
     }
 
-    VoxelBox regionBounds(std::uint64_t id) const override {
-        const std::string& path = index_->path();
-        if (regions_.empty()) throw Error(vdbHasNoRegions(path));
-        for (const RecordedRegion& r : regions_)
-            if (r.id == id) return VoxelBox{r.min, r.max};
-        throw Error(path + ": has no region " + std::to_string(id) + " (it records " + std::to_string(regions_.size()) +
-                    " zoom regions)");
-    }
+    VoxelBox regionBounds(std::uint64_t id) const override { return recordedRegionBox(regions_, id, index_->path()); }
 
   protected:
     void visitBricks(int level, glm::ivec3 lo, glm::ivec3 hi, const Visit& visit, bool concurrent) const override {

@@ -60,13 +60,7 @@ class VdbSource final : public VolumeSource {
             return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
         });
     }
-    VoxelBox regionBounds(std::uint64_t id) const override {
-        if (regions_.empty()) throw Error(vdbHasNoRegions(path_));
-        for (const RecordedRegion& r : regions_)
-            if (r.id == id) return VoxelBox{r.min, r.max};
-        throw Error(path_ + ": has no region " + std::to_string(id) + " (it records " + std::to_string(regions_.size()) +
-                    " zoom regions)");
-    }
+    VoxelBox regionBounds(std::uint64_t id) const override { return recordedRegionBox(regions_, id, path_); }
     /// Each visit reads the grids afresh and frees every leaf once it is
     /// handed on, so memory holds the topology and one leaf, not the leaves
     /// visited so far.

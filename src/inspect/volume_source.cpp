@@ -1,6 +1,7 @@
 #include "inspect/volume_source.h"
 
 #include "core/error.h"
+#include "inspect/inspect_vdb.h"
 
 #include <algorithm>
 #include <atomic>
@@ -60,6 +61,14 @@ class MemorySource final : public VolumeSource {
 
 std::unique_ptr<VolumeSource> memorySource(const BrickVolume& volume, std::vector<VoxelBox> regions) {
     return std::make_unique<MemorySource>(volume, std::move(regions));
+}
+
+VoxelBox recordedRegionBox(const std::vector<RecordedRegion>& regions, std::uint64_t id, const std::string& path) {
+    if (regions.empty()) throw Error(vdbHasNoRegions(path));
+    for (const RecordedRegion& r : regions)
+        if (r.id == id) return VoxelBox{r.min, r.max};
+    throw Error(path + ": has no region " + std::to_string(id) + " (it records " + std::to_string(regions.size()) +
+                " zoom regions)");
 }
 
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& path) {

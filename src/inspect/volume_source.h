@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/run_metadata.h"
 
 #include <glm/vec3.hpp>
 
@@ -104,6 +105,9 @@ std::unique_ptr<VolumeSource> openVdbSource(const std::string& path);
 std::unique_ptr<VolumeSource> openVdbSourceThroughOpenVdb(const std::string& path);
 /// Bricks already in memory (tests, benchmarks); regions are given as boxes by id.
 std::unique_ptr<VolumeSource> memorySource(const BrickVolume& volume, std::vector<VoxelBox> regions = {});
+/// The box of zoom region `id` among the regions a .vdb at `path` records;
+/// throws yv::Error when it records none or not that one.
+VoxelBox recordedRegionBox(const std::vector<RecordedRegion>& regions, std::uint64_t id, const std::string& path);
 /// A work directory or a .vdb, by what `path` is.
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& path);
 
