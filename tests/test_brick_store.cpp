@@ -59,6 +59,25 @@ StoreManifest testManifest(std::uint64_t fingerprint = 0x1234abcd5678ef01ULL, Re
     return m;
 }
 
+/// Region `id` read chunk by chunk (forEachChunk), back as bricks sorted by key.
+std::vector<VoxelBrick> readByChunks(const BrickStore& store, std::uint64_t id) {
+    std::vector<VoxelBrick> out;
+    std::mutex lock;
+    store.forEachChunk(id, [&](const RawBricks& chunk) {
+        for (std::size_t i = 0; i < chunk.count; ++i) {
+            VoxelBrick b;
+            b.key = chunk.keys[i];
+            std::copy_n(chunk.activeMask(i), b.activeMask.size(), b.activeMask.begin());
+            std::copy_n(chunk.density(i), kBrickVoxels, b.density.begin());
+            std::copy_n(chunk.orientation(i), kBrickVoxels, b.orientation.begin());
+            const std::lock_guard guard(lock);
+            out.push_back(b);
+        }
+    });
+    std::sort(out.begin(), out.end(), [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });
+    return out;
+}
+
 const glm::ivec3 kAll0{0}, kAll1{256};
 
 /// Every bit random, NaNs included: the round trip must be bit-exact, not just equal.
@@ -227,6 +246,12 @@ TEST_CASE("Regions round-trip bit-exactly, sorted by key, across several chunks"
     std::size_t i = 0, mismatches = 0;
     for (const auto& [key, brick] : expected) mismatches += !sameBits(back[i++], brick);
     CHECK(mismatches == 0);
+    // Chunk by chunk, on several threads, the same bricks.
+    const std::vector<VoxelBrick> chunked = readByChunks(store, 42);
+    REQUIRE(chunked.size() == expected.size());
+    i = 0;
+    for (const auto& [key, brick] : expected) mismatches += !sameBits(chunked[i++], brick);
+    CHECK(mismatches == 0);
 
     // An empty region is a file too: a resumed run must know it is done.
     const RegionInfo empty = store.writeRegion(7, {8, 8, 8}, {16, 16, 16}, {});
@@ -289,6 +314,7 @@ TEST_CASE("Damaged region files are detected, reported and removed", "[store]") 
             putFile(path, bad);
             const std::string message = errorOf([&] { store.readRegion(5); });
             CHECK_THAT(message, Catch::StartsWith(path + ": ") && Catch::Contains(d.message));
+            CHECK(errorOf([&] { readByChunks(store, 5); }) == message);
             std::string why;
             CHECK_FALSE(store.hasVerifiedRegion(5, kAll0, kAll1, &why));
             CHECK(why == message);
@@ -313,15 +339,18 @@ TEST_CASE("Every single-byte change and every truncated prefix of a region file 
         bad[i] ^= 0xA5;
         putFile(path, bad);
         accepted += errorOf([&] { store.readRegion(0); }).empty();
+        accepted += errorOf([&] { readByChunks(store, 0); }).empty();
     }
     CHECK(accepted == 0);
     for (std::size_t n = 0; n < good.size(); ++n) {
         putFile(path, std::vector<std::uint8_t>(good.begin(), good.begin() + std::ptrdiff_t(n)));
         accepted += errorOf([&] { store.readRegion(0); }).empty();
+        accepted += errorOf([&] { readByChunks(store, 0); }).empty();
     }
     CHECK(accepted == 0);
     putFile(path, good);
     CHECK(store.readRegion(0).size() == 2);
+    CHECK(readByChunks(store, 0).size() == 2);
 }
 
 TEST_CASE("hasVerifiedRegion rejects a region of other bounds or of another run", "[store]") {

@@ -2,17 +2,26 @@
 
 #include "core/error.h"
 
-#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
-#include <algorithm>
+#include <bit>
 
 namespace yv {
 namespace {
 
-/// Regions read at once by a verify.
-constexpr std::size_t kRegionsInFlight = 8;
+void addChunk(const RawBricks& bricks, VoxelStatistics& stats) {
+    for (std::size_t b = 0; b < bricks.count; ++b) {
+        const std::uint64_t* mask = bricks.activeMask(b);
+        const float* density = bricks.density(b);
+        const glm::vec3* axis = bricks.orientation(b);
+        for (int w = 0; w < kBrickVoxels / 64; ++w)
+            for (std::uint64_t bits = mask[w]; bits; bits &= bits - 1) {
+                const int v = 64 * w + std::countr_zero(bits);
+                stats.add(density[v], axis[v]);
+            }
+    }
+}
 
 } // namespace
 
@@ -36,29 +45,20 @@ StoreSummary inspectStore(const std::string& dir, bool verify) {
             row.problem = e.what();
         }
     });
-    // Then the voxels, a few regions at a time (each is decoded in parallel
-    // chunks, and its statistics gathered in parallel): with every region in
-    // flight at once, an 8192 work dir held 3 GB of decoded bricks.
-    for (std::size_t first = 0; verify && first < ids.size(); first += kRegionsInFlight) {
-        const std::size_t last = std::min(ids.size(), first + kRegionsInFlight);
-        tbb::parallel_for(first, last, [&](std::size_t i) {
+    // Then the voxels: every region and every chunk of it side by side, each
+    // chunk decoded into its thread's buffers and counted in place, so memory
+    // stays at a few chunks a thread whatever the volume's size.
+    if (verify)
+        tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t i) {
             if (!s.regions[i].problem.empty()) return;
+            tbb::combinable<VoxelStatistics> stats;
             try {
-                const std::vector<VoxelBrick> bricks = store.readRegion(ids[i]);
-                perRegion[i] = tbb::parallel_reduce(
-                    tbb::blocked_range<std::size_t>(0, bricks.size(), 256), VoxelStatistics{},
-                    [&](const tbb::blocked_range<std::size_t>& r, VoxelStatistics acc) {
-                        for (std::size_t b = r.begin(); b != r.end(); ++b)
-                            for (int v = 0; v < kBrickVoxels; ++v)
-                                if (bricks[b].isActive(v)) acc.add(bricks[b].density[v], bricks[b].orientation[v]);
-                        return acc;
-                    },
-                    [](VoxelStatistics a, const VoxelStatistics& b) { return a += b; });
+                store.forEachChunk(ids[i], [&](const RawBricks& bricks) { addChunk(bricks, stats.local()); });
+                perRegion[i] = stats.combine([](VoxelStatistics a, const VoxelStatistics& b) { return a += b; });
             } catch (const Error& e) {
                 s.regions[i].problem = e.what();
             }
         });
-    }
     for (std::size_t i = 0; i < s.regions.size(); ++i) {
         const RegionRow& row = s.regions[i];
         if (!row.problem.empty()) {

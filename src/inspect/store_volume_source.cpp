@@ -1,6 +1,7 @@
 // A work directory as a render's source: which bricks each region holds comes
 // from the region files' key indexes (header and index only, checksummed);
-// voxels are decoded one region at a time, only for regions holding a wanted brick.
+// voxels are read chunk by chunk, on every core, only from regions holding a
+// wanted brick, and never a whole region at once.
 #include "inspect/volume_source.h"
 
 #include "core/atomic_file.h"
@@ -8,7 +9,6 @@
 #include "store/brick_store.h"
 #include "store/region_file.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <fcntl.h>
@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <mutex>
 
 namespace yv {
 namespace {
@@ -75,26 +76,34 @@ class StoreSource final : public VolumeSource {
         const auto inside = [&](glm::ivec3 c) {
             return !glm::any(glm::lessThan(c, lo)) && !glm::any(glm::greaterThanEqual(c, hi));
         };
-        for (const Region& r : regions_) {
-            if (std::none_of(r.bricks.begin(), r.bricks.end(), inside)) continue;
-            const std::vector<VoxelBrick> bricks = store_.readRegion(r.info.id);
-            const auto visitOne = [&](const VoxelBrick& b, std::array<float, kBrickVoxels>& density) {
-                const glm::ivec3 c = brickCoord(b.key);
-                if (!inside(c)) return;
+        // Chunks are read and decoded on every core even when the visitor
+        // takes one brick at a time: then only the calls are serialised.
+        std::mutex oneAtATime;
+        const auto visitChunk = [&](const RawBricks& bricks) {
+            std::array<float, kBrickVoxels> density;
+            for (std::size_t i = 0; i < bricks.count; ++i) {
+                const glm::ivec3 c = brickCoord(bricks.keys[i]);
+                if (!inside(c)) continue;
+                const std::uint64_t* mask = bricks.activeMask(i);
+                std::array<std::uint64_t, kBrickVoxels / 64> active;
+                std::copy(mask, mask + active.size(), active.begin());
+                const float* values = bricks.density(i);
                 for (int v = 0; v < kBrickVoxels; ++v)
-                    density[std::size_t(v)] = b.isActive(v) ? b.density[std::size_t(v)] : 0.0f;
-                visit(SourceBrick{c, density.data(), b.orientation.data(), b.activeMask.data()});
-            };
-            if (concurrent) {
-                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bricks.size(), 64), [&](const auto& range) {
-                    std::array<float, kBrickVoxels> density;
-                    for (std::size_t i = range.begin(); i != range.end(); ++i) visitOne(bricks[i], density);
-                });
-            } else {
-                std::array<float, kBrickVoxels> density;
-                for (const VoxelBrick& b : bricks) visitOne(b, density);
+                    density[std::size_t(v)] = (active[std::size_t(v >> 6)] >> (v & 63)) & 1 ? values[v] : 0.0f;
+                const SourceBrick brick{c, density.data(), bricks.orientation(i), active.data()};
+                if (concurrent) {
+                    visit(brick);
+                } else {
+                    const std::lock_guard lock(oneAtATime);
+                    visit(brick);
+                }
             }
-        }
+        };
+        std::vector<const Region*> wanted;
+        for (const Region& r : regions_)
+            if (std::any_of(r.bricks.begin(), r.bricks.end(), inside)) wanted.push_back(&r);
+        tbb::parallel_for(std::size_t(0), wanted.size(),
+                          [&](std::size_t i) { store_.forEachChunk(wanted[i]->info.id, visitChunk); });
     }
 
   private:

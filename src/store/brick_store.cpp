@@ -4,11 +4,14 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/read_only_file.h"
 #include "core/text.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,6 +22,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <numeric>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -321,6 +325,43 @@ std::vector<VoxelBrick> BrickStore::readRegion(std::uint64_t id) const {
     std::vector<VoxelBrick> bricks;
     decodeRegionBody(bytes->data(), h, path, &bricks);
     return bricks;
+}
+
+void BrickStore::forEachChunk(std::uint64_t id, const std::function<void(const RawBricks&)>& visit) const {
+    const ReadOnlyFile file(regionPath(id));
+    const std::string& path = file.path();
+    std::array<std::uint8_t, kRegionHeaderSize> head{};
+    file.read(0, std::span(head.data(), std::size_t(std::min<std::uint64_t>(head.size(), file.size()))), "the header");
+    const RegionHeader h = parseRegionHeader(head.data(), file.size(), path);
+    checkRegionIdentity(h, manifest_, id, nullptr, nullptr, path);
+    std::vector<std::uint8_t> tableBytes(h.dataOffset() - h.indexOffset());
+    file.read(h.indexOffset(), tableBytes, "the key index and chunk table");
+    const RegionTable table = parseRegionTable(tableBytes.data(), h, path);
+    tableBytes = {};
+
+    struct Buffers {
+        std::vector<std::uint8_t> stored, raw;
+    };
+    // Per thread, not per chunk: a chunk's 16 MiB are allocated once a thread.
+    tbb::enumerable_thread_specific<Buffers> buffers;
+    std::vector<std::string> errors(table.chunks.size());
+    std::vector<std::uint64_t> active(table.chunks.size());
+    tbb::parallel_for(std::uint32_t(0), std::uint32_t(table.chunks.size()), [&](std::uint32_t c) {
+        Buffers& b = buffers.local();
+        try {
+            b.stored.resize(table.chunks[c].stored);
+            file.read(table.chunks[c].offset, b.stored, "chunk " + std::to_string(c));
+            const RawBricks bricks = decodeRegionChunk(b.stored.data(), table, c, h, path, b.raw);
+            active[c] = countActive(bricks);
+            visit(bricks);
+        } catch (const Error& e) {
+            errors[c] = e.what();
+        }
+    });
+    // The first by position, so the message does not depend on thread timing.
+    for (const std::string& e : errors)
+        if (!e.empty()) throw Error(e);
+    checkActiveCount(h, std::accumulate(active.begin(), active.end(), std::uint64_t(0)), path);
 }
 
 void BrickStore::markComplete(std::uint64_t regionCount, const StageSeconds& stages) {

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,13 @@ class BrickStore {
     RegionInfo regionInfo(std::uint64_t id) const;
     /// The bricks of region `id`, sorted by key, after every check; throws yv::Error when damaged.
     std::vector<VoxelBrick> readRegion(std::uint64_t id) const;
+    /// Calls `visit` once for each chunk of region `id`'s bricks, from
+    /// several threads at once, each chunk read and decoded on its own into
+    /// the calling thread's buffers: memory stays at two chunks (32 MiB) a
+    /// thread whatever the region's size. Every check of readRegion is made;
+    /// the first failure throws yv::Error after the other chunks were visited,
+    /// so a caller keeps what it gathered only when no error came.
+    void forEachChunk(std::uint64_t id, const std::function<void(const RawBricks&)>& visit) const;
     /// Records in the manifest that the run wrote all `regionCount` regions;
     /// throws when the directory holds a different number of region files.
     /// `stages`: the seconds the run spent in each stage, kept beside it.

@@ -268,35 +268,31 @@ EncodedRegion encodeRegion(const StoreManifest& m, std::uint64_t id, glm::ivec3 
     return e;
 }
 
-void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::string& name,
-                      std::vector<VoxelBrick>* out) {
+RegionTable parseRegionTable(const std::uint8_t* table, const RegionHeader& h, const std::string& name) {
     const std::size_t bytesPerBrick = brickBytes(h.albedo);
     const std::uint64_t tableEnd = h.dataOffset();
-    if (const std::uint64_t computed = xxh64(p + h.indexOffset(), tableEnd - h.indexOffset());
-        computed != h.tableChecksum)
+    if (const std::uint64_t computed = xxh64(table, tableEnd - h.indexOffset()); computed != h.tableChecksum)
         fail(name, h.indexOffset(), "checksum mismatch over the brick index and chunk table (bytes " +
                                         std::to_string(h.indexOffset()) + ".." + std::to_string(tableEnd) +
                                         "): the file is damaged");
 
-    std::vector<std::uint64_t> keys(h.brickCount);
+    RegionTable t;
+    t.keys.resize(h.brickCount);
     for (std::uint64_t i = 0; i < h.brickCount; ++i) {
-        keys[i] = get(p + h.indexOffset() + 8 * i, 8);
-        if (keys[i] >> 63 || (i > 0 && keys[i] <= keys[i - 1]))
-            fail(name, h.indexOffset() + 8 * i, "brick key " + hex64(keys[i]) + ": expected keys in ascending order");
-        if (!overlaps(keys[i], h.min, h.max))
-            fail(name, h.indexOffset() + 8 * i, "brick " + coordText(brickCoord(keys[i])) + " lies outside the region " +
+        const std::uint64_t key = t.keys[i] = get(table + 8 * i, 8);
+        if (key >> 63 || (i > 0 && key <= t.keys[i - 1]))
+            fail(name, h.indexOffset() + 8 * i, "brick key " + hex64(key) + ": expected keys in ascending order");
+        if (!overlaps(key, h.min, h.max))
+            fail(name, h.indexOffset() + 8 * i, "brick " + coordText(brickCoord(key)) + " lies outside the region " +
                                                     coordText(h.min) + "-" + coordText(h.max));
     }
 
-    struct Chunk {
-        std::uint64_t offset, stored, raw, firstBrick, storedSum, rawSum;
-    };
-    std::vector<Chunk> chunks(h.chunkCount);
+    t.chunks.resize(h.chunkCount);
     std::uint64_t offset = tableEnd, brick = 0;
     for (std::uint32_t c = 0; c < h.chunkCount; ++c) {
-        const std::uint8_t* entry = p + h.tableOffset() + kChunkEntrySize * c;
         const std::uint64_t at = h.tableOffset() + kChunkEntrySize * c;
-        Chunk& k = chunks[c];
+        const std::uint8_t* entry = table + (at - h.indexOffset());
+        RegionChunk& k = t.chunks[c];
         k = {offset, get(entry, 4), get(entry + 4, 4), brick, get(entry + 8, 8), get(entry + 16, 8)};
         if (k.raw == 0 || k.raw % bytesPerBrick != 0 || k.raw > kMaxChunkRawBytes)
             fail(name, at + 4, "chunk " + std::to_string(c) + " raw size " + std::to_string(k.raw) +
@@ -313,45 +309,59 @@ void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::s
         fail(name, h.tableOffset(), "chunk table covers " + std::to_string(brick) + " bricks in " +
                                         std::to_string(offset - tableEnd) + " bytes, the header says " +
                                         std::to_string(h.brickCount) + " bricks in " + std::to_string(h.storedSize));
+    return t;
+}
 
+RawBricks decodeRegionChunk(const std::uint8_t* stored, const RegionTable& t, std::uint32_t c, const RegionHeader& h,
+                            const std::string& name, std::vector<std::uint8_t>& raw) {
+    const RegionChunk& k = t.chunks[c];
+    const auto where = [&] {
+        return name + ": byte " + std::to_string(k.offset) + ": chunk " + std::to_string(c) + " of " +
+               std::to_string(t.chunks.size()) + " (bytes " + std::to_string(k.offset) + ".." +
+               std::to_string(k.offset + k.stored) + ")";
+    };
+    if (xxh64(stored, k.stored) != k.storedSum) throw Error(where() + ": checksum mismatch: the compressed data is damaged");
+    raw.resize(k.raw);
+    const int got = LZ4_decompress_safe(reinterpret_cast<const char*>(stored), reinterpret_cast<char*>(raw.data()),
+                                        static_cast<int>(k.stored), static_cast<int>(k.raw));
+    if (got != static_cast<int>(k.raw))
+        throw Error(where() + ": lz4 data does not decompress to " + std::to_string(k.raw) + " bytes");
+    if (xxh64(raw.data(), raw.size()) != k.rawSum) throw Error(where() + ": checksum mismatch after decompression");
+    const std::size_t stride = brickBytes(h.albedo);
+    return RawBricks{t.keys.data() + k.firstBrick, raw.data(), k.raw / stride, stride};
+}
+
+std::uint64_t countActive(const RawBricks& b) { return countActive(b.raw, b.count, b.stride); }
+
+void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::string& name,
+                      std::vector<VoxelBrick>* out) {
+    const RegionTable t = parseRegionTable(p + h.indexOffset(), h, name);
     if (out) out->resize(h.brickCount);
     // Errors are kept per chunk and the first reported, so the message does
     // not depend on which thread got there first.
     std::vector<std::string> errors(h.chunkCount);
     std::vector<std::uint64_t> active(h.chunkCount);
     tbb::parallel_for(std::uint32_t(0), h.chunkCount, [&](std::uint32_t c) {
-        const Chunk& k = chunks[c];
-        const std::string where = name + ": byte " + std::to_string(k.offset) + ": chunk " + std::to_string(c) +
-                                  " of " + std::to_string(h.chunkCount) + " (bytes " + std::to_string(k.offset) +
-                                  ".." + std::to_string(k.offset + k.stored) + ")";
-        if (xxh64(p + k.offset, k.stored) != k.storedSum) {
-            errors[c] = where + ": checksum mismatch: the compressed data is damaged";
-            return;
+        std::vector<std::uint8_t> raw;
+        try {
+            const RawBricks b = decodeRegionChunk(p + t.chunks[c].offset, t, c, h, name, raw);
+            active[c] = countActive(b);
+            if (out)
+                for (std::size_t i = 0; i < b.count; ++i)
+                    deserializeBrick(b.raw + i * b.stride, b.keys[i], h.albedo, (*out)[t.chunks[c].firstBrick + i]);
+        } catch (const Error& e) {
+            errors[c] = e.what();
         }
-        std::vector<std::uint8_t> raw(k.raw);
-        const int got = LZ4_decompress_safe(reinterpret_cast<const char*>(p + k.offset),
-                                            reinterpret_cast<char*>(raw.data()), static_cast<int>(k.stored),
-                                            static_cast<int>(k.raw));
-        if (got != static_cast<int>(k.raw)) {
-            errors[c] = where + ": lz4 data does not decompress to " + std::to_string(k.raw) + " bytes";
-            return;
-        }
-        if (xxh64(raw.data(), raw.size()) != k.rawSum) {
-            errors[c] = where + ": checksum mismatch after decompression";
-            return;
-        }
-        const std::size_t n = k.raw / bytesPerBrick;
-        active[c] = countActive(raw.data(), n, bytesPerBrick);
-        if (out)
-            for (std::size_t i = 0; i < n; ++i)
-                deserializeBrick(&raw[i * bytesPerBrick], keys[k.firstBrick + i], h.albedo, (*out)[k.firstBrick + i]);
     });
     for (const std::string& e : errors)
         if (!e.empty()) throw Error(e);
-    if (const std::uint64_t sum = std::accumulate(active.begin(), active.end(), std::uint64_t(0));
-        sum != h.activeVoxels)
+    checkActiveCount(h, std::accumulate(active.begin(), active.end(), std::uint64_t(0)), name);
+}
+
+void checkActiveCount(const RegionHeader& h, std::uint64_t counted, const std::string& name) {
+    if (counted != h.activeVoxels)
         fail(name, 112, "the header counts " + std::to_string(h.activeVoxels) + " active voxels, the bricks hold " +
-                            std::to_string(sum));
+                            std::to_string(counted));
 }
 
 } // namespace yv

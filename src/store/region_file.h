@@ -67,4 +67,53 @@ void checkRegionIdentity(const RegionHeader& h, const StoreManifest& run, std::u
 void decodeRegionBody(const std::uint8_t* p, const RegionHeader& h, const std::string& name,
                       std::vector<VoxelBrick>* out);
 
+/// One lz4 chunk of a region file, as its table entry describes it.
+struct RegionChunk {
+    std::uint64_t offset = 0, stored = 0, raw = 0; ///< file offset and sizes in bytes
+    std::uint64_t firstBrick = 0;                   ///< index of its first brick in the key index
+    std::uint64_t storedSum = 0, rawSum = 0;        ///< XXH64 before and after decompression
+};
+
+/// A region file's key index and chunk table, checked.
+struct RegionTable {
+    std::vector<std::uint64_t> keys; ///< ascending
+    std::vector<RegionChunk> chunks;
+};
+
+/// Checks and decodes the bytes between the header and the data (the key
+/// index and chunk table: h.dataOffset() - h.indexOffset() of them at `table`):
+/// their checksum, the keys' order and bounds, and that the chunks cover
+/// every brick and the file's data exactly.
+RegionTable parseRegionTable(const std::uint8_t* table, const RegionHeader& h, const std::string& name);
+
+/// The bricks of one decoded chunk, in the file's own layout (mask words,
+/// densities, axes, then albedo where the run has it), read in place.
+struct RawBricks {
+    const std::uint64_t* keys = nullptr; ///< `count` keys, ascending
+    const std::uint8_t* raw = nullptr;
+    std::size_t count = 0;
+    std::size_t stride = 0; ///< bytes per brick
+
+    const std::uint64_t* activeMask(std::size_t i) const {
+        return reinterpret_cast<const std::uint64_t*>(raw + i * stride);
+    }
+    const float* density(std::size_t i) const { return reinterpret_cast<const float*>(raw + i * stride + 64); }
+    const glm::vec3* orientation(std::size_t i) const {
+        return reinterpret_cast<const glm::vec3*>(raw + i * stride + 64 + 4 * kBrickVoxels);
+    }
+};
+
+/// Decompresses chunk `c` of `table` from its stored bytes `stored` into
+/// `raw` (resized; reused across calls) after checking both checksums, and
+/// returns its bricks. Throws yv::Error naming `name`, the chunk and its bytes.
+RawBricks decodeRegionChunk(const std::uint8_t* stored, const RegionTable& table, std::uint32_t c,
+                            const RegionHeader& h, const std::string& name, std::vector<std::uint8_t>& raw);
+
+/// Active voxels of the bricks (popcount of their masks).
+std::uint64_t countActive(const RawBricks& bricks);
+
+/// Throws yv::Error unless `counted`, the active voxels of every chunk, is
+/// what the header says.
+void checkActiveCount(const RegionHeader& h, std::uint64_t counted, const std::string& name);
+
 } // namespace yv
