@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <thread>
 
 using namespace yv;
 namespace fs = std::filesystem;
@@ -511,8 +512,13 @@ TEST_CASE("inspect render: work directories and .vdb files hand over the bricks 
         const glm::ivec3 lo(0), hi(4, 1 << 20, 1 << 20);
         std::size_t visited = 0;
         int wrongDensity = 0, wrongAxis = 0, outside = 0;
+        // One visit at a time and on this thread (a visitor may draw: GL
+        // calls belong to the thread whose context is current).
+        const std::thread::id caller = std::this_thread::get_id();
+        int otherThread = 0;
         source->forEachBrick(lo, hi, [&](const SourceBrick& b) {
             ++visited;
+            otherThread += std::this_thread::get_id() != caller;
             outside += b.coord.x >= 4;
             const VoxelBrick* mine = index.brick(b.coord * 8);
             REQUIRE(mine);
@@ -524,6 +530,7 @@ TEST_CASE("inspect render: work directories and .vdb files hand over the bricks 
         });
         CHECK(visited == std::size_t(std::count_if(expected.begin(), expected.end(), [](glm::ivec3 c) { return c.x < 4; })));
         CHECK(outside == 0);
+        CHECK(otherThread == 0);
         CHECK(wrongDensity == 0);
         CHECK(wrongAxis == 0);
     }

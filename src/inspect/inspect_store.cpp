@@ -5,22 +5,13 @@
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
-#include <bit>
 
 namespace yv {
 namespace {
 
 void addChunk(const RawBricks& bricks, VoxelStatistics& stats) {
-    for (std::size_t b = 0; b < bricks.count; ++b) {
-        const std::uint64_t* mask = bricks.activeMask(b);
-        const float* density = bricks.density(b);
-        const glm::vec3* axis = bricks.orientation(b);
-        for (int w = 0; w < kBrickVoxels / 64; ++w)
-            for (std::uint64_t bits = mask[w]; bits; bits &= bits - 1) {
-                const int v = 64 * w + std::countr_zero(bits);
-                stats.add(density[v], axis[v]);
-            }
-    }
+    for (std::size_t b = 0; b < bricks.count; ++b)
+        stats.addBrick(bricks.density(b), bricks.orientation(b), bricks.activeMask(b));
 }
 
 } // namespace

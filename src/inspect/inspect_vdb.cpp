@@ -84,12 +84,7 @@ VdbSummary inspectOwnVdb(const VdbIndex& index) {
     s.hasOrientation = source->hasOrientation();
     tbb::enumerable_thread_specific<VoxelStatistics> statistics;
     source->forEachBrickConcurrently(glm::ivec3(INT_MIN), glm::ivec3(INT_MAX), [&](const SourceBrick& b) {
-        VoxelStatistics& acc = statistics.local();
-        for (int w = 0; w < kBrickVoxels / 64; ++w)
-            for (std::uint64_t bits = b.active[w]; bits; bits &= bits - 1) {
-                const int v = w * 64 + std::countr_zero(bits);
-                acc.add(b.density[v], b.orientation ? b.orientation[v] : glm::vec3(0.0f));
-            }
+        statistics.local().addBrick(b.density, b.orientation, b.active);
     });
     for (const VoxelStatistics& part : statistics) s.voxels += part;
     const std::uint64_t leaves = source->occupiedBricks().size();
@@ -164,14 +159,11 @@ VdbSummary inspectVdb(const std::string& path) {
     density.reset();
     orientation.reset();
     // Voxel statistics leaf by leaf, each leaf freed once counted.
+    tbb::enumerable_thread_specific<VoxelStatistics> statistics;
     openVdbSourceThroughOpenVdb(path)->forEachBrickConcurrently(
-        glm::ivec3(INT_MIN), glm::ivec3(INT_MAX), [&](const SourceBrick& b) {
-            for (int w = 0; w < kBrickVoxels / 64; ++w)
-                for (std::uint64_t bits = b.active[w]; bits; bits &= bits - 1) {
-                    const int v = w * 64 + std::countr_zero(bits);
-                    s.voxels.add(b.density[v], b.orientation ? b.orientation[v] : glm::vec3(0.0f));
-                }
-        });
+        glm::ivec3(INT_MIN), glm::ivec3(INT_MAX),
+        [&](const SourceBrick& b) { statistics.local().addBrick(b.density, b.orientation, b.active); });
+    for (const VoxelStatistics& part : statistics) s.voxels += part;
     return s;
 }
 

@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include <array>
@@ -44,6 +45,15 @@ struct VoxelStatistics {
             ++unitAxes;
             axisComponentSum += glm::abs(a);
         }
+    }
+    /// Counts the active voxels of one brick: `active` holds 8 words of its
+    /// voxels, `axis` 512 axes or nullptr (a volume without orientation).
+    void addBrick(const float* density, const glm::vec3* axis, const std::uint64_t* active) {
+        for (int w = 0; w < kBrickVoxels / 64; ++w)
+            for (std::uint64_t bits = active[w]; bits; bits &= bits - 1) {
+                const int v = w * 64 + std::countr_zero(bits);
+                add(density[v], axis ? axis[v] : glm::vec3(0.0f));
+            }
     }
     VoxelStatistics& operator+=(const VoxelStatistics& o);
     /// Lower and upper density of bin `i` (the last bin: above 1, upper bound the largest density).

@@ -4,7 +4,6 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "core/read_only_file.h"
 #include "core/text.h"
 
 #include <fcntl.h>
@@ -327,31 +326,41 @@ std::vector<VoxelBrick> BrickStore::readRegion(std::uint64_t id) const {
     return bricks;
 }
 
-void BrickStore::forEachChunk(std::uint64_t id, const std::function<void(const RawBricks&)>& visit) const {
-    const ReadOnlyFile file(regionPath(id));
-    const std::string& path = file.path();
+BrickStore::ChunkReader::ChunkReader(const BrickStore& store, std::uint64_t id) : file_(store.regionPath(id)) {
+    const std::string& path = file_.path();
     std::array<std::uint8_t, kRegionHeaderSize> head{};
-    file.read(0, std::span(head.data(), std::size_t(std::min<std::uint64_t>(head.size(), file.size()))), "the header");
-    const RegionHeader h = parseRegionHeader(head.data(), file.size(), path);
-    checkRegionIdentity(h, manifest_, id, nullptr, nullptr, path);
-    std::vector<std::uint8_t> tableBytes(h.dataOffset() - h.indexOffset());
-    file.read(h.indexOffset(), tableBytes, "the key index and chunk table");
-    const RegionTable table = parseRegionTable(tableBytes.data(), h, path);
-    tableBytes = {};
+    file_.read(0, std::span(head.data(), std::size_t(std::min<std::uint64_t>(head.size(), file_.size()))), "the header");
+    header_ = parseRegionHeader(head.data(), file_.size(), path);
+    checkRegionIdentity(header_, store.manifest(), id, nullptr, nullptr, path);
+    std::vector<std::uint8_t> tableBytes(header_.dataOffset() - header_.indexOffset());
+    file_.read(header_.indexOffset(), tableBytes, "the key index and chunk table");
+    table_ = parseRegionTable(tableBytes.data(), header_, path);
+}
 
+RawBricks BrickStore::ChunkReader::read(std::size_t c, std::vector<std::uint8_t>& stored,
+                                        std::vector<std::uint8_t>& raw) const {
+    stored.resize(table_.chunks[c].stored);
+    file_.read(table_.chunks[c].offset, stored, "chunk " + std::to_string(c));
+    return decodeRegionChunk(stored.data(), table_, std::uint32_t(c), header_, file_.path(), raw);
+}
+
+void BrickStore::ChunkReader::checkActiveVoxels(std::uint64_t counted) const {
+    checkActiveCount(header_, counted, file_.path());
+}
+
+void BrickStore::forEachChunk(std::uint64_t id, const std::function<void(const RawBricks&)>& visit) const {
+    const ChunkReader reader(*this, id);
     struct Buffers {
         std::vector<std::uint8_t> stored, raw;
     };
     // Per thread, not per chunk: a chunk's 16 MiB are allocated once a thread.
     tbb::enumerable_thread_specific<Buffers> buffers;
-    std::vector<std::string> errors(table.chunks.size());
-    std::vector<std::uint64_t> active(table.chunks.size());
-    tbb::parallel_for(std::uint32_t(0), std::uint32_t(table.chunks.size()), [&](std::uint32_t c) {
+    std::vector<std::string> errors(reader.chunkCount());
+    std::vector<std::uint64_t> active(reader.chunkCount());
+    tbb::parallel_for(std::size_t(0), reader.chunkCount(), [&](std::size_t c) {
         Buffers& b = buffers.local();
         try {
-            b.stored.resize(table.chunks[c].stored);
-            file.read(table.chunks[c].offset, b.stored, "chunk " + std::to_string(c));
-            const RawBricks bricks = decodeRegionChunk(b.stored.data(), table, c, h, path, b.raw);
+            const RawBricks bricks = reader.read(c, b.stored, b.raw);
             active[c] = countActive(bricks);
             visit(bricks);
         } catch (const Error& e) {
@@ -361,7 +370,7 @@ void BrickStore::forEachChunk(std::uint64_t id, const std::function<void(const R
     // The first by position, so the message does not depend on thread timing.
     for (const std::string& e : errors)
         if (!e.empty()) throw Error(e);
-    checkActiveCount(h, std::accumulate(active.begin(), active.end(), std::uint64_t(0)), path);
+    reader.checkActiveVoxels(std::accumulate(active.begin(), active.end(), std::uint64_t(0)));
 }
 
 void BrickStore::markComplete(std::uint64_t regionCount, const StageSeconds& stages) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/read_only_file.h"
 #include "core/sampling.h"
 #include "core/voxel_grid.h"
 #include "store/manifest.h"
@@ -83,6 +84,7 @@ class BrickStore {
     RegionInfo regionInfo(std::uint64_t id) const;
     /// The bricks of region `id`, sorted by key, after every check; throws yv::Error when damaged.
     std::vector<VoxelBrick> readRegion(std::uint64_t id) const;
+    class ChunkReader;
     /// Calls `visit` once for each chunk of region `id`'s bricks, from
     /// several threads at once, each chunk read and decoded on its own into
     /// the calling thread's buffers: memory stays at two chunks (32 MiB) a
@@ -110,6 +112,29 @@ class BrickStore {
     StoreManifest manifest_;
     bool readOnly_ = false;
     int dirFd_ = -1; ///< held open for the lock and for fsyncing the directory
+};
+
+/// One region file opened for reading chunk by chunk: the header, key index
+/// and chunk table are read and checked when it opens; each chunk is read
+/// and checked when asked for, from any thread.
+class BrickStore::ChunkReader {
+  public:
+    /// Throws yv::Error naming the file when it is missing, damaged or of another run.
+    ChunkReader(const BrickStore& store, std::uint64_t id);
+    std::size_t chunkCount() const { return table_.chunks.size(); }
+    /// The region's brick keys, ascending (from the checked key index).
+    const std::vector<std::uint64_t>& keys() const { return table_.keys; }
+    /// Reads chunk `c` into `stored` and decodes it into `raw` (both reused
+    /// across calls), after its checksums; throws yv::Error naming the chunk.
+    RawBricks read(std::size_t c, std::vector<std::uint8_t>& stored, std::vector<std::uint8_t>& raw) const;
+    /// Throws yv::Error unless the chunks' active voxels, summed by the caller
+    /// over every chunk, are what the header says.
+    void checkActiveVoxels(std::uint64_t counted) const;
+
+  private:
+    ReadOnlyFile file_;
+    RegionHeader header_;
+    RegionTable table_;
 };
 
 /// Reads the manifest of an existing work directory (for `yarnvox merge WORKDIR`).
