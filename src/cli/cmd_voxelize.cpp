@@ -5,7 +5,9 @@
 #include "cli/option_checks.h"
 #include "cli/option_words.h"
 #include "cli/output_format.h"
+#include "cli/voxelize_command.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/voxelize_settings.h"
 #include "core/world_units.h"
 #include "pipeline/cluster.h"
@@ -38,6 +40,35 @@ void voxelizeAndReport(const VoxelizeJob& request) {
                     r.overlap == Overlap::Clamp ? "clamped to 1 (--overlap sum keeps the sums)"
                                                 : "kept as sums (--overlap sum)");
 }
+
+/// --progress-lines: every stage's progress as lines on stderr while the
+/// command runs, terminal or not ("progress: voxelize 3/10 regions"), for a
+/// program that runs yarnvox and shows its progress (the Blender add-on);
+/// an observer already installed still hears it.
+class ProgressLines {
+  public:
+    explicit ProgressLines(bool on) {
+        if (!on) return;
+        active_ = true;
+        previous_ = setProgressObserver({});
+        setProgressObserver([previous = previous_](const std::string& stage, const std::string& unit,
+                                                   std::uint64_t done, std::uint64_t total) {
+            std::fprintf(stderr, "progress: %s %llu/%llu %s\n", stage.c_str(), static_cast<unsigned long long>(done),
+                         static_cast<unsigned long long>(total), unit.c_str());
+            std::fflush(stderr);
+            if (previous) previous(stage, unit, done, total);
+        });
+    }
+    ~ProgressLines() {
+        if (active_) setProgressObserver(previous_);
+    }
+    ProgressLines(const ProgressLines&) = delete;
+    ProgressLines& operator=(const ProgressLines&) = delete;
+
+  private:
+    bool active_ = false;
+    ProgressObserver previous_;
+};
 
 /// The grid, the slices and the cross-section.
 void addGeometryOptions(CLI::App* cmd, VoxelizeJob& a) {
@@ -155,7 +186,7 @@ void handOutWholeGarments(Cluster& group, const std::vector<GarmentJob>& jobs, b
 
 /// Voxelizes each garment asked for into its output, in its format.
 void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std::vector<std::string>& inputs,
-                      const std::string& list) {
+                      const std::string& list, const VoxelizeOne& runJob) {
     const std::vector<std::string> garments = garmentsAsked(inputs, list);
     std::vector<GarmentJob> jobs;
     if (garments.size() == 1 && list.empty()) {
@@ -177,7 +208,7 @@ void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std
             run.workDir = job.workDir;
             run.statsPath = job.statsPath;
             run.alone = alone;
-            voxelizeAndReport(run);
+            runJob(run);
         });
     };
     if (group && jobs.size() >= std::size_t(group->size())) return handOutWholeGarments(*group, jobs, a.quiet, voxelizeOne);
@@ -191,8 +222,11 @@ void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std
 
 } // namespace
 
-void addVoxelizeCommand(CLI::App& app) {
+void addVoxelizeCommand(CLI::App& app) { addVoxelizeCommand(app, voxelizeAndReport); }
+
+void addVoxelizeCommand(CLI::App& app, VoxelizeOne voxelizeOne) {
     auto a = std::make_shared<VoxelizeJob>();
+    auto progressLines = std::make_shared<bool>(false);
     auto format = std::make_shared<std::string>();
     auto inputs = std::make_shared<std::vector<std::string>>();
     auto list = std::make_shared<std::string>();
@@ -228,13 +262,19 @@ void addVoxelizeCommand(CLI::App& app) {
     addGeometryOptions(cmd, *a);
     addVolumeOptions(cmd, *a);
     addRunOptions(cmd, *a);
+    cmd->add_flag("--progress-lines", *progressLines,
+                  "Progress as lines on stderr, terminal or not (\"progress: STAGE DONE/TOTAL UNIT\"), for programs "
+                  "that run yarnvox (none with --quiet)");
     cmd->footer(clusterSupport()
                     ? "MPI: `mpirun -np N yarnvox voxelize ...` shares the zoom regions of one run among N processes "
                       "(each on its own GPU, by local rank, unless --device is given) through one work dir on a "
                       "file system they all see (--work-dir, default OUT.vdb.work); rank 0 merges. See README, "
                       "\"Scale-out with MPI\"."
                     : "");
-    cmd->callback([a, format, inputs, list] { voxelizeGarments(*a, *format, *inputs, *list); });
+    cmd->callback([a, format, inputs, list, progressLines, voxelizeOne] {
+        const ProgressLines lines(*progressLines);
+        voxelizeGarments(*a, *format, *inputs, *list, voxelizeOne);
+    });
 }
 
 } // namespace yv
