@@ -1,11 +1,10 @@
-// yarnvox._yarnvox: what the Python package (python/yarnvox/__init__.py) is
-// built on. Garments as arrays, the command line's `gen` and `voxelize` run
-// in this process, and a .vdb's grids as arrays.
+// yarnvox._yarnvox: the arrays of the Python package
+// (python/yarnvox/__init__.py): a garment's curves, its yarn radius estimate,
+// and a .vdb's grids. The package runs `gen` and `voxelize` through the
+// command line itself.
 #include "bcc.h"
-#include "cli/embedded_command.h"
-#include "command_run.h"
-#include "garment/cross_section.h"
-#include "pipeline/yarn_radius.h"
+#include "core/error.h"
+#include "garment/radius_estimate.h"
 #include "volume_arrays.h"
 
 #include <pybind11/numpy.h>
@@ -51,18 +50,18 @@ py::dict readGarment(const std::string& path) {
     return out;
 }
 
-/// The yarn radius a voxelize run would use, as it chooses it.
-py::dict chooseRadius(const std::string& path, double yarnRadius, const std::string& crossSection) {
-    YarnRadiusChoice c;
+/// The yarn radius voxelize estimates from a garment that records none
+/// (estimateYarnRadius: half the median distance where yarns touch).
+py::dict estimateRadius(const std::string& path) {
+    RadiusEstimate e;
     {
         py::gil_scoped_release released;
-        const Garment g = readBcc(path);
-        c = chooseYarnRadius(yarnRadius, makeCrossSection(crossSection), g, path);
+        e = estimateYarnRadius(readBcc(path));
     }
     py::dict out;
-    out["radius"] = c.radius;
-    out["source"] = c.source;
-    out["description"] = c.description;
+    out["radius"] = e.radius;
+    out["samples"] = e.samples;
+    out["contacts"] = e.contacts;
     return out;
 }
 
@@ -72,14 +71,18 @@ py::dict chooseRadius(const std::string& path, double yarnRadius, const std::str
 PYBIND11_MODULE(_yarnvox, m) {
     using namespace yv::python;
     m.doc() = "yarnvox's C++ layers for the yarnvox package; use the package's functions";
-    registerExceptions(m);
-    m.def("run_command", &runCommand, py::arg("words"), py::arg("progress") = py::none(),
-          "Runs `gen` or `voxelize` with command-line words; returns one report a voxelized garment");
-    m.def("option_names", &yv::embeddedCommandOptions, py::arg("command"),
-          "(name, is_flag) for each long option of `gen` or `voxelize`");
+    // yarnvox's errors (a damaged file, a missing grid) as the package's Error, message unchanged.
+    static py::exception<yv::Error> error(m, "Error", PyExc_RuntimeError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const yv::Error& e) {
+            error(e.what());
+        }
+    });
     m.def("read_bcc", &readGarment, py::arg("path"));
-    m.def("yarn_radius", &chooseRadius, py::arg("path"), py::arg("yarn_radius") = 0.0,
-          py::arg("cross_section") = "fibers");
+    m.def("estimate_yarn_radius", &estimateRadius, py::arg("path"));
     m.def("read_dense", &readDenseVolume, py::arg("path"), py::arg("level") = 0, py::arg("box") = py::none());
     m.def("read_sparse", &readSparseVolume, py::arg("path"), py::arg("level") = 0);
+    m.def("read_metadata", &readVolumeMetadata, py::arg("path"));
 }

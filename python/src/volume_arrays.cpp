@@ -23,16 +23,20 @@ std::string levelName(const std::string& grid, int level) {
     return level == 0 ? grid : grid + "_lod" + std::to_string(level);
 }
 
-LevelGrids readLevel(const std::string& path, int level) {
+void openFile(openvdb::io::File& file, const std::string& path) {
     static std::once_flag initialized;
     std::call_once(initialized, [] { openvdb::initialize(); });
-    if (level < 0) throw Error(path + ": level " + std::to_string(level) + " is not a level (0 or more)");
-    openvdb::io::File file(path);
     try {
         file.open(false); // no delayed loading: the file may go once read
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": not a readable OpenVDB file (" + e.what() + ")");
     }
+}
+
+LevelGrids readLevel(const std::string& path, int level) {
+    if (level < 0) throw Error(path + ": level " + std::to_string(level) + " is not a level (0 or more)");
+    openvdb::io::File file(path);
+    openFile(file, path);
     const auto grid = [&](const std::string& name) -> openvdb::GridBase::Ptr {
         return file.hasGrid(name) ? file.readGrid(name) : nullptr;
     };
@@ -150,6 +154,25 @@ py::dict readSparseVolume(const std::string& path, int level) {
     out["active"] = active;
     out["orientation"] = orientation;
     out["albedo"] = albedo;
+    return out;
+}
+
+py::dict readVolumeMetadata(const std::string& path) {
+    openvdb::io::File file(path);
+    openFile(file, path);
+    py::dict out;
+    const openvdb::MetaMap::Ptr meta = file.getMetadata();
+    for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it) {
+        const openvdb::Metadata& m = *it->second;
+        if (const auto* v = dynamic_cast<const openvdb::StringMetadata*>(&m)) out[it->first.c_str()] = v->value();
+        else if (const auto* v = dynamic_cast<const openvdb::Int32Metadata*>(&m)) out[it->first.c_str()] = v->value();
+        else if (const auto* v = dynamic_cast<const openvdb::Int64Metadata*>(&m)) out[it->first.c_str()] = v->value();
+        else if (const auto* v = dynamic_cast<const openvdb::DoubleMetadata*>(&m)) out[it->first.c_str()] = v->value();
+        else if (const auto* v = dynamic_cast<const openvdb::FloatMetadata*>(&m)) out[it->first.c_str()] = v->value();
+        else if (const auto* v = dynamic_cast<const openvdb::BoolMetadata*>(&m)) out[it->first.c_str()] = v->value();
+        else out[it->first.c_str()] = m.str();
+    }
+    file.close();
     return out;
 }
 

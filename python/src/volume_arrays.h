@@ -21,4 +21,8 @@ pybind11::dict readDenseVolume(const std::string& path, int level, const std::op
 /// minimum voxel index, its 8^3 values indexed [x][y][z] and which are active.
 pybind11::dict readSparseVolume(const std::string& path, int level);
 
+/// The file's metadata (what the run recorded: input, yarn_radius, twist,
+/// lod_levels, ...) as a dict of str, int, float and bool.
+pybind11::dict readVolumeMetadata(const std::string& path);
+
 } // namespace yv::python

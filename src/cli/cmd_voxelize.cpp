@@ -5,7 +5,6 @@
 #include "cli/option_checks.h"
 #include "cli/option_words.h"
 #include "cli/output_format.h"
-#include "cli/voxelize_command.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/voxelize_settings.h"
@@ -43,8 +42,8 @@ void voxelizeAndReport(const VoxelizeJob& request) {
 
 /// --progress-lines: every stage's progress as lines on stderr while the
 /// command runs, terminal or not ("progress: voxelize 3/10 regions"), for a
-/// program that runs yarnvox and shows its progress (the Blender add-on);
-/// an observer already installed still hears it.
+/// program that runs yarnvox and shows its progress (the Python module, the
+/// Blender add-on); an observer already installed still hears it.
 class ProgressLines {
   public:
     explicit ProgressLines(bool on) {
@@ -186,7 +185,7 @@ void handOutWholeGarments(Cluster& group, const std::vector<GarmentJob>& jobs, b
 
 /// Voxelizes each garment asked for into its output, in its format.
 void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std::vector<std::string>& inputs,
-                      const std::string& list, const VoxelizeOne& runJob) {
+                      const std::string& list) {
     const std::vector<std::string> garments = garmentsAsked(inputs, list);
     std::vector<GarmentJob> jobs;
     if (garments.size() == 1 && list.empty()) {
@@ -208,7 +207,7 @@ void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std
             run.workDir = job.workDir;
             run.statsPath = job.statsPath;
             run.alone = alone;
-            runJob(run);
+            voxelizeAndReport(run);
         });
     };
     if (group && jobs.size() >= std::size_t(group->size())) return handOutWholeGarments(*group, jobs, a.quiet, voxelizeOne);
@@ -222,9 +221,7 @@ void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std
 
 } // namespace
 
-void addVoxelizeCommand(CLI::App& app) { addVoxelizeCommand(app, voxelizeAndReport); }
-
-void addVoxelizeCommand(CLI::App& app, VoxelizeOne voxelizeOne) {
+void addVoxelizeCommand(CLI::App& app) {
     auto a = std::make_shared<VoxelizeJob>();
     auto progressLines = std::make_shared<bool>(false);
     auto format = std::make_shared<std::string>();
@@ -271,9 +268,9 @@ void addVoxelizeCommand(CLI::App& app, VoxelizeOne voxelizeOne) {
                       "file system they all see (--work-dir, default OUT.vdb.work); rank 0 merges. See README, "
                       "\"Scale-out with MPI\"."
                     : "");
-    cmd->callback([a, format, inputs, list, progressLines, voxelizeOne] {
+    cmd->callback([a, format, inputs, list, progressLines] {
         const ProgressLines lines(*progressLines);
-        voxelizeGarments(*a, *format, *inputs, *list, voxelizeOne);
+        voxelizeGarments(*a, *format, *inputs, *list);
     });
 }
 

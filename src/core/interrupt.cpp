@@ -47,16 +47,10 @@ InterruptScope::~InterruptScope() {
 
 int interruptSignal() { return requested.load(); }
 
-void requestStop() {
-    int none = 0;
-    requested.compare_exchange_strong(none, kStopRequested); // a signal already there stays the cause
-}
-
 std::string interruptSignalName() {
     switch (requested.load()) {
     case SIGINT: return "SIGINT";
     case SIGTERM: return "SIGTERM";
-    case kStopRequested: return "a stop request";
     default: return "a signal";
     }
 }

@@ -17,18 +17,10 @@ class InterruptScope {
     InterruptScope& operator=(const InterruptScope&) = delete;
 };
 
-/// The signal that asked to stop (SIGINT or SIGTERM), kStopRequested, or 0.
+/// The signal that asked to stop (SIGINT or SIGTERM), or 0.
 int interruptSignal();
-/// "SIGINT", "SIGTERM", "a stop request" or "a signal".
+/// "SIGINT", "SIGTERM" or "a signal".
 std::string interruptSignalName();
-
-/// What interruptSignal() says after requestStop(): no signal's number.
-inline constexpr int kStopRequested = -1;
-/// Asks the run in progress to stop as a first SIGINT would (at the next
-/// region boundary, keeping what is finished), from any thread: for a
-/// program that runs yarnvox in its own process (the Python module's
-/// progress callback). Only inside an InterruptScope, which clears it.
-void requestStop();
 
 /// The command line as the process was started, for messages that say how
 /// to go on (main records it; quoted where a word needs it).
