@@ -78,7 +78,7 @@ def test_the_options_are_the_command_lines(knit):
 
 def test_progress_is_heard_until_every_region_is_done(knit):
     heard = []
-    yarnvox.voxelize(knit, "out.vdb", resolution=64, backend="cpu", fragment_budget=20000,
+    yarnvox.voxelize(knit, "out.vdb", resolution=64, backend="cpu", fragment_budget=5000,
                      progress=lambda *args: heard.append(args))
     regions = [h for h in heard if h[:2] == ("voxelize", "regions")]
     assert len(regions) >= 2, heard
@@ -88,7 +88,7 @@ def test_progress_is_heard_until_every_region_is_done(knit):
 
 def test_a_callback_that_answers_false_cancels_and_writes_nothing(knit):
     with pytest.raises(yarnvox.Cancelled, match="interrupted by SIGINT .*nothing was written"):
-        yarnvox.voxelize(knit, "out.vdb", resolution=64, backend="cpu", fragment_budget=20000,
+        yarnvox.voxelize(knit, "out.vdb", resolution=64, backend="cpu", fragment_budget=5000,
                          progress=lambda *args: False)
     assert sorted(os.listdir(".")) == [knit]
 
@@ -102,7 +102,7 @@ def test_a_callback_that_raises_stops_the_run_with_its_exception(knit):
             raise Enough()
 
     with pytest.raises(Enough):
-        yarnvox.voxelize(knit, "out.vdb", resolution=64, backend="cpu", fragment_budget=20000, progress=progress)
+        yarnvox.voxelize(knit, "out.vdb", resolution=64, backend="cpu", fragment_budget=5000, progress=progress)
     assert sorted(os.listdir(".")) == [knit]
     # Nothing of the stopped run is left to the next one: it runs to the end.
     assert yarnvox.voxelize(knit, "out.vdb", resolution=32, backend="cpu")["active_voxels"] > 0

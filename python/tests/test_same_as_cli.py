@@ -43,7 +43,7 @@ def test_voxelize_writes_the_command_lines_vdb(case, knit, cli):
     cli.run("voxelize", knit, "-o", "cli.vdb", *words)
     assert vdb_bytes_but_uuid("py.vdb") == vdb_bytes_but_uuid("cli.vdb")
     assert report["output"] == "py.vdb" and report["active_voxels"] > 0
-    assert report["backend"] == kwargs["backend"]
+    assert yarnvox.read_metadata("py.vdb")["backend"] == kwargs["backend"]
 
 
 def test_voxelize_writes_the_command_lines_vol_files(knit, cli):
