@@ -16,6 +16,7 @@ import traceback
 
 import bpy
 import numpy as np
+from mathutils import Vector
 
 
 def render_mean(path):
@@ -82,12 +83,18 @@ def main(args):
         check(obj.type == "VOLUME" and obj.data.filepath.endswith(name + ".vdb"), f"{name}: a Volume object of the .vdb")
         obj.data.grids.load()
         check(obj.data.grids.find("density") >= 0, f"{name}: its density grid loads")
-        box = np.array([obj.matrix_world @ __import__("mathutils").Vector(c) for c in obj.bound_box])
-        radius = 0.3
-        margin = radius + 4 * yarnvox.read_metadata(obj.data.filepath)["voxel_size"]
-        check(np.all(box.min(axis=0) >= lo - margin) and np.all(box.max(axis=0) <= hi + margin)
-              and np.all(box.min(axis=0) <= lo + margin) and np.all(box.max(axis=0) >= hi - margin),
-              f"{name}: its bounds are the garment's ({box.min(axis=0)}..{box.max(axis=0)} for {lo}..{hi})")
+        # In place: the object at the identity, so the grid's own transform puts it in garment units...
+        check(np.allclose(np.array(obj.matrix_world), np.eye(4)), f"{name}: the object adds no transform")
+        box = np.array([Vector(c) for c in obj.bound_box])  # whole leaves of every grid: loose
+        check(np.all(box.min(axis=0) <= lo) and np.all(box.max(axis=0) >= hi), f"{name}: its bounds hold the garment")
+        # ...where the fibre lies around the yarns' curves, within a yarn radius and two voxels.
+        dense = yarnvox.read_volume(obj.data.filepath)
+        m, n = dense["index_to_world"], np.array(dense["density"].shape)
+        first = (m @ np.array([*dense["origin"], 1.0]))[:3]
+        last = (m @ np.array([*(np.array(dense["origin"]) + n - 1), 1.0]))[:3]
+        margin = 0.3 + 2 * dense["voxel_size"]  # `yarnvox gen`'s radius
+        check(np.all(np.abs(first - (lo - 0.3)) < margin) and np.all(np.abs(last - (hi + 0.3)) < margin),
+              f"{name}: its fibre spans the garment ({first}..{last} for {lo}..{hi})")
         imported[name] = obj
 
     set_up_render(centre, half)
