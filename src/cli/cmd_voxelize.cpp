@@ -6,6 +6,7 @@
 #include "cli/option_words.h"
 #include "cli/output_format.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/voxelize_settings.h"
 #include "core/world_units.h"
 #include "pipeline/cluster.h"
@@ -38,6 +39,35 @@ void voxelizeAndReport(const VoxelizeJob& request) {
                     r.overlap == Overlap::Clamp ? "clamped to 1 (--overlap sum keeps the sums)"
                                                 : "kept as sums (--overlap sum)");
 }
+
+/// --progress-lines: every stage's progress as lines on stderr while the
+/// command runs, terminal or not ("progress: voxelize 3/10 regions"), for a
+/// program that runs yarnvox and shows its progress (the Python module, the
+/// Blender add-on); an observer already installed still hears it.
+class ProgressLines {
+  public:
+    explicit ProgressLines(bool on) {
+        if (!on) return;
+        active_ = true;
+        previous_ = setProgressObserver({});
+        setProgressObserver([previous = previous_](const std::string& stage, const std::string& unit,
+                                                   std::uint64_t done, std::uint64_t total) {
+            std::fprintf(stderr, "progress: %s %llu/%llu %s\n", stage.c_str(), static_cast<unsigned long long>(done),
+                         static_cast<unsigned long long>(total), unit.c_str());
+            std::fflush(stderr);
+            if (previous) previous(stage, unit, done, total);
+        });
+    }
+    ~ProgressLines() {
+        if (active_) setProgressObserver(previous_);
+    }
+    ProgressLines(const ProgressLines&) = delete;
+    ProgressLines& operator=(const ProgressLines&) = delete;
+
+  private:
+    bool active_ = false;
+    ProgressObserver previous_;
+};
 
 /// The grid, the slices and the cross-section.
 void addGeometryOptions(CLI::App* cmd, VoxelizeJob& a) {
@@ -193,6 +223,7 @@ void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std
 
 void addVoxelizeCommand(CLI::App& app) {
     auto a = std::make_shared<VoxelizeJob>();
+    auto progressLines = std::make_shared<bool>(false);
     auto format = std::make_shared<std::string>();
     auto inputs = std::make_shared<std::vector<std::string>>();
     auto list = std::make_shared<std::string>();
@@ -228,13 +259,19 @@ void addVoxelizeCommand(CLI::App& app) {
     addGeometryOptions(cmd, *a);
     addVolumeOptions(cmd, *a);
     addRunOptions(cmd, *a);
+    cmd->add_flag("--progress-lines", *progressLines,
+                  "Progress as lines on stderr, terminal or not (\"progress: STAGE DONE/TOTAL UNIT\"), for programs "
+                  "that run yarnvox (none with --quiet)");
     cmd->footer(clusterSupport()
                     ? "MPI: `mpirun -np N yarnvox voxelize ...` shares the zoom regions of one run among N processes "
                       "(each on its own GPU, by local rank, unless --device is given) through one work dir on a "
                       "file system they all see (--work-dir, default OUT.vdb.work); rank 0 merges. See README, "
                       "\"Scale-out with MPI\"."
                     : "");
-    cmd->callback([a, format, inputs, list] { voxelizeGarments(*a, *format, *inputs, *list); });
+    cmd->callback([a, format, inputs, list, progressLines] {
+        const ProgressLines lines(*progressLines);
+        voxelizeGarments(*a, *format, *inputs, *list);
+    });
 }
 
 } // namespace yv

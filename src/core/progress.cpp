@@ -4,28 +4,51 @@
 #include <unistd.h>
 
 namespace yv {
+namespace {
+
+ProgressObserver& installedObserver() {
+    static ProgressObserver observer;
+    return observer;
+}
+
+} // namespace
+
+ProgressObserver setProgressObserver(ProgressObserver observer) {
+    std::swap(installedObserver(), observer);
+    return observer;
+}
 
 Progress::Progress(std::string stage, std::uint64_t total, bool quiet, std::string unit)
     : stage_(std::move(stage)), unit_(std::move(unit)), total_(total),
-      enabled_(!quiet && isatty(STDERR_FILENO)), start_(std::chrono::steady_clock::now()) {}
+      enabled_(!quiet && isatty(STDERR_FILENO)), observer_(quiet ? ProgressObserver() : installedObserver()),
+      start_(std::chrono::steady_clock::now()) {
+    if (observer_) tellObserver(); // the stage's total, before any work
+}
 
 Progress::~Progress() { finish(); }
 
 void Progress::advance(std::uint64_t n) {
     const std::uint64_t done = done_.fetch_add(n, std::memory_order_relaxed) + n;
     (void)done;
-    if (!enabled_) return;
+    if (!enabled_ && !observer_) return;
     const std::int64_t now =
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start_).count();
     std::int64_t next = nextDrawNs_.load(std::memory_order_relaxed);
     if (now < next || !nextDrawNs_.compare_exchange_strong(next, now + 100'000'000)) return;
-    draw(false);
+    if (enabled_) draw(false);
+    if (observer_) tellObserver();
 }
 
 void Progress::finish() {
-    if (!enabled_ || finished_) return;
+    if (finished_) return;
     finished_ = true;
-    draw(true);
+    if (enabled_) draw(true);
+    if (observer_) tellObserver();
+}
+
+void Progress::tellObserver() {
+    std::lock_guard<std::mutex> lock(drawMutex_);
+    observer_(stage_, unit_, done_.load(std::memory_order_relaxed), total_);
 }
 
 void Progress::draw(bool final) {
