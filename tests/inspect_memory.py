@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """Peak host memory of `yarnvox inspect` does not grow with the volume: the
 same garment of tubes (write_tube_volume) at 1024 and at 2048 (four times the
-leaves), with and without a level-of-detail pyramid, each inspect command's
-peak resident memory at 2048 within 1.5 times its peak at 1024 (the GPU
-budget fixed). Memory is read with getrusage of the child alone: each
+leaves), as a .vdb with and without a level-of-detail pyramid and as a work
+directory, each inspect command's peak resident memory at 2048 within 1.5
+times its peak at 1024 (the GPU budget fixed): on a .vdb the summary and the
+whole-volume renders, on a work directory --verify, a region's render and the
+HTML report. Memory is read with getrusage of the child alone: each
 command runs from its own short-lived Python process.
 
     tests/inspect_memory.py --yarnvox BIN --writer BIN --scratch DIR
@@ -55,26 +57,38 @@ def main():
             path = os.path.join(a.scratch, f"tubes-{res}-lod{lod}.vdb")
             subprocess.run([a.writer, path, str(res), str(lod)], check=True)
             volumes[(res, lod)] = path
+    for res in (1024, 2048):
+        path = os.path.join(a.scratch, f"tubes-{res}.work")
+        subprocess.run([a.writer, path, str(res), "work"], check=True)
+        volumes[(res, "work")] = path
     commands = {"summary": []}
+    work_commands = {"verify": ["--verify"]}
     if gl_available(a.yarnvox, volumes[(1024, 0)], a.scratch):
         png = os.path.join(a.scratch, "picture.png")
         budget = ["--gpu-budget", "48M", "--size", "320x240", "-o", png]
         commands["raycast"] = ["--render", "raycast"] + budget
         commands["orientation"] = ["--render", "orientation"] + budget
+        work_commands["region raycast"] = ["--render", "raycast", "--region", "7"] + budget
+        work_commands["html"] = ["--html", os.path.join(a.scratch, "report"), "--html-renders", "2",
+                                 "--gpu-budget", "48M"]
     elif os.environ.get("YV_GL_TESTS") == "skip":
         print("inspect_memory: no OpenGL 4.5 context: renders not measured (YV_GL_TESTS=skip)")
     else:
         sys.exit("inspect_memory: no OpenGL 4.5 context could be made for the renders (YV_GL_TESTS=skip to skip them)")
     failed = []
-    for lod in (0, 3):
-        for name, args in commands.items():
-            small = peak([a.yarnvox, "inspect", volumes[(1024, lod)]] + args)
-            large = peak([a.yarnvox, "inspect", volumes[(2048, lod)]] + args)
-            ratio = large / small
-            print(f"inspect {name}, lod {lod}: peak {small:.0f} MiB at 1024, {large:.0f} MiB at 2048: {ratio:.2f}x")
-            if ratio > 1.5:
-                failed.append(f"{name} lod {lod}: {ratio:.2f}x")
-    sizes = {k: os.path.getsize(v) for k, v in volumes.items()}
+    runs = [(f"{name}, lod {lod}", lod, args) for lod in (0, 3) for name, args in commands.items()]
+    runs += [(f"{name}, work dir", "work", args) for name, args in work_commands.items()]
+    for label, kind, args in runs:
+        peaks = []
+        for res in (1024, 2048):
+            shutil.rmtree(os.path.join(a.scratch, "report"), ignore_errors=True)
+            peaks.append(peak([a.yarnvox, "inspect", volumes[(res, kind)]] + args))
+        small, large = peaks
+        ratio = large / small
+        print(f"inspect {label}: peak {small:.0f} MiB at 1024, {large:.0f} MiB at 2048: {ratio:.2f}x")
+        if ratio > 1.5:
+            failed.append(f"{label}: {ratio:.2f}x")
+    sizes = {k: os.path.getsize(v) for k, v in volumes.items() if os.path.isfile(v)}
     print("file bytes:", {f"{r}/lod{l}": s for (r, l), s in sizes.items()})
     shutil.rmtree(a.scratch, ignore_errors=True)
     if failed:
