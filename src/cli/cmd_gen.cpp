@@ -1,7 +1,9 @@
 // `yarnvox gen`: writes a procedural garment as BCC.
 #include "bcc.h"
 #include "cli/commands.h"
+#include "cli/interruptible.h"
 #include "cli/option_checks.h"
+#include "core/interrupt.h"
 #include "core/output_path.h"
 #include "garment/generate.h"
 
@@ -38,7 +40,7 @@ void addGenCommand(CLI::App& app) {
         ->check(worldLength());
     cmd->add_option("-o,--output", args->output, "Output .bcc file")->required();
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
-    cmd->callback([args] {
+    cmd->callback([args] { runInterruptible(args->output + " is whole", [&] {
         checkOutputPath(args->output, "-o", {}); // before the garment is generated, as every command does
         GenerateOptions opt;
         opt.pattern = parseWeavePattern(args->pattern);
@@ -48,12 +50,14 @@ void addGenCommand(CLI::App& app) {
         opt.yarnSpacing = args->spacing;
         opt.yarnRadius = args->radius;
         const Garment garment = generateGarment(opt);
+        signalAtTestPoint("gen-write");
+        throwIfInterrupted("before " + args->output + " was written: nothing was written; run the command again");
         writeBcc(args->output, garment);
         if (!args->quiet)
             std::printf("wrote %s: %s %s, %zu yarns, %zu control points, %zu segments\n", args->output.c_str(),
                         toString(opt.pattern), toString(opt.shape), garment.yarns.size(), garment.controlPointCount(),
                         garment.segmentCount());
-    });
+    }); });
 }
 
 } // namespace yv

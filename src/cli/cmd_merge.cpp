@@ -1,9 +1,11 @@
 // `yarnvox merge`: a finished work directory to one .vdb (voxelize does this
 // itself at its end; this re-runs it, e.g. after a merge failed for disk space).
 #include "cli/commands.h"
+#include "cli/interruptible.h"
 #include "cli/option_checks.h"
 #include "cli/option_words.h"
 #include "pipeline/run_fingerprint.h"
+#include "core/interrupt.h"
 #include "core/output_path.h"
 #include "store/brick_store.h"
 #include "vdb/merge.h"
@@ -41,7 +43,7 @@ void addMergeCommand(CLI::App& app) {
         ->default_str("preview")
         ->check(lodWords());
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
-    cmd->callback([args] {
+    cmd->callback([args] { runInterruptible(args->output + " is whole", [&] {
         const auto start = std::chrono::steady_clock::now();
         checkOutputPath(args->output, "-o", {});
         const StoreManifest manifest = readManifest(args->workDir);
@@ -54,11 +56,13 @@ void addMergeCommand(CLI::App& app) {
         options.lodLevels = lod.last;
         const VolumeMetadata metadata = manifest.run;
         options.albedo = metadata.albedo; // the run's bricks carry it: so does the merged file
-        mergeStoreToVdb(args->workDir, args->output, metadata, options);
+        saysWhatWasKept("while merging " + args->workDir,
+                        args->output + " was not written and " + args->workDir + " is unchanged; go on with: " + commandLine(),
+                        [&] { mergeStoreToVdb(args->workDir, args->output, metadata, options); });
         if (!args->quiet)
             std::printf("merged %s -> %s in %.2f s\n", args->workDir.c_str(), args->output.c_str(),
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    });
+    }); });
 }
 
 } // namespace yv

@@ -2,6 +2,7 @@
 // the pipeline (src/pipeline/voxelize_run.h), and the summary it prints.
 #include "cli/commands.h"
 #include "cli/garment_list.h"
+#include "cli/interruptible.h"
 #include "cli/option_checks.h"
 #include "cli/option_words.h"
 #include "cli/output_format.h"
@@ -234,7 +235,9 @@ void addVoxelizeCommand(CLI::App& app) {
                       "file system they all see (--work-dir, default OUT.vdb.work); rank 0 merges. See README, "
                       "\"Scale-out with MPI\"."
                     : "");
-    cmd->callback([a, format, inputs, list] { voxelizeGarments(*a, *format, *inputs, *list); });
+    cmd->callback([a, format, inputs, list] {
+        runInterruptible("every output is whole", [&] { voxelizeGarments(*a, *format, *inputs, *list); });
+    });
 }
 
 } // namespace yv

@@ -2,11 +2,14 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
+#include <cstring>
 
 namespace yv {
 namespace {
 
 std::atomic<int> requested{0};
+std::atomic<int> depth{0};
 struct sigaction previousInt {}, previousTerm {};
 
 extern "C" void onInterrupt(int signal) {
@@ -32,6 +35,7 @@ std::string quoted(const std::string& word) {
 } // namespace
 
 InterruptScope::InterruptScope() {
+    if (depth++ > 0) return;
     requested = 0;
     struct sigaction action {};
     action.sa_handler = onInterrupt;
@@ -41,6 +45,7 @@ InterruptScope::InterruptScope() {
 }
 
 InterruptScope::~InterruptScope() {
+    if (--depth > 0) return;
     sigaction(SIGINT, &previousInt, nullptr);
     sigaction(SIGTERM, &previousTerm, nullptr);
 }
@@ -53,6 +58,22 @@ std::string interruptSignalName() {
     case SIGTERM: return "SIGTERM";
     default: return "a signal";
     }
+}
+
+void throwIfInterrupted(const std::string& where) {
+    if (interruptSignal()) throw Interrupted("interrupted by " + interruptSignalName() + " " + where);
+}
+
+void signalAtTestPoint(const char* point) {
+    static const char* const wanted = std::getenv("YARNVOX_TEST_SIGNAL_AT");
+    static std::atomic<bool> raised{false};
+    if (!wanted) return;
+    const std::size_t n = std::strlen(point);
+    if (std::strncmp(wanted, point, n) != 0 || (wanted[n] != '\0' && wanted[n] != ':')) return;
+    if (raised.exchange(true)) return;
+    const char* name = wanted[n] == ':' ? wanted + n + 1 : "INT";
+    const int signal = std::strcmp(name, "TERM") == 0 ? SIGTERM : std::strcmp(name, "KILL") == 0 ? SIGKILL : SIGINT;
+    std::raise(signal);
 }
 
 void recordCommandLine(int argc, char** argv) {

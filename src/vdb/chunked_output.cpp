@@ -76,6 +76,11 @@ void ChunkedOutput::writeChunk(const std::uint8_t* bytes, std::uint64_t count, s
     }
 }
 
+void ChunkedOutput::patch(std::uint64_t at, std::span<const std::uint8_t> bytes) {
+    dropDirect(); // an unaligned write
+    writeChunk(bytes.data(), bytes.size(), at);
+}
+
 void ChunkedOutput::write(std::uint64_t size, const Fill& fill) {
     const std::uint64_t chunks = (size + chunkBytes_ - 1) / chunkBytes_;
     tbb::enumerable_thread_specific<AlignedBuffer> buffers(
