@@ -45,7 +45,7 @@ class MemoryDestination : public RegionDestination {
             assembler_.write(meta);
         } catch (const Interrupted&) {
             throw Interrupted("interrupted by " + interruptSignalName() +
-                              " while the .vdb was written: nothing was written or kept (a run with --work-dir DIR "
+                              " while writing the .vdb: nothing was written or kept (a run with --work-dir DIR "
                               "can be resumed); run the command again");
         }
         timer.lap("write");

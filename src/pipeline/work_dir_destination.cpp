@@ -60,7 +60,7 @@ void WorkDirDestination::writeVdb(VolumeMetadata& meta, RunTotals& totals, const
         mergeStoreToVdb(*store_, job_.output, meta, writeOptions_);
     } catch (const Interrupted&) {
         // Every region is on disk and the run marked complete: going on only merges.
-        throw Interrupted("interrupted by " + interruptSignalName() + " while the .vdb was written: no .vdb was written, all " +
+        throw Interrupted("interrupted by " + interruptSignalName() + " while writing the .vdb: no .vdb was written, all " +
                           std::to_string(regions_.size()) + " regions are kept in " + workDir_ + "; " + goOnWith());
     }
     timer.lap("merge");

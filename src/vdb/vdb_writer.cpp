@@ -325,7 +325,7 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     traceSpanSince("sort the leaves", start);
     const double pyramidSeconds = m.buildPyramid();
     m.encodeSeconds += pyramidSeconds;
-    const FileLayout layout = m.layOut(metadata);
+    FileLayout layout = m.layOut(metadata);
     const auto laidOut = std::chrono::steady_clock::now();
     traceSpanSince("sort and lay out the leaves", start);
     m.writeFile(layout);
