@@ -39,6 +39,23 @@ class Interrupted : public Error {
 /// Throws Interrupted("interrupted by SIG... `where`") when a signal came.
 void throwIfInterrupted(const std::string& where);
 
+/// Under mpirun the launcher ends every rank soon after one ends or is
+/// interrupted (SIGTERM, then SIGKILL about a second later), too soon for a
+/// rank blocked in a collective to reach its next check. From this call on,
+/// SIGINT and SIGTERM are answered at once: one line, "yarnvox: error:
+/// `prefix`stopped by SIG...; " and the stop note, then exit 1. What the
+/// rank was writing stays as a temporary, which the next run removes.
+void answerSignalsAtOnce(const std::string& prefix);
+
+/// What an abrupt stop keeps and how to go on ("the regions written so far
+/// are kept in DIR; go on with: ..."), said by stopAtOnce and by a signal
+/// answered at once. Until set: nothing is kept.
+void setStopNote(const std::string& note);
+
+/// Says "yarnvox: error: PREFIX`why`; NOTE" in one line and ends the process
+/// with exit code 1 at once, from any thread (a rank whose peer died).
+[[noreturn]] void stopAtOnce(const std::string& why);
+
 /// Fault injection for tests: where the environment variable
 /// YARNVOX_TEST_SIGNAL_AT is `point` or `point:SIG` (SIG one of INT, TERM,
 /// KILL; INT when left out), raises that signal here, once per process.
