@@ -178,6 +178,35 @@ TEST_CASE("A dead rank is noticed by the others, which stop at once, keep the re
     fs::remove_all(dir.parent_path());
 }
 
+TEST_CASE("Under mpirun a SIGTERM is answered at once with what is kept and the command that goes on", "[mpi][cli]") {
+    const fs::path dir = scratchDir("sigterm");
+    const fs::path bcc = makeGarment(dir);
+    const fs::path reference = dir / "reference.vdb", out = dir / "out.vdb", work = dir / "work";
+    REQUIRE(runYarnvox("voxelize " + bcc.string() + " -o " + reference.string() + options("cpu")).exitCode == 0);
+    // Rank 0 gets SIGTERM while it writes the .vdb (mpirun would end it a second later).
+    const std::string args = "voxelize " + bcc.string() + " -o " + out.string() + options("cpu") + " --work-dir " + work.string();
+    const auto stopped = runShell("YARNVOX_TEST_SIGNAL_AT=vdb-chunk:TERM timeout 60 " + mpirun(2) + args);
+    INFO(stopped.output);
+    CHECK(stopped.exitCode != 0);
+    CHECK(stopped.exitCode != 124);
+    CHECK_FALSE(fs::exists(out));
+    CHECK_THAT(stopped.output, Catch::Contains("yarnvox: error: rank 0: stopped by SIGTERM"));
+    const std::string marker = "kept in " + work.string() + "; go on with: ";
+    const std::size_t at = stopped.output.find(marker);
+    REQUIRE(at != std::string::npos);
+    const std::string command = stopped.output.substr(at + marker.size(), stopped.output.find('\n', at) - at - marker.size());
+    // The .vdb's temporary stays (the rank ended at once); the run that goes on removes it.
+    std::size_t left = 0;
+    for (const auto& e : fs::directory_iterator(dir)) left += e.path().filename().string().starts_with("out.vdb.partial-");
+    CHECK(left == 1);
+    const auto resumed = runShell(command);
+    INFO(resumed.output);
+    REQUIRE(resumed.exitCode == 0);
+    CHECK(sameVdb(reference, out));
+    for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().find(".partial-") == std::string::npos);
+    fs::remove_all(dir.parent_path());
+}
+
 TEST_CASE("mpirun with several garments writes one .vdb per input and each is the single-process file", "[mpi][cli]") {
     const fs::path dir = scratchDir("frames");
     const fs::path a = dir / "a.bcc", b = dir / "b.bcc";
