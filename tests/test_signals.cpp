@@ -187,7 +187,7 @@ TEST_CASE("Signals: merge stopped while it reads regions or writes keeps the wor
     }
 }
 
-TEST_CASE("Signals: gen and export stop without a temporary", "[signals][cli]") {
+TEST_CASE("Signals: gen, export and inspect --mesh stop without a temporary", "[signals][cli]") {
     SignalRun run("others");
     const fs::path bcc = run.dir / "new.bcc";
     const auto gen = runSignalled("gen-write", "gen --crossings 50 --quiet -o " + bcc.string());
@@ -201,7 +201,8 @@ TEST_CASE("Signals: gen and export stop without a temporary", "[signals][cli]") 
     CHECK(fs::exists(bcc));
 
     checkStopped(run, {{"vol-piece", "export " + run.reference.string() + " -o " + (run.dir / "e.vol").string(), "e.vol"},
-                       {"nvdb-write:TERM", "export " + run.reference.string() + " -o " + (run.dir / "e.nvdb").string(), "e.nvdb"}});
+                       {"nvdb-write:TERM", "export " + run.reference.string() + " -o " + (run.dir / "e.nvdb").string(), "e.nvdb"},
+                       {"mesh-write", "inspect " + run.reference.string() + " --mesh " + (run.dir / "m.ply").string() + " --iso 0.05", "m.ply"}});
 }
 
 TEST_CASE("Signals: inspect's pictures and report stop without a temporary", "[signals][cli][gl]") {
