@@ -1,8 +1,10 @@
 // libFuzzer target: yarnvox's own .vdb reader (src/vdb/vdb_index.cpp,
 // src/vdb/leaf_records.cpp) the way inspect reads a file: header and grids,
-// then each grid's topology and every leaf's record. The reader works on a
+// then each grid's topology and every leaf's record; and the grids'
+// checksums as --verify and export check them (src/vdb/grid_checksums.cpp). The reader works on a
 // file, so the input goes into an in-memory one (memfd).
 #include "core/error.h"
+#include "vdb/grid_checksums.h"
 #include "vdb/leaf_records.h"
 #include "vdb/vdb_index.h"
 
@@ -24,6 +26,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     try {
         const yv::VdbIndex index("/proc/self/fd/" + std::to_string(fd));
         for (const yv::StoredMetadata& m : index.fileMetadata()) (void)m.text();
+        try {
+            (void)yv::verifyGridChecksums(index);
+        } catch (const yv::Error&) {
+        }
         if (index.inSubset()) {
             std::vector<float> values(512 * 3);
             std::vector<std::uint8_t> bytes;

@@ -4,6 +4,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "vdb/chunked_output.h"
+#include "run_cli.h"
 #include "test_helpers.h"
 
 #include <catch2/catch.hpp>
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <thread>
 #include <vector>
 
 using namespace yv;
@@ -199,4 +201,19 @@ TEST_CASE("A pending file reaches its name whole at publish, and one never publi
     CHECK(left == 0);
     fs::remove_all(blocked);
     fs::remove(path);
+}
+
+TEST_CASE("A .vdb written on one core of several asks TBB for no workers it cannot have", "[vdb][chunked][cli]") {
+    // The writers' arena was the machine's size: on one allowed core TBB
+    // printed "TBB Warning: The number of workers is currently limited to 0".
+    if (std::thread::hardware_concurrency() < 2) return; // one core: nothing to restrict
+    test::ScratchDir scratch("yv_one_core");
+    const std::string bcc = (scratch.path / "g.bcc").string(), vdb = (scratch.path / "g.vdb").string();
+    REQUIRE(test::runYarnvox("gen --crossings 40 --quiet -o " + bcc).exitCode == 0);
+    const auto r = test::runShell("taskset -c 0 " + std::string(YV_BINARY_DIR) + "/yarnvox voxelize " + bcc + " -o " + vdb +
+                                  " --backend cpu --resolution 64 --quiet");
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(r.output.find("TBB") == std::string::npos);
+    CHECK(r.output.empty());
 }

@@ -9,6 +9,7 @@
 #include "inspect/transfer_function.h"
 #include "store/manifest.h"
 #include "store/region_file.h"
+#include "vdb/vdb_file_check.h"
 
 #include <catch2/catch.hpp>
 
@@ -92,6 +93,15 @@ TEST_CASE("Fuzz corpus: every .vdb input is read whole or refused with an error"
         CHECK(bricks >= source->occupiedBricks().size());
     });
     CHECK(accepted >= 2); // the seeds yarnvox wrote whole
+}
+
+TEST_CASE("Fuzz corpus: every .vdb input is checked whole, checksums included, or refused with an error", "[fuzz-corpus][vdb]") {
+    int checksummed = 0;
+    const int accepted = replay("vdb", [&](const fs::path& p, const Bytes&) {
+        checksummed += yv::checkVdbFile(p.string()).gridsChecked > 0;
+    });
+    CHECK(accepted >= 3);    // the seeds yarnvox wrote whole
+    CHECK(checksummed >= 1); // the seed written since files record checksums
 }
 
 TEST_CASE("A PNG too short for the image its header claims is refused before the image is allocated", "[fuzz-corpus][png]") {

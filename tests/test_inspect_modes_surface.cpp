@@ -179,8 +179,25 @@ TEST_CASE("isosurface: a higher iso value draws a thinner yarn", "[inspect][gl]"
     const int wide = coveredPixels(0.05), thin = coveredPixels(0.95);
     CHECK(thin > 0);
     CHECK(thin < wide);
-    // No voxel is denser than 1: nothing reaches 1.5.
-    CHECK(coveredPixels(1.5) == 0);
+    // No voxel is denser than 1: nothing reaches 1.5, and an empty picture is refused, naming the densities.
+    CHECK_THROWS_WITH(coveredPixels(1.5), Catch::Contains("--iso 1.5: no voxel drawn reaches it") &&
+                                              Catch::Contains("are at most 1"));
+}
+
+TEST_CASE("isosurface: an iso value above every density is refused in one line, with no picture", "[inspect][gl][cli]") {
+    YV_REQUIRE_GL();
+    test::ScratchDir scratch("yv_iso_above");
+    const std::string bcc = (scratch.path / "g.bcc").string(), vdb = (scratch.path / "g.vdb").string(),
+                      png = (scratch.path / "iso.png").string();
+    REQUIRE(test::runYarnvox("gen --crossings 40 --quiet -o " + bcc).exitCode == 0);
+    REQUIRE(test::runYarnvox("voxelize " + bcc + " -o " + vdb + " --backend cpu --resolution 64 --quiet").exitCode == 0);
+    const auto r = test::runYarnvox("inspect " + vdb + " --render isosurface --iso 50 --size 32x32 -o " + png);
+    INFO(r.output);
+    CHECK(r.exitCode == 1);
+    CHECK_THAT(r.output, Catch::StartsWith("yarnvox: error: --iso 50: no voxel drawn reaches it"));
+    CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(png));
+    CHECK(test::runYarnvox("inspect " + vdb + " --render isosurface --iso 0.05 --size 32x32 -o " + png).exitCode == 0);
 }
 
 TEST_CASE("isosurface mesh: a straight yarn's mesh lies on its cylinder with the cylinder's area", "[inspect]") {

@@ -8,6 +8,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <chrono>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -134,6 +136,74 @@ TEST_CASE("A rank killed part-way then --resume with another rank count gives th
     const std::string json = readFile(stats);
     CHECK(json.find("\"regions_resumed\": " + std::to_string(kept)) != std::string::npos);
     CHECK(json.find("\"regions_computed\": 0") == std::string::npos);
+    fs::remove_all(dir.parent_path());
+}
+
+TEST_CASE("A dead rank is noticed by the others, which stop at once, keep the regions and say how to go on", "[mpi][cli]") {
+    const fs::path dir = scratchDir("dead-rank");
+    const fs::path bcc = makeGarment(dir);
+    const fs::path reference = dir / "reference.vdb", out = dir / "out.vdb";
+    REQUIRE(runYarnvox("voxelize " + bcc.string() + " -o " + reference.string() + options("cpu")).exitCode == 0);
+    // Rank 1, or rank 0 (which hands out the regions), dies holding its third region.
+    for (const auto& [ranks, dead] : {std::pair{2, 1}, std::pair{3, 1}, std::pair{3, 0}}) {
+        INFO("mpirun -np " << ranks << ", rank " << dead << " killed");
+        const fs::path work = dir / ("work-" + std::to_string(ranks) + "-" + std::to_string(dead));
+        const std::string args = "voxelize " + bcc.string() + " -o " + out.string() + options("cpu") + " --work-dir " + work.string();
+        const auto start = std::chrono::steady_clock::now();
+        const auto killed = runShell("YARNVOX_TEST_KILL_RANK=" + std::to_string(dead) + ":2 timeout 60 " + mpirun(ranks) + args);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        INFO(killed.output);
+        CHECK(killed.exitCode != 0);
+        CHECK(killed.exitCode != 124); // mpirun ended by itself, not by the timeout
+        CHECK(seconds < 30.0);
+        CHECK_FALSE(fs::exists(out));
+        // A survivor says which rank is gone, what is kept and the command that goes on.
+        const std::string said = "rank " + std::to_string(dead) + " (PID ";
+        CHECK_THAT(killed.output, Catch::Contains(said) && Catch::Contains("ended before the run did"));
+        const std::string marker = "kept in " + work.string() + "; go on with: ";
+        const std::size_t at = killed.output.find(marker);
+        REQUIRE(at != std::string::npos);
+        const std::string command = killed.output.substr(at + marker.size(), killed.output.find('\n', at) - at - marker.size());
+        CHECK_THAT(command, Catch::EndsWith(" --resume"));
+        // What the ranks finished stays for the resume (rank 0 killed at its third claim may
+        // be ahead of every other rank's first region: nothing may be finished then).
+        if (dead != 0) CHECK(regionFiles(work) >= 1);
+        const auto resumed = runShell(command);
+        INFO(resumed.output);
+        REQUIRE(resumed.exitCode == 0);
+        CHECK(sameVdb(reference, out));
+        for (const auto& e : fs::directory_iterator(work)) CHECK(e.path().filename().string().find(".partial-") == std::string::npos);
+        fs::remove(out);
+    }
+    fs::remove_all(dir.parent_path());
+}
+
+TEST_CASE("Under mpirun a SIGTERM is answered at once with what is kept and the command that goes on", "[mpi][cli]") {
+    const fs::path dir = scratchDir("sigterm");
+    const fs::path bcc = makeGarment(dir);
+    const fs::path reference = dir / "reference.vdb", out = dir / "out.vdb", work = dir / "work";
+    REQUIRE(runYarnvox("voxelize " + bcc.string() + " -o " + reference.string() + options("cpu")).exitCode == 0);
+    // Rank 0 gets SIGTERM while it writes the .vdb (mpirun would end it a second later).
+    const std::string args = "voxelize " + bcc.string() + " -o " + out.string() + options("cpu") + " --work-dir " + work.string();
+    const auto stopped = runShell("YARNVOX_TEST_SIGNAL_AT=vdb-chunk:TERM timeout 60 " + mpirun(2) + args);
+    INFO(stopped.output);
+    CHECK(stopped.exitCode != 0);
+    CHECK(stopped.exitCode != 124);
+    CHECK_FALSE(fs::exists(out));
+    CHECK_THAT(stopped.output, Catch::Contains("yarnvox: error: rank 0: stopped by SIGTERM"));
+    const std::string marker = "kept in " + work.string() + "; go on with: ";
+    const std::size_t at = stopped.output.find(marker);
+    REQUIRE(at != std::string::npos);
+    const std::string command = stopped.output.substr(at + marker.size(), stopped.output.find('\n', at) - at - marker.size());
+    // The .vdb's temporary stays (the rank ended at once); the run that goes on removes it.
+    std::size_t left = 0;
+    for (const auto& e : fs::directory_iterator(dir)) left += e.path().filename().string().starts_with("out.vdb.partial-");
+    CHECK(left == 1);
+    const auto resumed = runShell(command);
+    INFO(resumed.output);
+    REQUIRE(resumed.exitCode == 0);
+    CHECK(sameVdb(reference, out));
+    for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().find(".partial-") == std::string::npos);
     fs::remove_all(dir.parent_path());
 }
 

@@ -1,6 +1,7 @@
 // `yarnvox export`: an existing .vdb to renderer formats (Mitsuba .vol,
 // NanoVDB .nvdb), whole or a box of it, from the leaves already written.
 #include "cli/commands.h"
+#include "cli/interruptible.h"
 #include "cli/option_checks.h"
 #include "cli/output_format.h"
 #include "core/error.h"
@@ -9,6 +10,7 @@
 #include "core/world_units.h"
 #include "export/fiber_grids.h"
 #include "store/brick_store.h"
+#include "vdb/vdb_file_check.h"
 
 #include <CLI/CLI.hpp>
 
@@ -117,6 +119,8 @@ void runExport(const ExportArgs& a) {
         throw Error("--bbox, --bbox-world, --region and --sggx apply to .vol exports; a .nvdb holds the whole sparse volume");
     if (a.region >= 0 && a.workDir.empty())
         throw Error("--region " + std::to_string(a.region) + " needs --work-dir DIR: zoom regions are recorded in the run's work directory, not in the .vdb");
+    // OpenVDB reads a damaged file into a wrong volume (or a crash): a yarnvox file is checked whole first.
+    checkVdbFile(a.input);
     const FiberGrids grids = readFiberGrids(a.input);
     vol.box = requestedBox(a, grids);
     if (vol.box && a.region < 0)
@@ -169,7 +173,7 @@ void addExportCommand(CLI::App& app) {
                     "each voxel's fibre axis, for Mitsuba 3's sggx phase function")
         ->check(finiteRange(1e-6, 1.0));
     cmd->add_flag("-q,--quiet", a->quiet, "Print nothing on success");
-    cmd->callback([a] { runExport(*a); });
+    cmd->callback([a] { runInterruptible("every file of " + a->output + " is whole", [&] { runExport(*a); }); });
 }
 
 } // namespace yv

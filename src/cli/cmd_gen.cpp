@@ -1,7 +1,9 @@
 // `yarnvox gen`: writes a procedural garment as BCC.
 #include "bcc.h"
 #include "cli/commands.h"
+#include "cli/interruptible.h"
 #include "cli/option_checks.h"
+#include "core/interrupt.h"
 #include "core/output_path.h"
 #include "garment/generate.h"
 
@@ -13,14 +15,39 @@
 
 namespace yv {
 
+namespace {
+
+struct GenArgs {
+    std::string pattern = "plain", shape = "flat", output;
+    std::uint64_t crossings = 1000, seed = 1;
+    double spacing = 1.0, radius = 0.3;
+    bool quiet = false;
+};
+
+/// Generates the garment and writes it; a signal before the write writes nothing.
+void runGen(const GenArgs& a) {
+    checkOutputPath(a.output, "-o", {}); // before the garment is generated, as every command does
+    GenerateOptions opt;
+    opt.pattern = parseWeavePattern(a.pattern);
+    opt.shape = parseGarmentShape(a.shape);
+    opt.crossings = a.crossings;
+    opt.seed = a.seed;
+    opt.yarnSpacing = a.spacing;
+    opt.yarnRadius = a.radius;
+    const Garment garment = generateGarment(opt);
+    signalAtTestPoint("gen-write");
+    throwIfInterrupted("before " + a.output + " was written: nothing was written; run the command again");
+    writeBcc(a.output, garment);
+    if (!a.quiet)
+        std::printf("wrote %s: %s %s, %zu yarns, %zu control points, %zu segments\n", a.output.c_str(),
+                    toString(opt.pattern), toString(opt.shape), garment.yarns.size(), garment.controlPointCount(),
+                    garment.segmentCount());
+}
+
+} // namespace
+
 void addGenCommand(CLI::App& app) {
-    struct Args {
-        std::string pattern = "plain", shape = "flat", output;
-        std::uint64_t crossings = 1000, seed = 1;
-        double spacing = 1.0, radius = 0.3;
-        bool quiet = false;
-    };
-    auto args = std::make_shared<Args>();
+    auto args = std::make_shared<GenArgs>();
     CLI::App* cmd = app.add_subcommand("gen", "Generate a yarn-level garment (BCC file) for tests, demos and benchmarks");
     cmd->add_option("--pattern", args->pattern, "Weave or knit: plain, twill, satin, knit")->capture_default_str();
     cmd->add_option("--crossings", args->crossings, "Number of yarn crossings (the paper's dense vest has 410000)")
@@ -38,22 +65,7 @@ void addGenCommand(CLI::App& app) {
         ->check(worldLength());
     cmd->add_option("-o,--output", args->output, "Output .bcc file")->required();
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
-    cmd->callback([args] {
-        checkOutputPath(args->output, "-o", {}); // before the garment is generated, as every command does
-        GenerateOptions opt;
-        opt.pattern = parseWeavePattern(args->pattern);
-        opt.shape = parseGarmentShape(args->shape);
-        opt.crossings = args->crossings;
-        opt.seed = args->seed;
-        opt.yarnSpacing = args->spacing;
-        opt.yarnRadius = args->radius;
-        const Garment garment = generateGarment(opt);
-        writeBcc(args->output, garment);
-        if (!args->quiet)
-            std::printf("wrote %s: %s %s, %zu yarns, %zu control points, %zu segments\n", args->output.c_str(),
-                        toString(opt.pattern), toString(opt.shape), garment.yarns.size(), garment.controlPointCount(),
-                        garment.segmentCount());
-    });
+    cmd->callback([args] { runInterruptible(args->output + " is whole", [&] { runGen(*args); }); });
 }
 
 } // namespace yv

@@ -5,6 +5,7 @@
 // the inspect and render layers return for them; it makes the GL context
 // (once, where a picture needs it) and lends it to whatever draws.
 #include "cli/commands.h"
+#include "cli/interruptible.h"
 #include "cli/option_checks.h"
 #include "core/error.h"
 #include "core/output_path.h"
@@ -13,6 +14,7 @@
 #include "inspect/store_report.h"
 #include "inspect/transfer_function.h"
 #include "inspect/vdb_report.h"
+#include "vdb/vdb_file_check.h"
 #include "pipeline/preview_slices.h"
 #include "render/html_report.h"
 #include "render/render_context.h"
@@ -172,27 +174,49 @@ HtmlReportRequest htmlRequest(const InspectArgs& a) {
 
 void print(const std::string& text) { std::fputs(text.c_str(), stdout); }
 
-/// What `yarnvox inspect` does with its options: one report, picture or mesh
-/// (a mesh and a picture may go together), each printed as it is done.
-void runInspect(const InspectArgs& a) {
-    if (!a.html.empty()) {
-        const HtmlReportRequest request = htmlRequest(a);
-        RenderContext context(a.device);
-        print(writeHtmlReport(context, request));
-        return;
-    }
-    if (a.meshLevel >= 0 && a.mesh.empty()) throw Error("--mesh-level goes with --mesh");
+/// What --verify of a .vdb found, when it found nothing wrong.
+std::string verifiedLine(const std::string& path, const VdbFileCheck& check) {
+    if (check.gridsChecked > 0)
+        return "verified: the bytes of all " + std::to_string(check.gridsChecked) + " grids match their checksums";
+    return "verified: the structure only: " + path +
+           (check.yarnvox ? " records no checksums (written by a yarnvox before them)" : " was not written by yarnvox");
+}
+
+/// --mesh and --render: a mesh and a picture may go together.
+void drawAndMesh(const InspectArgs& a) {
     if (!a.mesh.empty()) print(meshToFile(meshRequest(a)));
     if (!a.render.empty()) {
         const PictureRequest request = pictureRequest(a);
         RenderContext context(a.device);
         print(renderPicture(context, request));
+    }
+}
+
+/// What `yarnvox inspect` does with its options: one report, picture or mesh
+/// (a mesh and a picture may go together), each printed as it is done.
+void runInspect(const InspectArgs& a) {
+    if (!a.html.empty()) {
+        const HtmlReportRequest request = htmlRequest(a);
+        runInterruptible("the report " + a.html + " is whole", [&] {
+            RenderContext context(a.device);
+            saysWhatWasKept("while the report was built",
+                            "the report " + a.html + " was not written (an earlier one there is as it was); run the command again",
+                            [&] { print(writeHtmlReport(context, request)); });
+        });
         return;
     }
-    if (!a.mesh.empty()) return;
+    if (a.meshLevel >= 0 && a.mesh.empty()) throw Error("--mesh-level goes with --mesh");
+    if (!a.mesh.empty() || !a.render.empty()) {
+        // Pictures and meshes are written whole or not at all: a signal stops before the next one.
+        runInterruptible("every file asked for is whole", [&] { drawAndMesh(a); });
+        return;
+    }
     if (!a.output.empty()) throw Error("-o goes with --render");
     if (!std::filesystem::is_directory(a.path)) {
+        // Checked before the report, which would read damaged values as they are.
+        const VdbFileCheck check = a.verify ? checkVdbFile(a.path) : VdbFileCheck{};
         print(vdbReport(a.path, a.json));
+        if (a.verify) std::fprintf(a.json ? stderr : stdout, "%s\n", verifiedLine(a.path, check).c_str());
         return;
     }
     const StoreReport report = storeReport(storeRequest(a));
@@ -208,7 +232,9 @@ void addReportOptions(CLI::App* cmd, InspectArgs& a) {
         ->check(CLI::ExistingPath);
     cmd->add_flag("--json", a.json, "Print JSON instead of text");
     cmd->add_flag("--verify", a.verify,
-                  "Work directory: read every region in full, check its checksums, and exit 1 naming the damaged ones");
+                  "Work directory: read every region in full, check its checksums, and exit 1 naming the damaged ones; "
+                  "a yarnvox .vdb: check its structure and every grid's checksum, and exit 1 naming the grid whose "
+                  "bytes changed");
     std::vector<std::string> columns;
     for (const RegionColumn c : regionColumns()) columns.push_back(regionColumnName(c));
     cmd->add_option("--sort", a.sort, "Work directory: order the region table by this column (largest first)")

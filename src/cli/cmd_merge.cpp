@@ -1,9 +1,11 @@
 // `yarnvox merge`: a finished work directory to one .vdb (voxelize does this
 // itself at its end; this re-runs it, e.g. after a merge failed for disk space).
 #include "cli/commands.h"
+#include "cli/interruptible.h"
 #include "cli/option_checks.h"
 #include "cli/option_words.h"
 #include "pipeline/run_fingerprint.h"
+#include "core/interrupt.h"
 #include "core/output_path.h"
 #include "store/brick_store.h"
 #include "vdb/merge.h"
@@ -16,15 +18,42 @@
 
 namespace yv {
 
+namespace {
+
+struct MergeArgs {
+    std::string workDir, output;
+    VdbCompression compression = VdbCompression::ActiveMask;
+    VdbPrecision precision = VdbPrecision::Float;
+    LodRequest lod;
+    bool quiet = false;
+};
+
+/// Merges the work dir into the .vdb; a signal leaves the work dir as it was and no .vdb.
+void runMerge(const MergeArgs& a) {
+    const auto start = std::chrono::steady_clock::now();
+    checkOutputPath(a.output, "-o", {});
+    const StoreManifest manifest = readManifest(a.workDir);
+    VdbWriteOptions options;
+    options.compression = a.compression;
+    options.precision = a.precision;
+    // Checked against the store's grid before any region is read.
+    const LodLevels lod = lodLevelsFor(a.lod, manifest.grid);
+    options.lodFirstLevel = lod.first;
+    options.lodLevels = lod.last;
+    const VolumeMetadata metadata = manifest.run;
+    options.albedo = metadata.albedo; // the run's bricks carry it: so does the merged file
+    saysWhatWasKept("while merging " + a.workDir,
+                    a.output + " was not written and " + a.workDir + " is unchanged; go on with: " + commandLine(),
+                    [&] { mergeStoreToVdb(a.workDir, a.output, metadata, options); });
+    if (!a.quiet)
+        std::printf("merged %s -> %s in %.2f s\n", a.workDir.c_str(), a.output.c_str(),
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+} // namespace
+
 void addMergeCommand(CLI::App& app) {
-    struct Args {
-        std::string workDir, output;
-        VdbCompression compression = VdbCompression::ActiveMask;
-        VdbPrecision precision = VdbPrecision::Float;
-        LodRequest lod;
-        bool quiet = false;
-    };
-    auto args = std::make_shared<Args>();
+    auto args = std::make_shared<MergeArgs>();
     CLI::App* cmd = app.add_subcommand("merge", "Merge the brick store of a finished voxelize run into one OpenVDB file");
     cmd->add_option("workdir", args->workDir, "Work directory of a voxelize run (--work-dir)")->required()->check(CLI::ExistingDirectory);
     cmd->add_option("-o,--output", args->output, "Output .vdb file")->required();
@@ -41,24 +70,7 @@ void addMergeCommand(CLI::App& app) {
         ->default_str("preview")
         ->check(lodWords());
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
-    cmd->callback([args] {
-        const auto start = std::chrono::steady_clock::now();
-        checkOutputPath(args->output, "-o", {});
-        const StoreManifest manifest = readManifest(args->workDir);
-        VdbWriteOptions options;
-        options.compression = args->compression;
-        options.precision = args->precision;
-        // Checked against the store's grid before any region is read.
-        const LodLevels lod = lodLevelsFor(args->lod, manifest.grid);
-        options.lodFirstLevel = lod.first;
-        options.lodLevels = lod.last;
-        const VolumeMetadata metadata = manifest.run;
-        options.albedo = metadata.albedo; // the run's bricks carry it: so does the merged file
-        mergeStoreToVdb(args->workDir, args->output, metadata, options);
-        if (!args->quiet)
-            std::printf("merged %s -> %s in %.2f s\n", args->workDir.c_str(), args->output.c_str(),
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    });
+    cmd->callback([args] { runInterruptible(args->output + " is whole", [&] { runMerge(*args); }); });
 }
 
 } // namespace yv

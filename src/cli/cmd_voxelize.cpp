@@ -2,6 +2,7 @@
 // the pipeline (src/pipeline/voxelize_run.h), and the summary it prints.
 #include "cli/commands.h"
 #include "cli/garment_list.h"
+#include "cli/interruptible.h"
 #include "cli/option_checks.h"
 #include "cli/option_words.h"
 #include "cli/output_format.h"
@@ -270,7 +271,7 @@ void addVoxelizeCommand(CLI::App& app) {
                     : "");
     cmd->callback([a, format, inputs, list, progressLines] {
         const ProgressLines lines(*progressLines);
-        voxelizeGarments(*a, *format, *inputs, *list);
+        runInterruptible("every output is whole", [&] { voxelizeGarments(*a, *format, *inputs, *list); });
     });
 }
 

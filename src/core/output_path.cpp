@@ -1,6 +1,7 @@
 #include "core/output_path.h"
 
 #include "core/error.h"
+#include "core/stale_temporaries.h"
 
 #include <filesystem>
 #include <system_error>
@@ -32,6 +33,8 @@ void checkOutputPath(const std::string& path, const std::string& what, const std
     const fs::path parent = fs::path(path).parent_path();
     if (!parent.empty() && !fs::is_directory(parent, ec))
         throw Error(what + " " + path + ": the directory " + parent.string() + " does not exist");
+    // The place is good: what an earlier, killed run left beside it goes.
+    removeStaleTemporaries(path);
 }
 
 } // namespace yv

@@ -18,7 +18,8 @@ std::string nonRegularKind(const std::string& path);
 /// Throws yv::Error, naming `path` and `what` ("-o", "--stats"), when `path`
 /// is not a place for a new or replaced regular file: a directory, a device,
 /// a FIFO, a socket or a symbolic link; a directory that does not exist; or
-/// the same file as any of `inputs`.
+/// the same file as any of `inputs`. When it is good, removes what killed
+/// runs left beside it (removeStaleTemporaries, core/stale_temporaries.h).
 void checkOutputPath(const std::string& path, const std::string& what, const std::vector<std::string>& inputs);
 
 } // namespace yv

@@ -22,6 +22,16 @@ inline std::string hex64(std::uint64_t v) {
     return s;
 }
 
+/// A name read from a file, fit for a one-line message: at most 64
+/// characters ("..." where cut), anything but printable ASCII as '?'. A
+/// damaged name may be 64 KiB of any bytes.
+inline std::string shownName(const std::string& name) {
+    std::string out = name.size() <= 64 ? name : name.substr(0, 61) + "...";
+    for (char& c : out)
+        if (c < 0x20 || c > 0x7e) c = '?';
+    return out;
+}
+
 /// "(x, y, z)", for voxel and brick coordinates in messages.
 inline std::string coordText(glm::ivec3 v) {
     return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";

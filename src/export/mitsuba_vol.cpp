@@ -118,8 +118,8 @@ void appendValues(PendingFile& out, const GridT& grid, const VoxelBox& box, int 
     std::vector<std::uint8_t> buffer;
     forEachPiece(box, [&](const openvdb::CoordBBox& piece) {
         // Under an InterruptScope, SIGINT or SIGTERM stops between pieces; the temporaries go with the exception.
-        if (interruptSignal())
-            throw Error(out.path() + ": interrupted by " + interruptSignalName() + ": nothing was written");
+        throwIfInterrupted("while writing " + out.path() + ": nothing was written; run the command again");
+        signalAtTestPoint("vol-piece");
         openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(piece);
         openvdb::tools::copyToDense(grid, dense);
         const std::size_t n = dense.valueCount();

@@ -34,7 +34,9 @@ NanoVdbExportResult exportNanoVdb(const FiberGrids& grids, const std::string& pa
         throw Error(path + ": the NanoVDB grids take " + std::to_string(need) + " bytes, and " + dir + " has " +
                     std::to_string(space.available) + " bytes free: nothing was written");
 
-    if (interruptSignal()) throw Error(path + ": interrupted by " + interruptSignalName() + ": nothing was written");
+    signalAtTestPoint("nvdb-write");
+    const std::string stopped = "while writing " + path + ": nothing was written; run the command again";
+    throwIfInterrupted(stopped);
     PendingFile file(path);
     PendingFileBuf buffer(file);
     std::ostream os(&buffer);
@@ -45,6 +47,7 @@ NanoVdbExportResult exportNanoVdb(const FiberGrids& grids, const std::string& pa
     }
     if (!buffer.error().empty()) throw Error(buffer.error());
     if (!os) throw Error(path + ": NanoVDB could not write the grids");
+    throwIfInterrupted(stopped); // a signal during the write: the file is not published
     file.publish();
     return {file.size(), int(handles.size())};
 }

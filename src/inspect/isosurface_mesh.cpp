@@ -3,6 +3,7 @@
 #include "core/atomic_file.h"
 #include "core/bricks.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/VolumeToMesh.h>
@@ -144,6 +145,8 @@ void writeMesh(const std::string& path, const IsosurfaceMesh& mesh) {
         }
         append(bytes, text.data(), text.size());
     }
+    signalAtTestPoint("mesh-write");
+    throwIfInterrupted("before " + path + " was written: it was not written; run the command again");
     writeFileAtomically(path, bytes);
 }
 

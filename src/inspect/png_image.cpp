@@ -2,6 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 
 #include <png.h>
 
@@ -24,6 +25,8 @@ void writePng(const std::string& path, const RgbImage& image) {
     if (!png_image_write_to_memory(&desc, bytes.data(), &size, 0, image.pixels.data(), 0, nullptr))
         throw Error("cannot write " + path + ": " + desc.message);
     bytes.resize(size);
+    signalAtTestPoint("png-write");
+    throwIfInterrupted("before " + path + " was written: it was not written; run the command again");
     writeFileAtomically(path, std::span<const std::uint8_t>(bytes));
 }
 

@@ -2,6 +2,8 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/interrupt.h"
+#include "core/stale_temporaries.h"
 #include "inspect/html_page.h"
 
 #include <unistd.h>
@@ -72,12 +74,15 @@ std::size_t writeReportDirectory(const std::string& input, const std::string& di
     const fs::path building = parent / (dir.filename().string() + ".tmp-" + std::to_string(::getpid()));
     std::error_code ec;
     fs::remove_all(building, ec);
+    removeStaleTemporaries(dir.string()); // what killed runs left: DIR.tmp-PID, DIR.old-PID
     try {
         fs::create_directories(building / "renders");
         const std::string page = build(building);
         writeFileAtomically((building / "index.html").string(),
                             std::span(reinterpret_cast<const std::uint8_t*>(page.data()), page.size()));
         const auto images = std::distance(fs::directory_iterator(building / "renders"), fs::directory_iterator());
+        signalAtTestPoint("html-move");
+        throwIfInterrupted("before the report was put in place"); // the building directory goes below
         moveIntoPlace(building, dir, parent);
         return std::size_t(images);
     } catch (const fs::filesystem_error& e) {

@@ -41,7 +41,13 @@ class MemoryDestination : public RegionDestination {
                   const RefuseEmpty& refuseEmpty) override {
         meta.regions = recordedRegions(written_); // as a merge of the same regions records them
         refuseEmpty(totals.activeVoxels);
-        assembler_.write(meta);
+        try {
+            assembler_.write(meta);
+        } catch (const Interrupted&) {
+            throw Interrupted("interrupted by " + interruptSignalName() +
+                              " while writing the .vdb: nothing was written or kept (a run with --work-dir DIR "
+                              "can be resumed); run the command again");
+        }
         timer.lap("write");
     }
 

@@ -4,6 +4,7 @@
 #include "pipeline/cluster.h"
 
 #include "core/error.h"
+#include "core/interrupt.h"
 
 // The C API only: Debian's Open MPI would otherwise pull in its deprecated
 // C++ bindings, which need libmpi_cxx.
@@ -20,7 +21,14 @@
 #include <thread>
 
 #include <sched.h>
+#include <signal.h>
 #include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <string>
+#include <vector>
 
 namespace yv {
 namespace {
@@ -57,6 +65,59 @@ void waitPolitely(MPI_Request& request, MPI_Status* status = MPI_STATUS_IGNORE) 
     }
 }
 
+/// Watches the ranks on this machine while the run needs them: a rank whose
+/// process is gone (SIGKILL, a crash, the OOM killer) before the run ends
+/// leaves the others waiting in a collective for ever wherever the launcher
+/// does not end them (srun without --kill-on-bad-exit, an mpirun told to
+/// keep going). The watcher ends this rank within kPeriod, saying which rank
+/// is gone, what is kept and how to go on (core/interrupt.h, stopAtOnce); the
+/// launcher then sees a rank fail and ends the rest. Ranks on other machines
+/// are left to the launcher, which learns of a lost node from its daemons.
+class PeerWatch {
+  public:
+    static constexpr std::chrono::milliseconds kPeriod{200};
+
+    PeerWatch(MPI_Comm comm, int rank, int size) {
+        struct Peer {
+            char host[64];
+            long pid;
+        } mine{};
+        ::gethostname(mine.host, sizeof mine.host - 1);
+        mine.pid = long(::getpid());
+        std::vector<Peer> all(std::size_t(size), Peer{});
+        MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, comm);
+        for (int r = 0; r < size; ++r)
+            if (r != rank && std::strncmp(all[std::size_t(r)].host, mine.host, sizeof mine.host) == 0)
+                peers_.push_back({r, all[std::size_t(r)].pid});
+        if (!peers_.empty()) thread_ = std::thread([this] { watch(); });
+    }
+    /// Call before MPI_Finalize: past it, a peer may end first and rightly.
+    void stop() {
+        stopping_ = true;
+        if (thread_.joinable()) thread_.join();
+    }
+    ~PeerWatch() { stop(); }
+
+  private:
+    struct Peer {
+        int rank;
+        long pid;
+    };
+    void watch() {
+        while (!stopping_) {
+            for (const Peer& p : peers_)
+                if (::kill(pid_t(p.pid), 0) != 0 && errno == ESRCH && !stopping_)
+                    stopAtOnce("rank " + std::to_string(p.rank) + " (PID " + std::to_string(p.pid) +
+                               ") ended before the run did: stopping");
+            std::this_thread::sleep_for(kPeriod);
+        }
+    }
+
+    std::vector<Peer> peers_;
+    std::atomic<bool> stopping_{false};
+    std::thread thread_;
+};
+
 class MpiCluster : public Cluster {
   public:
     MpiCluster() {
@@ -67,9 +128,14 @@ class MpiCluster : public Cluster {
         MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
         MPI_Comm_rank(node, &localRank_);
         MPI_Comm_free(&node);
+        if (size_ > 1) {
+            answerSignalsAtOnce("rank " + std::to_string(rank_) + ": ");
+            watch_ = std::make_unique<PeerWatch>(comm_, rank_, size_);
+        }
     }
     ~MpiCluster() override {
         if (server_.joinable()) server_.join();
+        if (watch_) watch_->stop();
         MPI_Comm_free(&comm_);
     }
 
@@ -164,6 +230,7 @@ class MpiCluster : public Cluster {
     std::uint64_t claimed_ = 0; ///< items this rank was given, over every hand-out
     InjectedFault faults_ = InjectedFault::fromEnvironment();
     std::thread server_;
+    std::unique_ptr<PeerWatch> watch_;
 };
 
 std::unique_ptr<MpiCluster> gCluster;

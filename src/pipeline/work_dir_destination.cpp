@@ -16,6 +16,8 @@ WorkDirDestination::WorkDirDestination(const DestinationSetup& setup)
 WorkDirDestination::WorkDirDestination(const DestinationSetup& setup, std::unique_ptr<BrickStore> store)
     : job_(setup.job), regions_(setup.regions), workDir_(workDirOf(setup.job)), writeOptions_(setup.writeOptions), store_(std::move(store)) {
     writer_.emplace(*store_, setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), writerThreads());
+    // Said if the run must stop at once (a rank of an MPI run gone, a signal under mpirun).
+    setStopNote("the regions written so far are kept in " + workDir_ + "; " + goOnWith());
 }
 
 RunTotals WorkDirDestination::localTotals() {
@@ -29,13 +31,16 @@ RunTotals WorkDirDestination::localTotals() {
     return totals;
 }
 
-std::string WorkDirDestination::interruptedMessage(const std::string& signal, std::uint64_t regionsDone) const {
+std::string WorkDirDestination::goOnWith() const {
     const std::string& line = commandLine();
     const bool resuming = line.find(" --resume") != std::string::npos;
     // --resume needs the work dir named, also where it was the default one.
+    return "go on with: " + line + (job_.workDir.empty() ? " --work-dir " + workDir_ : "") + (resuming ? "" : " --resume");
+}
+
+std::string WorkDirDestination::interruptedMessage(const std::string& signal, std::uint64_t regionsDone) const {
     return "interrupted by " + signal + " after " + std::to_string(regionsDone) + " of " +
-           std::to_string(regions_.size()) + " regions, all of them kept in " + workDir_ + "; go on with: " + line +
-           (job_.workDir.empty() ? " --work-dir " + workDir_ : "") + (resuming ? "" : " --resume");
+           std::to_string(regions_.size()) + " regions, all of them kept in " + workDir_ + "; " + goOnWith();
 }
 
 std::optional<RunTotals> WorkDirDestination::collect() {
@@ -53,7 +58,13 @@ void WorkDirDestination::writeVdb(VolumeMetadata& meta, RunTotals& totals, const
         totals.bricks += r.brickCount;
     }
     refuseEmpty(totals.activeVoxels);
-    mergeStoreToVdb(*store_, job_.output, meta, writeOptions_);
+    try {
+        mergeStoreToVdb(*store_, job_.output, meta, writeOptions_);
+    } catch (const Interrupted&) {
+        // Every region is on disk and the run marked complete: going on only merges.
+        throw Interrupted("interrupted by " + interruptSignalName() + " while writing the .vdb: no .vdb was written, all " +
+                          std::to_string(regions_.size()) + " regions are kept in " + workDir_ + "; " + goOnWith());
+    }
     timer.lap("merge");
     totals.storeBytes = store_->bytesOnDisk();
 }

@@ -32,6 +32,8 @@ class WorkDirDestination : public RegionDestination {
     RunTotals localTotals();
     /// The one line for a run a signal stopped: every region so far kept in the work dir.
     std::string interruptedMessage(const std::string& signal, std::uint64_t regionsDone) const;
+    /// "go on with: COMMAND": the command line, with the work dir named and --resume.
+    std::string goOnWith() const;
 
     const VoxelizeJob& job_;
     const std::vector<ZoomRegion>& regions_; ///< in plan order

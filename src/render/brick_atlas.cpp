@@ -55,6 +55,7 @@ void BrickAtlas::upload(const LevelBrick& brick) {
     const glm::ivec3 at = glm::ivec3(int(s % std::uint64_t(slots_.x)), int((s / std::uint64_t(slots_.x)) % std::uint64_t(slots_.y)),
                                      int(s / (std::uint64_t(slots_.x) * std::uint64_t(slots_.y)))) * kBrickSize;
     glTextureSubImage3D(density_.id(), 0, at.x, at.y, at.z, 8, 8, 8, GL_RED, GL_FLOAT, brick.density.data());
+    for (const float d : brick.density) densityMax_ = std::max(densityMax_, d);
     if (withOrientation_) {
         std::array<std::uint8_t, 4 * 512> rgba;
         for (std::size_t v = 0; v < 512; ++v) {

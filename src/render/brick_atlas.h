@@ -33,6 +33,8 @@ class BrickAtlas {
     /// (atlasSlots, originVoxel, levelScale, brickDims) on `program`, in use.
     void setAddressingUniforms(const GlProgram& program) const;
     std::uint64_t bricksUploaded() const { return used_; }
+    /// The largest density uploaded (0 before any): an isosurface above it draws nothing.
+    float densityMax() const { return densityMax_; }
     GLuint densityTexture() const { return density_.id(); }
     GLuint orientationTexture() const { return orientation_.id(); } ///< 0 without orientation
     GLuint indirectionTexture() const { return indirection_.id(); }
@@ -42,6 +44,7 @@ class BrickAtlas {
     bool withOrientation_;
     glm::ivec3 slots_{1};
     std::uint64_t used_ = 0;
+    float densityMax_ = 0.0f;
     std::vector<std::uint32_t> slotOf_; ///< the indirection grid on the host, uploaded by finish()
     GlTexture density_, orientation_, indirection_;
 };

@@ -1,6 +1,7 @@
 #include "render/render_volume.h"
 
 #include "core/error.h"
+#include "core/world_units.h"
 #include "render/raycast_renderer.h"
 #include "render/slice_renderer.h"
 #include "render/slicing_renderer.h"
@@ -127,6 +128,11 @@ RenderReport renderVolume(RenderContext& context, const VolumeSource& source, co
     const auto start = std::chrono::steady_clock::now();
     const BrickAtlas& atlas = loadAtlas(context, source, box, request, report);
     report.loadSeconds = secondsSince(start);
+    // A surface above every density drawn is an empty picture that looks like a drawing failure.
+    if (request.kind == RenderKind::Isosurface && double(atlas.densityMax()) < request.isoValue)
+        throw Error("--iso " + numberText(request.isoValue) + ": no voxel drawn reaches it (the densities" +
+                    (report.level > 0 ? " of level " + std::to_string(report.level) : std::string()) + " are at most " +
+                    numberText(atlas.densityMax()) + "): the picture would be empty; give --iso below that");
     const std::unique_ptr<Renderer> renderer = makeRenderer(request, RenderInput{.atlas = &atlas});
     const Camera camera = frameBox(box, request.view, request.width, request.height);
     drawFrames(*renderer, camera, request.repeat, report);

@@ -4,6 +4,7 @@
 #include "core/error.h"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -76,11 +77,23 @@ void ChunkedOutput::writeChunk(const std::uint8_t* bytes, std::uint64_t count, s
     }
 }
 
+void ChunkedOutput::patch(std::uint64_t at, std::span<const std::uint8_t> bytes) {
+    dropDirect(); // an unaligned write
+    writeChunk(bytes.data(), bytes.size(), at);
+}
+
 void ChunkedOutput::write(std::uint64_t size, const Fill& fill) {
     const std::uint64_t chunks = (size + chunkBytes_ - 1) / chunkBytes_;
     tbb::enumerable_thread_specific<AlignedBuffer> buffers(
         [&] { return AlignedBuffer(static_cast<std::uint8_t*>(std::aligned_alloc(kAlignment, chunkBytes_))); });
-    const int writers = std::clamp(int(std::thread::hardware_concurrency()), 1, kMaxWriters);
+    // TBB's own count, not the machine's: with fewer cores to run on (taskset,
+    // an MPI rank bound to one core, a tbb::global_control limit) an arena
+    // of the machine's size asked TBB for workers it may not have, and TBB
+    // printed "The number of workers is currently limited to 0" to stderr.
+    const int allowed = int(std::min<std::size_t>(
+        std::size_t(tbb::this_task_arena::max_concurrency()),
+        tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+    const int writers = std::clamp(allowed, 1, kMaxWriters);
     tbb::task_arena arena(writers);
     arena.execute([&] {
         tbb::parallel_for(std::uint64_t(0), chunks, [&](std::uint64_t c) {

@@ -53,6 +53,10 @@ class ChunkedOutput {
     /// the page cache. Throws yv::Error "WHAT: reason" on failure.
     void write(std::uint64_t size, const Fill& fill);
 
+    /// Writes `bytes` at `at` again, through the page cache (after write(): the
+    /// header of a file whose checksums are known only once it is written).
+    void patch(std::uint64_t at, std::span<const std::uint8_t> bytes);
+
     /// Whether the chunks go past the page cache.
     bool direct() const { return direct_.load(); }
 

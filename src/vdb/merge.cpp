@@ -1,6 +1,7 @@
 #include "vdb/merge.h"
 
 #include "core/error.h"
+#include "core/interrupt.h"
 
 #include <tbb/parallel_pipeline.h>
 #include <tbb/parallel_sort.h>
@@ -31,8 +32,11 @@ void forEachRegion(const BrickStore& store, const std::vector<RegionInfo>& regio
                                                 return next++;
                                             }) &
             tbb::make_filter<std::size_t, void>(tbb::filter_mode::parallel, [&](std::size_t i) {
+                // A signal stops the merge at its next region.
+                throwIfInterrupted("while reading the regions of " + store.dir());
                 std::vector<VoxelBrick> bricks = store.readRegion(regions[i].id);
                 fn(i, bricks);
+                signalAtTestPoint("merge-region");
             }));
 }
 

@@ -1,6 +1,7 @@
 #include "vdb/vdb_index.h"
 
 #include "core/error.h"
+#include "core/text.h"
 #include "vdb/openvdb_encoding.h"
 
 #include <openvdb/openvdb.h>
@@ -27,15 +28,16 @@ std::vector<StoredMetadata> readMetadataMap(FileCursor& in, const std::string& w
     for (std::uint32_t i = 0; i < count; ++i) {
         StoredMetadata m;
         m.name = in.string(what + " item name", 1u << 16);
-        m.type = in.string(what + " item '" + m.name + "' type", 1u << 10);
-        const auto bytes = in.pod<std::uint32_t>(what + " item '" + m.name + "' size");
+        const std::string item = what + " item '" + shownName(m.name) + "'";
+        m.type = in.string(item + " type", 1u << 10);
+        const auto bytes = in.pod<std::uint32_t>(item + " size");
         if (bytes > kMaxMetadataBytes)
-            throw Error(in.where() + what + " item '" + m.name + "' declares " + std::to_string(bytes) + " bytes (damaged?)");
+            throw Error(in.where() + item + " declares " + std::to_string(bytes) + " bytes (damaged?)");
         if (m.name == openvdb::GridBase::META_FILE_DELAYED_LOAD && !keepDelayedLoad) {
             in.skip(bytes);
             continue;
         }
-        const auto value = in.bytes(bytes, what + " item '" + m.name + "'");
+        const auto value = in.bytes(bytes, item);
         m.value.assign(value.begin(), value.end());
         items.push_back(std::move(m));
     }
@@ -62,7 +64,7 @@ NodeRecords nodeRecordsOf(const VdbGridInfo& g) {
     return {internalNodeValues(e, 5), internalNodeValues(e, 4)};
 }
 
-std::string gridWhat(const VdbGridInfo& g) { return "grid '" + g.name + "'"; }
+std::string gridWhat(const VdbGridInfo& g) { return "grid '" + shownName(g.name) + "'"; }
 
 } // namespace
 
@@ -106,6 +108,8 @@ VdbIndex::VdbIndex(const std::string& path) : file_(std::make_unique<ReadOnlyFil
     const auto count = in.pod<std::int32_t>("grid count");
     if (count < 0 || std::uint32_t(count) > kMaxGrids)
         throw Error(in.where() + "grid count " + std::to_string(count) + " (damaged?)");
+    gridsPos_ = in.position();
+    gridCount_ = std::uint32_t(count);
     if (offsets != 1) whyNotSubset_ = "grids without stream offsets";
     bool yarnvox = false;
     for (const StoredMetadata& m : fileMetadata_) yarnvox = yarnvox || m.name == "yarnvox_version";
@@ -115,13 +119,13 @@ VdbIndex::VdbIndex(const std::string& path) : file_(std::make_unique<ReadOnlyFil
     for (std::int32_t n = 0; n < count; ++n) {
         VdbGridInfo g;
         g.name = in.string("grid name", 1u << 16);
-        g.type = in.string("grid '" + g.name + "' type", 1u << 10);
+        g.type = in.string(gridWhat(g) + " type", 1u << 10);
         const std::string kHalf = "_HalfFloat";
         if (g.type.size() > kHalf.size() && g.type.ends_with(kHalf)) {
             g.half = true;
             g.type.resize(g.type.size() - kHalf.size());
         }
-        in.string("grid '" + g.name + "' instance parent", 1u << 16);
+        in.string(gridWhat(g) + " instance parent", 1u << 16);
         const auto gridPos = in.pod<std::int64_t>(gridWhat(g) + " start");
         const auto blockPos = in.pod<std::int64_t>(gridWhat(g) + " leaf buffers' start");
         const auto endPos = in.pod<std::int64_t>(gridWhat(g) + " end");

@@ -69,6 +69,10 @@ class VdbIndex {
     std::string libraryVersion() const { return libraryVersion_; }
     const std::vector<StoredMetadata>& fileMetadata() const { return fileMetadata_; }
     const std::vector<VdbGridInfo>& grids() const { return grids_; }
+    /// Where the first grid's descriptor starts and how many grids the file
+    /// declares, inside the subset or not (0 and 0 for another file format version).
+    std::uint64_t gridsPos() const { return gridsPos_; }
+    std::uint32_t gridCount() const { return gridCount_; }
     /// The grid named `name`, or nullptr.
     const VdbGridInfo* grid(const std::string& name) const;
     /// Reads `grid`'s topology: its leaves and their records' places, each
@@ -81,6 +85,8 @@ class VdbIndex {
     std::string libraryVersion_;
     std::vector<StoredMetadata> fileMetadata_;
     std::vector<VdbGridInfo> grids_;
+    std::uint64_t gridsPos_ = 0;
+    std::uint32_t gridCount_ = 0;
     std::string whyNotSubset_;
 };
 

@@ -2,11 +2,13 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/text.h"
 #include "core/trace.h"
 #include "vdb/chunked_output.h"
 #include "vdb/coarse_levels.h"
 #include "vdb/file_metadata.h"
+#include "vdb/grid_checksums.h"
 #include "vdb/grid_layout.h"
 #include "vdb/leaf_batches.h"
 #include "vdb/lod_pyramid.h"
@@ -45,6 +47,8 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 /// The file's layout: its header, then per grid (level by level: density,
 /// orientation and albedo) its prefix, topology and leaf records.
 struct FileLayout {
+    openvdb::MetaMap fileMeta; ///< with the grids' checksums as zeros, until they are known
+    std::vector<std::string> gridNames;
     ByteVector header;
     std::vector<std::pair<std::size_t, int>> gridOf; ///< (level, grid) of each grid in the file
     std::vector<ByteVector> prefix;
@@ -74,7 +78,7 @@ struct VdbAssembler::Impl {
     void sortLeaves();
     double buildPyramid();
     FileLayout layOut(const VolumeMetadata& metadata);
-    void writeFile(const FileLayout& layout);
+    void writeFile(FileLayout& layout);
 };
 
 VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduce, const VdbWriteOptions& options)
@@ -176,6 +180,7 @@ double VdbAssembler::Impl::buildPyramid() {
     const auto start = std::chrono::steady_clock::now();
     std::vector<OctantRecord> pending = std::move(octants), next;
     for (std::size_t l = 1; l < levels.size(); ++l) {
+        throwIfInterrupted("while writing " + path);
         const int skip = levels[l].number - levels[l - 1].number;
         const OctantSource from{*spill, l == 1 && octantOutput.inMemory ? &octantMemory : nullptr};
         buildLevel(levels[l], skip, from, pending, *spill, l + 1 < levels.size() ? &next : nullptr);
@@ -188,18 +193,24 @@ double VdbAssembler::Impl::buildPyramid() {
 }
 
 FileLayout VdbAssembler::Impl::layOut(const VolumeMetadata& metadata) {
-    const openvdb::MetaMap fileMeta = vdbFileMetadata(metadata, grid, reduce, levels.back().number,
-                                                      levels.size() > 1 ? levels[1].number : 1, levels[0].gridCount > 2);
+    FileLayout f;
+    f.fileMeta = vdbFileMetadata(metadata, grid, reduce, levels.back().number, levels.size() > 1 ? levels[1].number : 1,
+                                 levels[0].gridCount > 2);
     // Zoom regions on the density grid, not the file: a summary lists the
     // file's items, and a large run has thousands of regions.
     if (!metadata.regions.empty())
         levels[0].skeleton[0]->insertMeta(kRegionsMetadataName, openvdb::StringMetadata(encodeRegions(metadata.regions)));
 
-    FileLayout f;
     for (std::size_t l = 0; l < levels.size(); ++l)
-        for (int g = 0; g < levels[l].gridCount; ++g) f.gridOf.emplace_back(l, g);
+        for (int g = 0; g < levels[l].gridCount; ++g) {
+            f.gridOf.emplace_back(l, g);
+            f.gridNames.push_back(levels[l].skeleton[g]->getName());
+        }
     const std::size_t gridCount = f.gridOf.size();
-    f.header = fileHeaderBytes(fileMeta, std::int32_t(gridCount));
+    // The checksums' text has the same length whatever they are: the header's size is known now.
+    f.fileMeta.insertMeta(kGridChecksumsName,
+                          openvdb::StringMetadata(checksumText(f.gridNames, std::vector<std::uint64_t>(gridCount, 0))));
+    f.header = fileHeaderBytes(f.fileMeta, std::int32_t(gridCount));
     f.prefix.resize(gridCount);
     f.topology.resize(gridCount);
     f.gridStart.resize(gridCount), f.recordsAt.resize(gridCount), f.recordBytes.resize(gridCount);
@@ -247,9 +258,10 @@ FileLayout VdbAssembler::Impl::layOut(const VolumeMetadata& metadata) {
 }
 
 /// Writes the laid-out file in chunks, in parallel: the header, each grid's
-/// prefix and topology from memory, its leaf records from the scratch file;
-/// then publishes it (core/atomic_file.h).
-void VdbAssembler::Impl::writeFile(const FileLayout& f) {
+/// prefix and topology from memory, its leaf records from the scratch file,
+/// each grid hashed as its chunks are filled (vdb/grid_checksums.h); then the
+/// header again with the checksums, and publishes it (core/atomic_file.h).
+void VdbAssembler::Impl::writeFile(FileLayout& f) {
     PendingFile file(path);
     struct MemoryPart {
         std::uint64_t at;
@@ -265,14 +277,28 @@ void VdbAssembler::Impl::writeFile(const FileLayout& f) {
     ChunkedOutput output(file.fd(), path + ": cannot write the OpenVDB file " + file.temporaryPath(),
                          options.outputChunkBytes);
     const auto recordsStart = std::chrono::steady_clock::now();
+    std::vector<RangeChecksum> sums;
+    for (std::size_t n = 0; n < f.gridOf.size(); ++n)
+        sums.emplace_back(f.gridStart[n], n + 1 < f.gridOf.size() ? f.gridStart[n + 1] : f.fileBytes);
+    const std::string where = "while writing " + path;
     output.write(f.fileBytes, [&](std::uint64_t chunkAt, std::span<std::uint8_t> out) {
+        throwIfInterrupted(where); // a signal stops the write at its next chunk
         const std::uint64_t chunkEnd = chunkAt + out.size();
         for (const MemoryPart& part : memoryParts) {
             const std::uint64_t lo = std::max(part.at, chunkAt), hi = std::min(part.at + part.bytes.size(), chunkEnd);
             if (lo < hi) std::memcpy(out.data() + (lo - chunkAt), part.bytes.data() + (lo - part.at), hi - lo);
         }
         fillFromRecords(pieces, *spill, chunkAt, out);
+        for (RangeChecksum& sum : sums)
+            if (sum.begin() < chunkEnd && sum.end() > chunkAt) sum.add(chunkAt, out);
+        signalAtTestPoint("vdb-chunk");
     });
+    std::vector<std::uint64_t> values;
+    for (const RangeChecksum& sum : sums) values.push_back(sum.value());
+    f.fileMeta.insertMeta(kGridChecksumsName, openvdb::StringMetadata(checksumText(f.gridNames, values)));
+    const ByteVector header = fileHeaderBytes(f.fileMeta, std::int32_t(f.gridOf.size()));
+    YV_CHECK(header.size() == f.header.size());
+    output.patch(0, header);
     traceSpanSince("write the file in chunks", recordsStart);
     // The scratch file is let go while the disk takes the output: freeing
     // its cached pages (as many as the output's) took 0.7 s after an 8 GB
@@ -281,7 +307,10 @@ void VdbAssembler::Impl::writeFile(const FileLayout& f) {
     const auto syncStart = std::chrono::steady_clock::now();
     file.sync();
     traceSpanSince("fsync", syncStart);
+    signalAtTestPoint("vdb-publish");
+    throwIfInterrupted(where); // the last moment the file can still not be there
     file.publish();
+    signalAtTestPoint("vdb-written");
 }
 
 void VdbAssembler::write(const VolumeMetadata& metadata) {
@@ -290,11 +319,13 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     std::lock_guard lock(m.mutex);
     YV_CHECK(!m.written);
     m.written = true;
+    signalAtTestPoint("vdb-start");
+    throwIfInterrupted("while writing " + m.path);
     m.sortLeaves();
     traceSpanSince("sort the leaves", start);
     const double pyramidSeconds = m.buildPyramid();
     m.encodeSeconds += pyramidSeconds;
-    const FileLayout layout = m.layOut(metadata);
+    FileLayout layout = m.layOut(metadata);
     const auto laidOut = std::chrono::steady_clock::now();
     traceSpanSince("sort and lay out the leaves", start);
     m.writeFile(layout);
