@@ -5,7 +5,6 @@
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
-
 namespace yv {
 namespace {
 
