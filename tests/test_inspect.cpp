@@ -93,7 +93,7 @@ TEST_CASE("inspect: the region table's totals are the store's, and verifying rea
     for (const VoxelBrick& b : volume.bricks)
         for (int v = 0; v < kBrickVoxels; ++v)
             if (b.isActive(v)) mass += b.density[v];
-    CHECK(full.voxels.densitySum == Approx(mass).epsilon(1e-12));
+    CHECK(full.voxels.densitySum() == Approx(mass).epsilon(1e-12));
     CHECK(full.voxels.unitAxes == volume.activeVoxelCount());
 
     // The CLI prints the same totals.
@@ -161,9 +161,9 @@ TEST_CASE("inspect of a .vdb: histogram, voxels above one, mass and axes", "[ins
     CHECK(s.voxels.histogram[10] == 10);
     CHECK(s.voxels.aboveOne == 10);
     CHECK(s.voxels.densityMax == 1.5);
-    CHECK(s.voxels.densitySum == Approx(100 * 0.05 + 50 + 15).epsilon(1e-6));
+    CHECK(s.voxels.densitySum() == Approx(100 * 0.05 + 50 + 15).epsilon(1e-6));
     CHECK(s.voxels.unitAxes == 160);
-    CHECK(s.voxels.axisComponentSum.y == Approx(160.0));
+    CHECK(s.voxels.axisComponentSum().y == Approx(160.0));
 
     // Anyone's file with only a float density grid.
     openvdb::initialize();

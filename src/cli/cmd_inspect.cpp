@@ -215,7 +215,7 @@ void runInspect(const InspectArgs& a) {
     if (!std::filesystem::is_directory(a.path)) {
         // Checked before the report, which would read damaged values as they are.
         const VdbFileCheck check = a.verify ? checkVdbFile(a.path) : VdbFileCheck{};
-        print(vdbReport(a.path, a.json));
+        print(vdbReport(a.path, a.json, a.verify));
         if (a.verify) std::fprintf(a.json ? stderr : stdout, "%s\n", verifiedLine(a.path, check).c_str());
         return;
     }
@@ -234,7 +234,7 @@ void addReportOptions(CLI::App* cmd, InspectArgs& a) {
     cmd->add_flag("--verify", a.verify,
                   "Work directory: read every region in full, check its checksums, and exit 1 naming the damaged ones; "
                   "a yarnvox .vdb: check its structure and every grid's checksum, and exit 1 naming the grid whose "
-                  "bytes changed");
+                  "bytes changed; count every voxel rather than use the statistics the file records, and compare");
     std::vector<std::string> columns;
     for (const RegionColumn c : regionColumns()) columns.push_back(regionColumnName(c));
     cmd->add_option("--sort", a.sort, "Work directory: order the region table by this column (largest first)")

@@ -81,15 +81,15 @@ HtmlRows statisticsRows(const VoxelStatistics& v, bool hasOrientation) {
         {"voxels above density 1", countText(v.aboveOne) + " (" +
                                        numberText("%.3g", v.activeVoxels ? 100.0 * double(v.aboveOne) / double(v.activeVoxels) : 0.0) +
                                        " %)"},
-        {"largest density", numberText("%.6g", v.densityMax)},
+        {"largest density", numberText("%.6g", double(v.densityMax))},
     };
     if (hasOrientation) {
         const double n = v.unitAxes ? double(v.unitAxes) : 1.0;
         rows.emplace_back("voxels with a unit axis",
                           numberText("%.4g", v.activeVoxels ? 100.0 * double(v.unitAxes) / double(v.activeVoxels) : 0.0) + " %");
-        rows.emplace_back("mean |axis| x, y, z", numberText("%.3f", v.axisComponentSum.x / n) + ", " +
-                                                     numberText("%.3f", v.axisComponentSum.y / n) + ", " +
-                                                     numberText("%.3f", v.axisComponentSum.z / n));
+        rows.emplace_back("mean |axis| x, y, z", numberText("%.3f", v.axisComponentSum().x / n) + ", " +
+                                                     numberText("%.3f", v.axisComponentSum().y / n) + ", " +
+                                                     numberText("%.3f", v.axisComponentSum().z / n));
     }
     return rows;
 }

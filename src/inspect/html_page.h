@@ -6,7 +6,7 @@
 
 #include "core/stage_seconds.h"
 #include "inspect/inspect_store.h"
-#include "inspect/voxel_statistics.h"
+#include "core/voxel_statistics.h"
 
 #include <glm/vec3.hpp>
 

@@ -3,7 +3,7 @@
 // read back through its checksums.
 #pragma once
 
-#include "inspect/voxel_statistics.h"
+#include "core/voxel_statistics.h"
 #include "store/brick_store.h"
 
 #include <cstdint>

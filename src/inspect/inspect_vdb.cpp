@@ -1,7 +1,9 @@
 #include "inspect/inspect_vdb.h"
 
 #include "core/error.h"
+#include "inspect/report_text.h"
 #include "inspect/volume_source.h"
+#include "vdb/file_metadata.h"
 #include "vdb/vdb_index.h"
 
 #include <openvdb/openvdb.h>
@@ -13,6 +15,7 @@
 #include <climits>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 namespace yv {
 namespace {
@@ -56,16 +59,50 @@ GridSummary summarizeStored(const VdbGridInfo& g, std::uint64_t leaves, std::uin
     return out;
 }
 
+/// The statistics a yarnvox .vdb records (kVoxelStatisticsName), when it
+/// has the item; throws yv::Error naming `path` when the item is malformed.
+std::optional<RecordedStatistics> recordedStatistics(const std::string& path, const std::string* text) {
+    if (!text) return std::nullopt;
+    std::string why;
+    std::optional<RecordedStatistics> r = parseStatisticsRecord(*text, why);
+    if (!r) throw Error(path + ": file metadata " + kVoxelStatisticsName + " is damaged: " + why);
+    return r;
+}
+
+/// Counted statistics against the file's record: any difference means the
+/// file changed after it was written (or its writer erred).
+void checkAgainstRecord(const std::string& path, const VoxelStatistics& counted, std::uint64_t leaves,
+                        const RecordedStatistics& recorded) {
+    std::string what;
+    if (counted.activeVoxels != recorded.voxels.activeVoxels)
+        what = std::to_string(counted.activeVoxels) + " active voxels, the record " +
+               std::to_string(recorded.voxels.activeVoxels);
+    else if (leaves != recorded.leaves)
+        what = std::to_string(leaves) + " leaves, the record " + std::to_string(recorded.leaves);
+    else if (!(counted == recorded.voxels))
+        appendf(what, "density sum %.17g, the record %.17g (or the histogram or axes differ)", counted.densitySum(),
+                recorded.voxels.densitySum());
+    if (!what.empty())
+        throw Error(path + ": the voxels differ from the statistics recorded when the file was written (" + what +
+                    "): the file changed after it was written");
+}
+
 /// inspectVdb for a file in the subset yarnvox writes: headers from its
 /// index, the voxels read range by range in parallel and dropped, so memory
 /// stays at the leaf table whatever the volume.
-VdbSummary inspectOwnVdb(const VdbIndex& index) {
+VdbSummary inspectOwnVdb(const VdbIndex& index, VoxelCount count) {
     const std::string& path = index.path();
     VdbSummary s;
     s.path = path;
     s.fileBytes = index.file().size();
+    std::optional<std::string> recordText;
     s.libraryVersion = index.libraryVersion();
+    const std::string* record = nullptr;
     for (const StoredMetadata& m : index.fileMetadata()) {
+        if (m.name == kVoxelStatisticsName && m.type == "string") {
+            record = &recordText.emplace(m.value.begin(), m.value.end());
+            continue; // summarised below, not printed as a metadata item
+        }
         s.fileMetadata.emplace_back(m.name, m.text());
         if (m.name == "stage_seconds" && m.type == "string")
             s.stageSeconds = parseStageSeconds(std::string(m.value.begin(), m.value.end()), path + ": metadata stage_seconds");
@@ -73,7 +110,6 @@ VdbSummary inspectOwnVdb(const VdbIndex& index) {
     const VdbGridInfo* density = index.grid("density");
     if (!density || density->vector) throw Error(path + ": has no float grid named 'density'");
     const VdbGridInfo* orientation = index.grid("orientation");
-    const std::unique_ptr<VolumeSource> source = openVdbSource(path);
     s.regions = [&] {
         const StoredMetadata* r = density->find(kRegionsMetadataName);
         if (!r || r->type != "string") return std::vector<RecordedRegion>{};
@@ -81,13 +117,26 @@ VdbSummary inspectOwnVdb(const VdbIndex& index) {
                              path + ": density grid metadata " + kRegionsMetadataName);
     }();
     s.voxelSize = density->voxelSize;
-    s.hasOrientation = source->hasOrientation();
-    tbb::enumerable_thread_specific<VoxelStatistics> statistics;
-    source->forEachBrickConcurrently(glm::ivec3(INT_MIN), glm::ivec3(INT_MAX), [&](const SourceBrick& b) {
-        statistics.local().addBrick(b.density, b.orientation, b.active);
-    });
-    for (const VoxelStatistics& part : statistics) s.voxels += part;
-    const std::uint64_t leaves = source->occupiedBricks().size();
+    const std::optional<RecordedStatistics> recorded = recordedStatistics(path, record);
+    std::uint64_t leaves = 0;
+    if (recorded && count == VoxelCount::RecordedWhereThere) {
+        // Nothing past the header is read: a 16384 volume (28 GB) is summarised at once.
+        s.hasOrientation = orientation && orientation->vector;
+        s.voxels = recorded->voxels;
+        s.statisticsRecorded = true;
+        leaves = recorded->leaves;
+    } else {
+        const std::unique_ptr<VolumeSource> source = openVdbSource(path);
+        s.hasOrientation = source->hasOrientation();
+        tbb::enumerable_thread_specific<VoxelStatistics> statistics;
+        source->forEachBrickConcurrently(glm::ivec3(INT_MIN), glm::ivec3(INT_MAX), [&](const SourceBrick& b) {
+            statistics.local().addBrick(b.density, b.orientation, b.active);
+        });
+        for (const VoxelStatistics& part : statistics) s.voxels += part;
+        leaves = source->occupiedBricks().size();
+        if (recorded) checkAgainstRecord(path, s.voxels, leaves, *recorded);
+        s.statisticsChecked = bool(recorded);
+    }
     s.grids.push_back(summarizeStored(*density, leaves, s.voxels.activeVoxels));
     if (s.hasOrientation) s.grids.push_back(summarizeStored(*orientation, leaves, s.voxels.activeVoxels));
     return s;
@@ -121,8 +170,8 @@ std::vector<RecordedRegion> readVdbRegions(const std::string& path) {
     return recordedRegionsOf(*density, path);
 }
 
-VdbSummary inspectVdb(const std::string& path) {
-    if (const VdbIndex index(path); index.inSubset()) return inspectOwnVdb(index);
+VdbSummary inspectVdb(const std::string& path, VoxelCount count) {
+    if (const VdbIndex index(path); index.inSubset()) return inspectOwnVdb(index, count);
     openvdb::initialize();
     VdbSummary s;
     s.path = path;
@@ -138,7 +187,9 @@ VdbSummary inspectVdb(const std::string& path) {
     s.libraryVersion = file.version();
     const openvdb::MetaMap::Ptr fileMeta = file.getMetadata(); // a copy: iterate one map
     for (auto it = fileMeta->beginMeta(); it != fileMeta->endMeta(); ++it)
-        s.fileMetadata.emplace_back(it->first, it->second->str());
+        if (it->first != kVoxelStatisticsName) s.fileMetadata.emplace_back(it->first, it->second->str());
+    const auto record = fileMeta->getMetadata<openvdb::StringMetadata>(kVoxelStatisticsName);
+    const std::optional<RecordedStatistics> recorded = recordedStatistics(path, record ? &record->value() : nullptr);
     if (const auto stages = fileMeta->getMetadata<openvdb::StringMetadata>("stage_seconds"))
         s.stageSeconds = parseStageSeconds(stages->value(), path + ": metadata stage_seconds");
 
@@ -164,6 +215,9 @@ VdbSummary inspectVdb(const std::string& path) {
         glm::ivec3(INT_MIN), glm::ivec3(INT_MAX),
         [&](const SourceBrick& b) { statistics.local().addBrick(b.density, b.orientation, b.active); });
     for (const VoxelStatistics& part : statistics) s.voxels += part;
+    // Outside the subset (another compression, say) the topology is read anyway: count, and check the record.
+    if (recorded) checkAgainstRecord(path, s.voxels, s.grids[0].leaves, *recorded);
+    s.statisticsChecked = bool(recorded);
     return s;
 }
 

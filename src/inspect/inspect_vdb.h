@@ -3,7 +3,7 @@
 #pragma once
 
 #include "core/stage_seconds.h"
-#include "inspect/voxel_statistics.h"
+#include "core/voxel_statistics.h"
 #include "core/run_metadata.h"
 
 #include <glm/vec3.hpp>
@@ -32,6 +32,11 @@ struct VdbSummary {
     std::vector<std::pair<std::string, std::string>> fileMetadata; ///< name, value as text
     std::vector<GridSummary> grids;
     VoxelStatistics voxels; ///< density, with orientation where an `orientation` grid is there
+    /// Where `voxels` came from: the writer's record in the file (a yarnvox
+    /// .vdb; nothing but the header is read), or a count of every voxel.
+    bool statisticsRecorded = false;
+    /// Counted, and equal to the file's record (which a count always checks when there is one).
+    bool statisticsChecked = false;
     bool hasOrientation = false;
     StageSeconds stageSeconds; ///< from a "stage_seconds" string metadata item (NAME=SECONDS words); empty where the file has none
     std::vector<RecordedRegion> regions; ///< the density grid's "yarnvox_regions"; empty where it has none
@@ -53,8 +58,15 @@ std::vector<RecordedRegion> readVdbRegions(const std::string& path);
 /// The same from a density grid already read.
 std::vector<RecordedRegion> recordedRegionsOf(const openvdb::GridBase& density, const std::string& path);
 
+/// How inspectVdb finds the voxel statistics: from the record a yarnvox
+/// .vdb holds (file metadata "yarnvox_statistics") where there is one, or
+/// by counting every voxel (--verify), checked against the record.
+enum class VoxelCount { RecordedWhereThere, EveryVoxel };
+
 /// Reads `path`; throws yv::Error naming it when it is not an OpenVDB file
-/// or has no float grid named `density`, or its "stage_seconds" is malformed.
-VdbSummary inspectVdb(const std::string& path);
+/// or has no float grid named `density`, or its "stage_seconds" or
+/// "yarnvox_statistics" is malformed, or a count of every voxel differs from
+/// the recorded statistics.
+VdbSummary inspectVdb(const std::string& path, VoxelCount count = VoxelCount::RecordedWhereThere);
 
 } // namespace yv

@@ -37,14 +37,14 @@ JsonObject statisticsJson(const VoxelStatistics& v, double voxelVolume) {
         bins.push_back(JsonObject().set("low", v.binLow(i)).set("high", v.binHigh(i)).set("voxels", v.histogram[std::size_t(i)]));
     JsonObject axes;
     const double n = v.unitAxes ? double(v.unitAxes) : 1.0;
-    axes.set("x", v.axisComponentSum.x / n).set("y", v.axisComponentSum.y / n).set("z", v.axisComponentSum.z / n);
+    axes.set("x", v.axisComponentSum().x / n).set("y", v.axisComponentSum().y / n).set("z", v.axisComponentSum().z / n);
     return JsonObject()
         .set("active_voxels", v.activeVoxels)
         .set("density_histogram", bins)
         .set("voxels_above_one", v.aboveOne)
         .set("share_above_one", v.activeVoxels ? double(v.aboveOne) / double(v.activeVoxels) : 0.0)
-        .set("density_max", v.densityMax)
-        .set("fiber_volume", v.densitySum * voxelVolume)
+        .set("density_max", double(v.densityMax))
+        .set("fiber_volume", v.densitySum() * voxelVolume)
         .set("unit_axes", v.unitAxes)
         .set("mean_abs_axis", axes);
 }
@@ -52,7 +52,7 @@ JsonObject statisticsJson(const VoxelStatistics& v, double voxelVolume) {
 std::string statisticsText(const VoxelStatistics& v, double voxelVolume, bool hasOrientation) {
     std::string out;
     appendf(out, "density of %llu active voxels (fibre volume %.6g):\n", static_cast<unsigned long long>(v.activeVoxels),
-            v.densitySum * voxelVolume);
+            v.densitySum() * voxelVolume);
     const std::uint64_t most = *std::max_element(v.histogram.begin(), v.histogram.end());
     for (int i = 0; i < VoxelStatistics::kBins; ++i) {
         const std::uint64_t n = v.histogram[std::size_t(i)];
@@ -69,8 +69,8 @@ std::string statisticsText(const VoxelStatistics& v, double voxelVolume, bool ha
     if (!hasOrientation) return out;
     const double n = v.unitAxes ? double(v.unitAxes) : 1.0;
     appendf(out, "orientation: %.4g %% of the active voxels have a unit axis; mean |axis| x %.3f, y %.3f, z %.3f\n",
-            v.activeVoxels ? 100.0 * double(v.unitAxes) / double(v.activeVoxels) : 0.0, v.axisComponentSum.x / n,
-            v.axisComponentSum.y / n, v.axisComponentSum.z / n);
+            v.activeVoxels ? 100.0 * double(v.unitAxes) / double(v.activeVoxels) : 0.0, v.axisComponentSum().x / n,
+            v.axisComponentSum().y / n, v.axisComponentSum().z / n);
     return out;
 }
 

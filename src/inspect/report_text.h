@@ -5,7 +5,7 @@
 
 #include "core/stage_seconds.h"
 #include "core/stats.h"
-#include "inspect/voxel_statistics.h"
+#include "core/voxel_statistics.h"
 
 #include <string>
 

@@ -9,6 +9,18 @@
 namespace yv {
 namespace {
 
+/// Where the statistics came from, as --json says it.
+const char* statisticsSource(const VdbSummary& s) {
+    return s.statisticsRecorded ? "recorded" : s.statisticsChecked ? "counted, equal to the record" : "counted";
+}
+
+const char* statisticsSourceText(const VdbSummary& s) {
+    if (s.statisticsRecorded)
+        return "recorded in the file when it was written (no voxel read; --verify counts every voxel and compares)";
+    return s.statisticsChecked ? "counted from every voxel, equal to those recorded when the file was written"
+                               : "counted from every voxel (the file records none)";
+}
+
 std::string vdbJson(const VdbSummary& s) {
     const double h3 = s.voxelSize * s.voxelSize * s.voxelSize;
     JsonObject meta;
@@ -42,6 +54,7 @@ std::string vdbJson(const VdbSummary& s) {
                .set("grids", grids)
                .set("bytes_per_active_voxel", s.voxels.activeVoxels ? double(s.fileBytes) / double(s.voxels.activeVoxels) : 0.0)
                .set("voxels", statisticsJson(s.voxels, h3))
+               .set("statistics", statisticsSource(s))
                .set("stages", stageReportObject(s.stageSeconds))
                .set("regions", std::uint64_t(s.regions.size()))
                .set("region_table", rows)
@@ -62,6 +75,7 @@ std::string vdbText(const VdbSummary& s) {
     if (s.voxels.activeVoxels)
         appendf(out, "%.3g bytes on disk per active voxel\n", double(s.fileBytes) / double(s.voxels.activeVoxels));
     out += statisticsText(s.voxels, s.voxelSize * s.voxelSize * s.voxelSize, s.hasOrientation);
+    appendf(out, "statistics: %s\n", statisticsSourceText(s));
     out += stageSecondsText(s.stageSeconds, kVdbStagesNotRecorded);
     if (s.regions.empty()) return out + "zoom regions: none recorded\n";
     std::uint64_t hottest = 0;
@@ -73,8 +87,8 @@ std::string vdbText(const VdbSummary& s) {
 
 } // namespace
 
-std::string vdbReport(const std::string& path, bool json) {
-    const VdbSummary s = inspectVdb(path);
+std::string vdbReport(const std::string& path, bool json, bool countEveryVoxel) {
+    const VdbSummary s = inspectVdb(path, countEveryVoxel ? VoxelCount::EveryVoxel : VoxelCount::RecordedWhereThere);
     return json ? vdbJson(s) : vdbText(s);
 }
 

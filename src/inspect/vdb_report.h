@@ -7,7 +7,9 @@ namespace yv {
 
 /// What inspect prints for the .vdb at `path`: its grids, metadata, voxel
 /// statistics, time per stage and recorded zoom regions (text, or one JSON
-/// object with `json`). Throws yv::Error as inspectVdb does.
-std::string vdbReport(const std::string& path, bool json);
+/// object with `json`); the statistics recorded in the file, or counted from
+/// every voxel with `countEveryVoxel` (and checked against the record).
+/// Throws yv::Error as inspectVdb does.
+std::string vdbReport(const std::string& path, bool json, bool countEveryVoxel = false);
 
 } // namespace yv

@@ -12,6 +12,10 @@
 
 namespace yv {
 
+/// File metadata: level 0's voxel statistics (core/voxel_statistics.h,
+/// statisticsRecord), so a summary of a large file reads no voxel.
+inline constexpr const char* kVoxelStatisticsName = "yarnvox_statistics";
+
 /// The items of the file's metadata: yarnvox_version; every field of
 /// metadataFields(metadata) but albedo, as string, int32, int64 or double
 /// items; voxel_size, reduce and grid_dims of `grid`; lod_levels with

@@ -4,6 +4,7 @@
 #include "vdb/lod_pyramid.h"
 #include "vdb/tree_order.h"
 
+#include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -63,6 +64,10 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batc
         for (auto& e : encoded) e.resize(count);
         std::vector<openvdb::CoordBBox> pieceBounds(count);
         std::vector<std::uint32_t> activeCounts(count);
+        // Level 0's statistics, of the values as stored (exact sums: any order gives the same bits).
+        const bool counted = level.number == 0;
+        const bool half = level.encoding[0].half;
+        tbb::combinable<VoxelStatistics> statistics;
         tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
             const std::size_t b = order[first + i].second;
             LeafRecord& r = batch.records[first + i];
@@ -71,7 +76,9 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batc
             if (octants.skip) bricks.octant(b, r.mask, octants.skip, encoded[kOctants][i]);
             pieceBounds[i] = activeBounds(bricks.key(b), r.mask);
             for (std::uint64_t word : r.mask) activeCounts[i] += std::uint32_t(std::popcount(word));
+            if (counted) bricks.count(b, r.mask, half, statistics.local());
         });
+        statistics.combine_each([&](const VoxelStatistics& s) { batch.statistics += s; });
         // Each grid's piece (and the octants) in one range of the scratch
         // file, written in blocks on every core: joined and written by one
         // thread, a region's pieces were most of its encode time.
@@ -121,6 +128,7 @@ void addBatch(PyramidLevel& level, EncodedBatch&& batch, std::uint32_t source) {
     level.leaves.insert(level.leaves.end(), batch.records.begin(), batch.records.end());
     if (!batch.bounds.empty()) level.activeBounds.expand(batch.bounds);
     level.activeVoxels += batch.activeVoxels;
+    level.statistics += batch.statistics;
 }
 
 template EncodedBatch encodeBatch(const PyramidLevel&, SpillFile&, const VoxelBrickBatch&, OctantOutput);

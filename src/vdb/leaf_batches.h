@@ -6,10 +6,12 @@
 
 #include "core/bricks.h"
 #include "core/packed_bricks.h"
+#include "core/voxel_statistics.h"
 #include "vdb/lod_pyramid.h"
 #include "vdb/openvdb_encoding.h"
 #include "vdb/spill_file.h"
 
+#include <openvdb/math/Half.h>
 #include <openvdb/openvdb.h>
 
 #include <array>
@@ -48,6 +50,7 @@ struct PyramidLevel {
     std::vector<LeafRecord> leaves;
     openvdb::CoordBBox activeBounds;
     std::uint64_t activeVoxels = 0;
+    VoxelStatistics statistics; ///< of level 0's values as stored (the file's "yarnvox_statistics")
 };
 
 /// Where the octant a brick gives its parent lies, in the scratch file or
@@ -73,12 +76,19 @@ struct EncodedBatch {
     std::vector<LeafRecord> records;
     openvdb::CoordBBox bounds;
     std::uint64_t activeVoxels = 0;
+    VoxelStatistics statistics; ///< level 0's only
     std::vector<OctantRecord> octants;
     /// The octants' bytes when kept in memory; their places count from its start.
     ByteVector octantBytes;
 };
 
 using BrickMask = std::array<std::uint64_t, kBrickVoxels / 64>;
+
+/// `value` as a grid saved with `half` holds it: what a reader gets back.
+inline float storedValue(float value, bool half) { return half ? float(openvdb::math::half(value)) : value; }
+inline glm::vec3 storedValue(const glm::vec3& v, bool half) {
+    return half ? glm::vec3(storedValue(v.x, true), storedValue(v.y, true), storedValue(v.z, true)) : v;
+}
 
 /// The bricks encodeBatch takes: voxel bricks...
 struct VoxelBrickBatch {
@@ -90,6 +100,13 @@ struct VoxelBrickBatch {
         return encoder.encode(bricks[i], out);
     }
     void octant(std::size_t i, const BrickMask&, int skip, ByteVector& out) const { appendOctant(bricks[i], skip, out); }
+    /// Adds brick i's values, as stored, to `s`.
+    void count(std::size_t i, const BrickMask& mask, bool half, VoxelStatistics& s) const {
+        const VoxelBrick& b = bricks[i];
+        s.addActiveVoxels(mask.data(), true, [&](int v, std::size_t) {
+            return VoxelStatistics::ActiveVoxel{storedValue(b.density[v], half), storedValue(b.orientation[v], half)};
+        });
+    }
 };
 
 /// ... or the GPU's resolved bricks as they came back, packed: at 8192 filling
@@ -105,6 +122,15 @@ struct PackedBrickBatch {
     }
     void octant(std::size_t i, const BrickMask& mask, int skip, ByteVector& out) const {
         appendOctant(packed, i, mask, skip, out);
+    }
+    /// Adds brick i's values, as stored, to `s`.
+    void count(std::size_t i, const BrickMask& mask, bool half, VoxelStatistics& s) const {
+        const PackedVoxel* voxels = packed.voxels.data() + packed.headers[i].firstVoxel;
+        s.addActiveVoxels(mask.data(), true, [&](int, std::size_t k) {
+            const PackedVoxel& p = voxels[k];
+            return VoxelStatistics::ActiveVoxel{storedValue(p.density, half),
+                                                storedValue(glm::vec3(p.axis[0], p.axis[1], p.axis[2]), half)};
+        });
     }
 };
 

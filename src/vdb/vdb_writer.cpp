@@ -196,6 +196,8 @@ FileLayout VdbAssembler::Impl::layOut(const VolumeMetadata& metadata) {
     FileLayout f;
     f.fileMeta = vdbFileMetadata(metadata, grid, reduce, levels.back().number, levels.size() > 1 ? levels[1].number : 1,
                                  levels[0].gridCount > 2);
+    f.fileMeta.insertMeta(kVoxelStatisticsName,
+                          openvdb::StringMetadata(statisticsRecord(levels[0].statistics, levels[0].leaves.size())));
     // Zoom regions on the density grid, not the file: a summary lists the
     // file's items, and a large run has thousands of regions.
     if (!metadata.regions.empty())
