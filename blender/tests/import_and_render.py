@@ -12,6 +12,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 import traceback
 
 import bpy
@@ -130,6 +131,55 @@ def main(args):
         check("damaged.bcc" in message and len(message.splitlines()) == 1, "a damaged garment is one error line")
     check((len(bpy.data.objects), len(bpy.data.volumes), len(bpy.data.materials)) == before, "nothing was added")
     check(not os.path.exists(os.path.join(args.scratch, "damaged.vdb")), "no .vdb was written")
+
+    check_escape_cancels(args.scratch, yarnvox)
+
+
+class _Event:
+    def __init__(self, kind):
+        self.type = kind
+
+
+class _Interface:
+    """What modal() needs of the operator beyond its run, without a window
+    (there is none headless): the interface teardown and the reports."""
+
+    def __init__(self, run):
+        self.run, self.reports, self.ui_ended = run, [], False
+
+    def _end_ui(self, context):
+        self.ui_ended = True
+
+    def report(self, kind, text):
+        self.reports.append((kind, text))
+
+
+def check_escape_cancels(scratch, yarnvox):
+    """Esc while the run goes: the operator's modal handler (as Blender calls
+    it; headless there is no event loop, so the test calls it) stops yarnvox
+    part-way, nothing is imported and nothing is left on the disk."""
+    import yarnvox_blender
+    from yarnvox_blender import run
+
+    garment = os.path.join(scratch, "large.bcc")
+    yarnvox.generate(garment, pattern="knit", shape="cylinder", crossings=6000, seed=4)
+    output = os.path.join(scratch, "large.vdb")
+    words = [garment, "-o", output, "--backend", "cpu", "--resolution", "384", "--fragment-budget", "200000"]
+    started = run.VoxelizeRun(yarnvox.executable(), words)
+    while started.poll() is None and started.fraction == 0.0:  # its first region done: part-way
+        time.sleep(0.05)
+    check(started.process.poll() is None, "the run was still going when Esc came (part-way)")
+    before = (len(bpy.data.objects), len(bpy.data.volumes), len(bpy.data.materials))
+    operator = _Interface(started)
+    result = yarnvox_blender.IMPORT_SCENE_OT_yarnvox_bcc.modal(operator, bpy.context, _Event("ESC"))
+    check(result == {"CANCELLED"}, "Esc ends the import (CANCELLED)")
+    check(operator.ui_ended and operator.reports and "cancelled" in operator.reports[0][1],
+          f"the progress is taken down and one line says so ({operator.reports})")
+    check(started.process.returncode not in (None, 0), f"yarnvox stopped part-way (exit {started.process.returncode})")
+    check(started.fraction < 1.0, f"before the end ({started.fraction:.2f} of the regions)")
+    check((len(bpy.data.objects), len(bpy.data.volumes), len(bpy.data.materials)) == before, "nothing was imported")
+    left = [n for n in os.listdir(scratch) if n.startswith("large.vdb")]
+    check(not left, f"nothing was left on the disk ({left})")
 
 
 if __name__ == "__main__":

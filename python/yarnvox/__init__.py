@@ -49,7 +49,7 @@ def executable():
         return named
     here = os.path.dirname(os.path.abspath(__file__))
     for candidate in (os.path.join(here, "..", "..", "yarnvox"),  # build/python/yarnvox -> build/yarnvox
-                      os.path.join(here, "..", "..", "..", "..", "bin", "yarnvox")):  # PREFIX/lib/python3/dist-packages
+                      os.path.join(here, "..", "..", "..", "..", "bin", "yarnvox")):  # PREFIX/lib/python3.N/dist-packages
         if os.path.isfile(candidate) and os.access(candidate, os.X_OK):
             return os.path.normpath(candidate)
     found = shutil.which("yarnvox")
