@@ -133,6 +133,27 @@ TEST_CASE("a shader name that is not embedded is an Error naming it", "[gl]") {
     REQUIRE_THROWS_WITH(yv::GlProgram::compute(name), Catch::Contains(name));
 }
 
+TEST_CASE("A program's failed compile is an Error naming the shader at its first use, with the driver's log", "[gl]") {
+    YV_REQUIRE_GL();
+    yv::GlContext ctx;
+    // A define that puts an #error line in the source: the stage cannot compile.
+    const std::vector<std::string> broken = {"YV_TEST 1\n#error broken on purpose"};
+    yv::GlProgram program = yv::GlProgram::compute("brick_scan.comp", broken); // compiles in the background
+    REQUIRE_THROWS_WITH(program.waitLinked(),
+                        Catch::Contains("shader brick_scan.comp: compile failed") && Catch::Contains("broken on purpose"));
+    yv::GlProgram graphics = yv::GlProgram::graphics("inspect_proxy.vert", "inspect_proxy.frag", broken);
+    REQUIRE_THROWS_WITH(graphics.use(), Catch::Contains("compile failed"));
+    // Several made before any is used all link, and each checks once.
+    std::vector<yv::GlProgram> programs;
+    for (const char* name : {"brick_scan.comp", "buffer_clear.comp", "brick_flag.comp"}) programs.push_back(yv::GlProgram::compute(name));
+    for (const yv::GlProgram& p : programs) {
+        REQUIRE_NOTHROW(p.waitLinked());
+        GLint linked = GL_FALSE;
+        glGetProgramiv(p.id(), GL_LINK_STATUS, &linked);
+        CHECK(linked == GL_TRUE);
+    }
+}
+
 TEST_CASE("checkGlError reports and clears a GL error", "[gl]") {
     YV_REQUIRE_GL();
     yv::GlContext ctx;

@@ -76,7 +76,7 @@ std::optional<std::string> shaderText(const std::string& name) {
     return std::nullopt;
 }
 
-GlShader compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
+GlShader startShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
     const std::optional<std::string> override = shaderOverride(name), commonOverride = shaderOverride("common.glsl");
     const char* text = override ? override->c_str() : shaderSource(name.c_str());
     if (!text)
@@ -102,6 +102,10 @@ GlShader compileShaderStage(GLenum stage, const std::string& name, const std::ve
     const char* p = src.c_str();
     glShaderSource(shader.id(), 1, &p, nullptr);
     glCompileShader(shader.id());
+    return shader;
+}
+
+void checkShaderStage(const GlShader& shader, const std::string& name) {
     GLint ok = GL_FALSE;
     glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
     if (!ok) {
@@ -109,59 +113,88 @@ GlShader compileShaderStage(GLenum stage, const std::string& name, const std::ve
         throw Error("shader " + name + ": compile failed (source-string 1 is common.glsl, 2 is " + name +
                     ", 3 is bindings.glsl):\n" + log);
     }
+}
+
+GlShader compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
+    GlShader shader = startShaderStage(stage, name, defines);
+    checkShaderStage(shader, name);
     return shader;
 }
 
-GlProgram GlProgram::link(std::initializer_list<GLuint> stages, const std::string& names) {
+GlProgram GlProgram::link(std::vector<Stage> stages, const std::string& names) {
     GlProgram program(glCreateProgram());
-    for (GLuint s : stages) glAttachShader(program.id_, s);
+    for (const Stage& s : stages) glAttachShader(program.id_, s.shader.id());
     glLinkProgram(program.id_);
-    for (GLuint s : stages) glDetachShader(program.id_, s);
-    GLint ok = GL_FALSE;
-    glGetProgramiv(program.id_, GL_LINK_STATUS, &ok);
-    if (!ok) throw Error("shader " + names + ": link failed:\n" + programLog(program.id_));
+    // The stages stay until the check: a failed compile's log is theirs.
+    program.pending_ = std::make_unique<Pending>(Pending{std::move(stages), names});
     return program;
 }
 
-// The stages are deleted once linked (or on a throw before that).
+void GlProgram::waitLinked() const {
+    if (!pending_) return;
+    const std::unique_ptr<Pending> pending = std::move(pending_);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        for (const Stage& s : pending->stages) checkShaderStage(s.shader, s.name);
+        throw Error("shader " + pending->names + ": link failed:\n" + programLog(id_));
+    }
+    for (const Stage& s : pending->stages) glDetachShader(id_, s.shader.id());
+}
+
 GlProgram GlProgram::compute(const std::string& name, const std::vector<std::string>& defines) {
-    const GlShader cs = compileShaderStage(GL_COMPUTE_SHADER, name, defines);
-    return link({cs.id()}, name);
+    std::vector<Stage> stages;
+    stages.push_back({startShaderStage(GL_COMPUTE_SHADER, name, defines), name});
+    return link(std::move(stages), name);
 }
 
 GlProgram GlProgram::graphics(const std::string& vertexName, const std::string& fragmentName,
                               const std::vector<std::string>& defines) {
-    const GlShader vs = compileShaderStage(GL_VERTEX_SHADER, vertexName, defines);
-    const GlShader fs = compileShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines);
-    return link({vs.id(), fs.id()}, vertexName + " + " + fragmentName);
+    std::vector<Stage> stages;
+    stages.push_back({startShaderStage(GL_VERTEX_SHADER, vertexName, defines), vertexName});
+    stages.push_back({startShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines), fragmentName});
+    return link(std::move(stages), vertexName + " + " + fragmentName);
 }
 
 GlProgram GlProgram::graphicsWithGeometry(const std::string& vertexName, const std::string& geometryName,
                                           const std::string& fragmentName, const std::vector<std::string>& defines) {
-    const GlShader vs = compileShaderStage(GL_VERTEX_SHADER, vertexName, defines);
-    const GlShader gs = compileShaderStage(GL_GEOMETRY_SHADER, geometryName, defines);
-    const GlShader fs = compileShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines);
-    return link({vs.id(), gs.id(), fs.id()}, vertexName + " + " + geometryName + " + " + fragmentName);
+    std::vector<Stage> stages;
+    stages.push_back({startShaderStage(GL_VERTEX_SHADER, vertexName, defines), vertexName});
+    stages.push_back({startShaderStage(GL_GEOMETRY_SHADER, geometryName, defines), geometryName});
+    stages.push_back({startShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines), fragmentName});
+    return link(std::move(stages), vertexName + " + " + geometryName + " + " + fragmentName);
 }
 
 GlProgram::~GlProgram() {
     // A program outliving its context has nothing left to free.
-    if (id_ != 0 && eglGetCurrentContext() != EGL_NO_CONTEXT) glDeleteProgram(id_);
+    if (eglGetCurrentContext() == EGL_NO_CONTEXT) {
+        if (pending_)
+            for (Stage& s : pending_->stages) s.shader.release();
+        return;
+    }
+    if (id_ != 0) glDeleteProgram(id_);
 }
 
-GlProgram::GlProgram(GlProgram&& other) noexcept : id_(std::exchange(other.id_, 0)) {}
+GlProgram::GlProgram(GlProgram&& other) noexcept
+    : id_(std::exchange(other.id_, 0)), pending_(std::move(other.pending_)) {}
 
 GlProgram& GlProgram::operator=(GlProgram&& other) noexcept {
     if (this != &other) {
         GlProgram old(std::move(*this));
         id_ = std::exchange(other.id_, 0);
+        pending_ = std::move(other.pending_);
     }
     return *this;
 }
 
-void GlProgram::use() const { glUseProgram(id_); }
+GLuint GlProgram::id() const {
+    waitLinked();
+    return id_;
+}
 
-GLint GlProgram::uniform(const char* name) const { return glGetUniformLocation(id_, name); }
+void GlProgram::use() const { glUseProgram(id()); }
+
+GLint GlProgram::uniform(const char* name) const { return glGetUniformLocation(id(), name); }
 
 void checkGlError(const char* where) {
     GLenum first = glGetError();

@@ -6,6 +6,7 @@
 #include <epoxy/gl.h>
 
 #include <initializer_list>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,13 @@ namespace yv {
 /// given #define lines, shaders/bindings.glsl (the binding points' names,
 /// gl_bindings.h), shaders/common.glsl, then the shader file itself, each
 /// part behind a #line marker so driver logs point at the right file.
+///
+/// Making one starts the driver's compile and link and returns: the outcome
+/// is asked for at the program's first use (or waitLinked()). So the
+/// programs a run makes one after another compile side by side where the
+/// driver compiles on threads of its own (GL_KHR_parallel_shader_compile,
+/// which GlContext turns on): on a machine with no shader cache yet, a run's
+/// dozen programs took about a second one by one.
 class GlProgram {
   public:
     GlProgram() = default;
@@ -33,16 +41,30 @@ class GlProgram {
     GlProgram(const GlProgram&) = delete;
     GlProgram& operator=(const GlProgram&) = delete;
 
-    GLuint id() const { return id_; }
+    /// The program's name, once linked (waits, and throws as waitLinked does).
+    GLuint id() const;
     void use() const;
     /// Uniform location, or -1 (not an error: the driver may optimise it away).
     GLint uniform(const char* name) const;
+    /// Waits for the compile and link; a failure throws yv::Error with the
+    /// shader's name and the driver's log, as it would have when made.
+    void waitLinked() const;
 
   private:
+    struct Stage {
+        GlShader shader;
+        std::string name;
+    };
+    /// What a program still being compiled keeps for its check.
+    struct Pending {
+        std::vector<Stage> stages;
+        std::string names;
+    };
     explicit GlProgram(GLuint id) : id_(id) {}
-    /// Attaches, links and checks; `names` is what a link error reports.
-    static GlProgram link(std::initializer_list<GLuint> stages, const std::string& names);
+    /// Attaches and starts the link; `names` is what a link error reports.
+    static GlProgram link(std::vector<Stage> stages, const std::string& names);
     GLuint id_ = 0;
+    mutable std::unique_ptr<Pending> pending_; ///< until waitLinked() has checked it
 };
 
 /// The text compiled for shader file `name`: the file of that name in
@@ -55,6 +77,11 @@ std::optional<std::string> shaderText(const std::string& name);
 /// Compiles one stage. A failure throws yv::Error with the shader's name and
 /// the driver's log.
 GlShader compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines);
+/// Starts compiling one stage and returns (a shader that is not among the
+/// embedded ones throws at once); checkShaderStage asks for the outcome.
+GlShader startShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines);
+/// Throws yv::Error with `name` and the driver's log when `shader` did not compile.
+void checkShaderStage(const GlShader& shader, const std::string& name);
 
 /// Throws yv::Error naming `where` when glGetError reports an error.
 void checkGlError(const char* where);
