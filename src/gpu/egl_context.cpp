@@ -244,10 +244,6 @@ void GlContext::Impl::createContext(const std::string& where, EGLint eglMajor, E
     glGetIntegerv(GL_MAX_VIEWPORT_DIMS, info.maxViewportDims);
     info.freeMemoryBytes = readFreeMemory();
     info.hasConservativeRaster = epoxy_has_gl_extension("GL_NV_conservative_raster");
-    // Programs compile on the driver's own threads, as many as it likes
-    // (GlProgram asks for the outcome at first use: gpu/gl_program.h).
-    if (epoxy_has_gl_extension("GL_KHR_parallel_shader_compile")) glMaxShaderCompilerThreadsKHR(0xffffffffu);
-    else if (epoxy_has_gl_extension("GL_ARB_parallel_shader_compile")) glMaxShaderCompilerThreadsARB(0xffffffffu);
 }
 
 GlContext::GlContext(const GlContextOptions& options) : impl_(std::make_unique<Impl>()) {
