@@ -3,6 +3,7 @@
 // will produce at the target resolution.
 #pragma once
 
+#include "core/voxel_box.h"
 #include "core/zoom_region.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
@@ -11,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace yv {
@@ -19,6 +21,10 @@ struct ZoomPlanOptions {
     std::uint64_t fragmentBudget = 0; ///< fragments one pass may produce
     int maxRegionSize = 1024;         ///< voxels per axis (viewport and key limits)
     int supersample = 1;
+    /// --bbox: plan only the voxels of this box (within the grid): regions
+    /// of whole bricks that cover it, each with the segments whose slices
+    /// reach the box's part of it, and a heat map of those segments only.
+    std::optional<VoxelBox> box;
 };
 
 struct ZoomPlan {
@@ -46,7 +52,10 @@ std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGr
 /// fragments, within a 32nd of the garment's) and its size within
 /// maxRegionSize. A thin axis (at most 128 voxels and a quarter of the
 /// box's longest) is not halved, so a flat garment's regions keep its whole
-/// thickness. Regions no segment reaches are left out.
+/// thickness. Regions no segment reaches are left out. With options.box,
+/// the same over the box rounded out to whole bricks, and a region's
+/// segments are those that reach its voxels inside the box: the voxels on
+/// the box's faces get every slice that reaches them, and no other.
 ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs,
                          const ZoomPlanOptions& options);
 
