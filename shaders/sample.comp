@@ -111,8 +111,8 @@ void appendSample(SliceRecord s, ivec2 local) {
         int depth = int(v) + anchor.x - regionMin.x;
         if (depth < 0 || depth >= regionSize.x) continue;
         ivec3 voxel = axisBack(ivec3(depth, face), a);
-        ivec3 global = voxel + uRegionMin;
-        if (any(lessThan(global, uKeepMin)) || any(greaterThanEqual(global, uKeepMax))) continue;
+        ivec3 inGrid = voxel + uRegionMin;
+        if (any(lessThan(inGrid, uKeepMin)) || any(greaterThanEqual(inGrid, uKeepMax))) continue;
         ivec3 brick = voxel >> 3;
         uint brickIndex = uint(brick.x + uRegionBricks.x * (brick.y + uRegionBricks.y * brick.z));
         ivec3 inBrick = voxel & 7;

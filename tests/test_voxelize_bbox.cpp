@@ -4,12 +4,14 @@
 // backends, in memory and through a work dir, merged and resumed; it draws
 // fewer slices; its bad input is one line, a non-zero exit and no file.
 #include "bbox_runs.h"
+#include "gpu/gl_voxelizer.h"
 #include "plan/zoom_plan.h"
 
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <numeric>
 #include <string>
 
@@ -137,4 +139,41 @@ TEST_CASE("Bbox: a box partly outside the grid is clipped to it, said under --ve
     CHECK(bs["bbox"]["voxels"] == box.text());
     CHECK(bs["bbox"]["asked"] == "--bbox " + asked);
     CHECK(test::checkBoxIsWholeRestricted(test::readActiveVoxels(whole), test::readActiveVoxels(part), box) > 500);
+}
+
+TEST_CASE("Bbox (GL): with the GPU's brick resolve too, a box keeps the whole run's voxels and none outside it",
+          "[bbox][gl]") {
+    YV_REQUIRE_GL();
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Flat, 60, 2.0, 64);
+    const CrossSection xs = makeCrossSection("fibers");
+    const GlContext context;
+    GlVoxelizeSettings settings;
+    settings.brickResolve = BrickResolve::Gpu; // what a GPU runs; llvmpipe resolves on the host by default
+    const BrickVolume whole = voxelizeGl(run.plan, xs, run.grid, settings, context);
+    const glm::ivec3 d = run.grid.dims;
+    const VoxelBox box{{11, 7, d.z / 2 - 1}, {45, 37, d.z - 3}};
+    settings.base.clip = box;
+    const BrickVolume part = voxelizeGl(run.plan, xs, run.grid, settings, context);
+
+    std::map<std::uint64_t, const VoxelBrick*> wholeBricks;
+    for (const VoxelBrick& b : whole.bricks) wholeBricks[b.key] = &b;
+    std::uint64_t kept = 0, expected = 0;
+    for (const VoxelBrick& b : part.bricks)
+        for (int v = 0; v < kBrickVoxels; ++v) {
+            if (!b.isActive(v)) continue;
+            const glm::ivec3 voxel = brickCoord(b.key) * 8 + glm::ivec3(v >> 6, (v >> 3) & 7, v & 7);
+            INFO("voxel " << voxel.x << "," << voxel.y << "," << voxel.z);
+            REQUIRE(box.contains(voxel));
+            REQUIRE(wholeBricks.count(b.key) == 1);
+            const VoxelBrick& w = *wholeBricks[b.key];
+            REQUIRE(w.isActive(v));
+            REQUIRE(b.density[v] == w.density[v]);
+            REQUIRE(b.orientation[v] == w.orientation[v]);
+            ++kept;
+        }
+    for (const VoxelBrick& b : whole.bricks)
+        for (int v = 0; v < kBrickVoxels; ++v)
+            expected += b.isActive(v) && box.contains(brickCoord(b.key) * 8 + glm::ivec3(v >> 6, (v >> 3) & 7, v & 7));
+    CHECK(kept == expected);
+    CHECK(kept > 300);
 }

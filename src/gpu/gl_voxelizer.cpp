@@ -416,7 +416,8 @@ class CollectingSink : public RegionSink {
 BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                        const GlVoxelizeSettings& settings, const GlContext& context, GlVoxelizeCounters* counters) {
     GlBackend backend(plan, xs, grid, settings, context);
-    const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), settings.base.supersample});
+    const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(),
+                                                           settings.base.supersample, settings.base.clip});
     CollectingSink sink;
     backend.run(zoom.regions, sink);
     if (counters) *counters = backend.counters();
