@@ -59,9 +59,9 @@ void checkBoxRunOn(const std::string& backend) {
 TEST_CASE("Bbox: the zoom plan of a box covers exactly its voxels, in regions of whole bricks", "[bbox][zoom]") {
     const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Flat, 100, 0.0, 96);
     const CrossSection xs = makeCrossSection("fibers", false);
-    ZoomPlanOptions options{20000, 1024, 1, VoxelBox{{13, 21, 3}, {61, 50, run.grid.dims.z - 2}}};
-    const ZoomPlan plan = planZoomRegions(run.plan, run.grid, xs, options);
-    const ZoomPlan wholePlan = planZoomRegions(run.plan, run.grid, xs, {20000, 1024, 1, {}});
+    const std::optional<VoxelBox> box = VoxelBox{{13, 21, 3}, {61, 50, run.grid.dims.z - 2}};
+    const ZoomPlan plan = planZoomRegions(run.plan, run.grid, xs, {2000, 1024, 1}, box);
+    const ZoomPlan wholePlan = planZoomRegions(run.plan, run.grid, xs, {2000, 1024, 1});
     REQUIRE(plan.regions.size() > 1);
     CHECK(plan.regions.size() < wholePlan.regions.size());
     std::uint64_t covered = 0;
@@ -70,7 +70,7 @@ TEST_CASE("Bbox: the zoom plan of a box covers exactly its voxels, in regions of
             CHECK(r.min[a] % 8 == 0);
             CHECK(r.max[a] % 8 == 0);
         }
-        const VoxelBox kept = intersect({r.min, r.max}, *options.box);
+        const VoxelBox kept = intersect({r.min, r.max}, *box);
         REQUIRE(!kept.empty());
         covered += std::uint64_t(kept.dims().x) * kept.dims().y * kept.dims().z;
         // A region's segments are every one that reaches its voxels in the box.
@@ -80,7 +80,7 @@ TEST_CASE("Bbox: the zoom plan of a box covers exactly its voxels, in regions of
     }
     // Regions are disjoint, so covering the box's voxel count means covering the box
     // (where no segment reaches, a part may be left out: none here).
-    const glm::ivec3 d = options.box->dims();
+    const glm::ivec3 d = box->dims();
     CHECK(covered == std::uint64_t(d.x) * d.y * d.z);
 }
 

@@ -417,7 +417,7 @@ BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const Voxe
                        const GlVoxelizeSettings& settings, const GlContext& context, GlVoxelizeCounters* counters) {
     GlBackend backend(plan, xs, grid, settings, context);
     const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(),
-                                                           settings.base.supersample, settings.base.clip});
+                                                           settings.base.supersample}, settings.base.clip);
     CollectingSink sink;
     backend.run(zoom.regions, sink);
     if (counters) *counters = backend.counters();

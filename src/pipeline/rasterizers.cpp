@@ -29,7 +29,7 @@ ZoomPlan planZoomWhilePreparing(RegionRasterizer& rasterizer, const SlicedGarmen
     std::future<ZoomPlan> pending = std::async(std::launch::async, [&] {
         const auto start = std::chrono::steady_clock::now();
         ZoomPlan planned =
-            planZoomRegions(sliced.plan, grid, sliced.xs, {budget, rasterizer.maxRegionSize(), supersample, box});
+            planZoomRegions(sliced.plan, grid, sliced.xs, {budget, rasterizer.maxRegionSize(), supersample}, box);
         traceSpanSince("plan the zoom regions", start);
         seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return planned;

@@ -229,7 +229,7 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
     // --bbox: the box selects voxels of that grid (refused here, before anything is written, when it misses).
     const std::optional<RunBox> box = placeRunBox(job, sliced, grid, tell);
     warnCoarseSpacing(job, sliced, grid, tell);
-    VoxelizeSettings settings{job.reduce, job.supersample, job.quiet, job.overlap};
+    VoxelizeSettings settings{job.reduce, job.supersample, job.quiet, job.overlap, {}};
     if (box) settings.clip = box->placed.box;
     VolumeMetadata meta = describeRun(job, backend, sliced, box);
     VdbWriteTimings writeTimings;

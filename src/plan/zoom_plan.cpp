@@ -122,13 +122,13 @@ int splitPoint(int lo, int hi) {
 } // namespace
 
 ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs,
-                         const ZoomPlanOptions& options) {
+                         const ZoomPlanOptions& options, const std::optional<VoxelBox>& box) {
     if (options.fragmentBudget == 0) throw Error("fragment budget must be positive");
     if (options.maxRegionSize < 8 || options.maxRegionSize % 8) throw Error("region size must be a multiple of 8");
     ZoomPlan zp;
     // The voxels planned (the grid, or the box) and the whole bricks around them.
     const VoxelBox whole{glm::ivec3(0), grid.dims};
-    const VoxelBox wanted = options.box ? intersect(*options.box, whole) : whole;
+    const VoxelBox wanted = box ? intersect(*box, whole) : whole;
     if (wanted.empty()) throw Error("the box to plan holds no voxel of the grid");
     const VoxelBox root = roundOutToBricks(wanted);
     // A region's segments: those that reach its voxels in the box.
@@ -139,7 +139,7 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     std::vector<std::uint32_t> all(plan.segments.size());
     for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
     std::vector<std::uint32_t> reaching = reachingIn(all, root.min, root.max);
-    HeatMap heat(root, zp.heatCell, options.box.has_value());
+    HeatMap heat(root, zp.heatCell, box.has_value());
 
     // Expected fragments of a slice: its square, projected on the face of its
     // dominant axis, in supersampled pixels, times the filled fraction, times

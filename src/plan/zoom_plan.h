@@ -21,10 +21,6 @@ struct ZoomPlanOptions {
     std::uint64_t fragmentBudget = 0; ///< fragments one pass may produce
     int maxRegionSize = 1024;         ///< voxels per axis (viewport and key limits)
     int supersample = 1;
-    /// --bbox: plan only the voxels of this box (within the grid): regions
-    /// of whole bricks that cover it, each with the segments whose slices
-    /// reach the box's part of it, and a heat map of those segments only.
-    std::optional<VoxelBox> box;
 };
 
 struct ZoomPlan {
@@ -52,11 +48,13 @@ std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGr
 /// fragments, within a 32nd of the garment's) and its size within
 /// maxRegionSize. A thin axis (at most 128 voxels and a quarter of the
 /// box's longest) is not halved, so a flat garment's regions keep its whole
-/// thickness. Regions no segment reaches are left out. With options.box,
-/// the same over the box rounded out to whole bricks, and a region's
-/// segments are those that reach its voxels inside the box: the voxels on
-/// the box's faces get every slice that reaches them, and no other.
+/// thickness. Regions no segment reaches are left out.
+/// With `box` (--bbox: plan only the voxels of this box of the grid), the
+/// same over the box rounded out to whole bricks, with a heat map of the
+/// segments that reach the box only, and a region's segments are those that
+/// reach its voxels inside the box: the voxels on the box's faces get every
+/// slice that reaches them, and no other.
 ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs,
-                         const ZoomPlanOptions& options);
+                         const ZoomPlanOptions& options, const std::optional<VoxelBox>& box = std::nullopt);
 
 } // namespace yv
