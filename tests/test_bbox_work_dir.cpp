@@ -33,6 +33,17 @@ TEST_CASE("Bbox: a box run through a work dir merges and resumes to the same vox
     const test::BoxTestVoxels partVoxels = test::readActiveVoxels(part);
     CHECK(test::checkBoxIsWholeRestricted(wholeVoxels, partVoxels, box) > 500);
 
+    // The work dir's manifest and the .vdb's file metadata record the box.
+    CHECK(test::readStats(work / "manifest")["run"]["bbox"] == box.text());
+    openvdb::io::File file(part.string());
+    file.open();
+    CHECK(file.getMetadata()->metaValue<std::string>("bbox") == box.text());
+    file.close();
+    openvdb::io::File wholeFile(whole.string());
+    wholeFile.open();
+    CHECK((*wholeFile.getMetadata())["bbox"] == nullptr); // a whole run's metadata is what it always was
+    wholeFile.close();
+
     // merge reads the regions on disk: the box's voxels and no others.
     const fs::path merged = f.path("merged.vdb");
     REQUIRE(test::runYarnvox("merge " + work.string() + " -o " + merged.string()).exitCode == 0);
