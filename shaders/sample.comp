@@ -39,6 +39,9 @@ uniform float uSupport;       // textureSupport(): beyond it the texture reads 0
 uniform int uSupersample;
 uniform ivec3 uRegionMin;
 uniform ivec3 uRegionBricks;  // region size in bricks
+// Voxels that take samples, grid indices, max exclusive: a --bbox run's box
+// (its regions are whole bricks and may reach past it), else the whole grid.
+uniform ivec3 uKeepMin, uKeepMax;
 
 #ifdef ALBEDO
 // Density times colour, bilinear at slice-local c (units of the radius), 0
@@ -108,6 +111,8 @@ void appendSample(SliceRecord s, ivec2 local) {
         int depth = int(v) + anchor.x - regionMin.x;
         if (depth < 0 || depth >= regionSize.x) continue;
         ivec3 voxel = axisBack(ivec3(depth, face), a);
+        ivec3 inGrid = voxel + uRegionMin;
+        if (any(lessThan(inGrid, uKeepMin)) || any(greaterThanEqual(inGrid, uKeepMax))) continue;
         ivec3 brick = voxel >> 3;
         uint brickIndex = uint(brick.x + uRegionBricks.x * (brick.y + uRegionBricks.y * brick.z));
         ivec3 inBrick = voxel & 7;

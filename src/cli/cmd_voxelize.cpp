@@ -12,6 +12,7 @@
 #include "core/world_units.h"
 #include "pipeline/cluster.h"
 #include "pipeline/voxelize_run.h"
+#include "plan/box_request.h"
 
 #include <CLI/CLI.hpp>
 
@@ -93,6 +94,15 @@ void addGeometryOptions(CLI::App* cmd, VoxelizeJob& a) {
         ->check(finiteNumber(kMaxTwist));
     cmd->add_option("--cross-section", a.crossSection, "Fibre density on each slice: fibers, disk, or FILE.png (alpha = density)")
         ->capture_default_str();
+    auto* bbox = cmd->add_option_function<std::string>(
+        "--bbox", [&a](const std::string& text) { a.box = parseBoxRequest(false, text); },
+        "Voxelize only this box, i0,j0,k0,i1,j1,k1 in voxel indices (max exclusive) of the grid that "
+        "--resolution or --voxel-size fixes over the whole garment: its voxels are the whole run's, nothing "
+        "outside it is written, and only the slices that can reach it are drawn. Clipped to the grid");
+    cmd->add_option_function<std::string>(
+           "--bbox-world", [&a](const std::string& text) { a.box = parseBoxRequest(true, text); },
+           "As --bbox, in the garment's world units x0,y0,z0,x1,y1,z1: every voxel whose cell overlaps the box")
+        ->excludes(bbox);
     cmd->add_flag("--albedo", a.albedo,
                   "Also write the fibres' colour: an 'albedo' grid (linear RGB) from the RGB of the --cross-section PNG "
                   "(read as sRGB), the density-weighted mean of each voxel's samples. Needs a colour PNG and the mean "

@@ -17,6 +17,9 @@ struct FieldSpec {
     std::variant<std::string VolumeMetadata::*, int VolumeMetadata::*, std::uint64_t VolumeMetadata::*,
                  double VolumeMetadata::*, bool VolumeMetadata::*>
         member;
+    /// Written only when not empty, and read as empty where missing: a field
+    /// added for runs that have it, so the others keep their bytes.
+    bool optional = false;
 };
 
 constexpr FieldSpec kFields[] = {
@@ -34,6 +37,7 @@ constexpr FieldSpec kFields[] = {
     {"slices_per_segment", &VolumeMetadata::slicesPerSegment},
     {"slice_spacing_option", &VolumeMetadata::sliceSpacingOption},
     {"albedo", &VolumeMetadata::albedo},
+    {"bbox", &VolumeMetadata::bbox, true},
 };
 
 template <class... F> struct Overloaded : F... {
@@ -46,7 +50,9 @@ template <class... F> Overloaded(F...) -> Overloaded<F...>; // clang 14 deduces 
 std::vector<MetadataField> metadataFields(const VolumeMetadata& m) {
     std::vector<MetadataField> out;
     for (const FieldSpec& f : kFields)
-        std::visit(Overloaded{[&](std::string VolumeMetadata::*p) { out.push_back({f.name, m.*p}); },
+        std::visit(Overloaded{[&](std::string VolumeMetadata::*p) {
+                                  if (!f.optional || !(m.*p).empty()) out.push_back({f.name, m.*p});
+                              },
                               // The .vdb's types: int32 for ints, int64 for the slice count.
                               [&](int VolumeMetadata::*p) { out.push_back({f.name, std::int32_t(m.*p)}); },
                               [&](std::uint64_t VolumeMetadata::*p) { out.push_back({f.name, std::int64_t(m.*p)}); },
@@ -65,7 +71,8 @@ Json runMetadataJson(const VolumeMetadata& m) {
 VolumeMetadata runMetadataFromJson(const Json& json, const std::string& where) {
     const JsonFields in(json, where);
     VolumeMetadata m;
-    for (const FieldSpec& f : kFields)
+    for (const FieldSpec& f : kFields) {
+        if (f.optional && !json.contains(f.name)) continue;
         std::visit(Overloaded{[&](std::string VolumeMetadata::*p) { m.*p = in.string(f.name); },
                               [&](int VolumeMetadata::*p) { m.*p = int(in.integer(f.name, INT32_MIN, INT32_MAX)); },
                               [&](std::uint64_t VolumeMetadata::*p) {
@@ -74,12 +81,16 @@ VolumeMetadata runMetadataFromJson(const Json& json, const std::string& where) {
                               [&](double VolumeMetadata::*p) { m.*p = in.number(f.name); },
                               [&](bool VolumeMetadata::*p) { m.*p = in.boolean(f.name); }},
                    f.member);
-    for (const auto& [key, value] : json.items()) {
-        bool known = false;
-        for (const FieldSpec& f : kFields) known = known || key == f.name;
-        if (!known) in.fail(key, "no such field of a run's description");
     }
+    for (const auto& [key, value] : json.items())
+        if (!isRunMetadataField(key)) in.fail(key, "no such field of a run's description");
     return m;
+}
+
+bool isRunMetadataField(const std::string& name) {
+    for (const FieldSpec& f : kFields)
+        if (name == f.name) return true;
+    return false;
 }
 
 std::vector<std::pair<std::string, std::string>> runMetadataText(const VolumeMetadata& m) {

@@ -43,6 +43,9 @@ struct VolumeMetadata {
     int slicesPerSegment = 0;      ///< --slices-per-segment as asked (0: not asked)
     double sliceSpacingOption = 0.0; ///< --slice-spacing as asked (0: one slice per supersampled voxel)
     bool albedo = false;           ///< --albedo: the bricks carry the fibres' colour (an "albedo" grid)
+    /// --bbox: "i0,j0,k0,i1,j1,k1", the voxels the run voxelized (max
+    /// exclusive); empty for the whole garment, and then not recorded at all.
+    std::string bbox;
     /// The run's zoom regions, sorted by id, written as the density grid's
     /// "yarnvox_regions" metadata (none: no item). Not part of the run's
     /// description: the writer of the .vdb fills it in.
@@ -62,13 +65,17 @@ struct MetadataField {
 /// The run's description, field by field (regions apart), in the order the
 /// manifest keeps them: input, backend, cross_section, resolution,
 /// slice_count, yarn_radius, yarn_radius_source, twist, supersample, overlap,
-/// slice_spacing, slices_per_segment, slice_spacing_option, albedo.
+/// slice_spacing, slices_per_segment, slice_spacing_option, albedo, and bbox
+/// where the run had a box (a whole run's fields are what they always were).
 std::vector<MetadataField> metadataFields(const VolumeMetadata& m);
+
+/// Whether `name` is a field of the run's description (metadataFields).
+bool isRunMetadataField(const std::string& name);
 
 /// The description as a JSON object of metadataFields.
 nlohmann::ordered_json runMetadataJson(const VolumeMetadata& m);
 /// The description runMetadataJson wrote; throws yv::Error naming `where`
-/// and the field when a field is missing, unknown or of another type.
+/// and the field when a field is missing (bbox may be), unknown or of another type.
 VolumeMetadata runMetadataFromJson(const nlohmann::ordered_json& json, const std::string& where);
 
 /// The fields as text, for people (inspect): numbers as C's "%.17g" (every

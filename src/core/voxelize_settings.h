@@ -4,7 +4,9 @@
 
 #include "core/error.h"
 #include "core/sampling.h"
+#include "core/voxel_box.h"
 
+#include <optional>
 #include <string>
 
 namespace yv {
@@ -18,6 +20,10 @@ struct VoxelizeSettings {
     int supersample = 1; ///< samples per voxel face along each axis
     bool quiet = true;   ///< no progress output
     Overlap overlap = Overlap::Clamp; ///< mean: clamp interpenetrating yarns' sum at 1, or keep it
+    /// --bbox: samples land only in these voxels, so a run of a box leaves
+    /// nothing outside it even where its zoom regions (whole bricks) reach
+    /// past it; none: every voxel of the grid.
+    std::optional<VoxelBox> clip;
 };
 
 /// Throws yv::Error unless 1 <= supersample <= kMaxSupersample: the one

@@ -60,6 +60,12 @@ std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSe
                                             const VoxelizeSettings& settings, std::span<const std::uint32_t> segments,
                                             glm::ivec3 boxMin, glm::ivec3 boxMax, CpuVoxelizeCounters* counters) {
     checkSupersample(settings.supersample);
+    // A --bbox run's voxels outside its box get no sample (the others keep every one they had).
+    if (settings.clip) {
+        const VoxelBox kept = intersect({boxMin, boxMax}, *settings.clip);
+        boxMin = kept.min;
+        boxMax = glm::max(kept.max, kept.min);
+    }
     const Reduce reduce = settings.reduce;
     const bool albedo = xs.hasAlbedo();
     if (albedo && reduce != Reduce::Mean)

@@ -5,6 +5,7 @@
 // fibres' linear RGB albedo (3 channels) at OUT.albedo.vol when the .vdb has one.
 #pragma once
 
+#include "core/voxel_box.h"
 #include "export/fiber_grids.h"
 
 #include <glm/vec3.hpp>
@@ -30,14 +31,6 @@ int encodingBytes(VolEncoding e);
 /// res - 1 on the box's faces).
 enum class VolBoxConvention { Corners, Centres };
 VolBoxConvention parseVolBoxConvention(const std::string& name);
-
-/// Voxels in index coordinates, min inclusive, max exclusive (the bounds
-/// `yarnvox inspect` prints for a work directory's regions).
-struct VoxelBox {
-    glm::ivec3 min{0}, max{0};
-    glm::ivec3 dims() const { return max - min; }
-    bool empty() const { return dims().x <= 0 || dims().y <= 0 || dims().z <= 0; }
-};
 
 /// Every voxel whose cell overlaps the world-space box [lo, hi] (a voxel
 /// touched only on a face is left out). Throws yv::Error when the grid's

@@ -79,8 +79,9 @@ class GlBackend::Impl {
         counters_.platform = platformName(info.platform);
         counters_.contextSeconds = settings.contextSeconds;
         const double support = textureSupport(xs);
+        const VoxelBox keep = settings.base.clip.value_or(VoxelBox{glm::ivec3(0), grid.dims});
         uniforms_ = SamplingUniforms{float(plan.options.radius / grid.voxelSize), settings.base.supersample,
-                                     float(support)};
+                                     float(support), keep.min, keep.max};
         const TraceSpan span("choose the budgets");
         drawing_ = chooseSliceDrawing(settings, plan, grid, support, info);
         counters_.slicePrimitive = drawing_.name();
@@ -415,7 +416,8 @@ class CollectingSink : public RegionSink {
 BrickVolume voxelizeGl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                        const GlVoxelizeSettings& settings, const GlContext& context, GlVoxelizeCounters* counters) {
     GlBackend backend(plan, xs, grid, settings, context);
-    const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), settings.base.supersample});
+    const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(),
+                                                           settings.base.supersample}, settings.base.clip);
     CollectingSink sink;
     backend.run(zoom.regions, sink);
     if (counters) *counters = backend.counters();

@@ -29,6 +29,9 @@ struct SamplingUniforms {
     float radius = 0.0f;  ///< the yarn's radius in voxels
     int supersample = 1;  ///< samples a voxel along each axis of the face
     float support = 0.0f; ///< textureSupport() of the cross-section
+    /// Voxels that take samples (grid indices, max exclusive): a --bbox run's
+    /// box, else the whole grid. Only the sampling program reads them.
+    glm::ivec3 keepMin{0}, keepMax{0};
 
     void set(const GlProgram& program, const WorkItem& item) const {
         const glm::ivec3 bricks = item.bricks();
@@ -37,6 +40,8 @@ struct SamplingUniforms {
         glUniform1f(program.uniform("uSupport"), support);
         glUniform3i(program.uniform("uRegionMin"), item.min.x, item.min.y, item.min.z);
         glUniform3i(program.uniform("uRegionBricks"), bricks.x, bricks.y, bricks.z);
+        glUniform3i(program.uniform("uKeepMin"), keepMin.x, keepMin.y, keepMin.z);
+        glUniform3i(program.uniform("uKeepMax"), keepMax.x, keepMax.y, keepMax.z);
     }
 };
 

@@ -7,6 +7,7 @@
 
 #include "core/bricks.h"
 #include "core/run_metadata.h"
+#include "core/voxel_box.h"
 
 #include <glm/vec3.hpp>
 
@@ -18,12 +19,6 @@
 #include <vector>
 
 namespace yv {
-
-/// Voxel box, min inclusive, max exclusive.
-struct VoxelBox {
-    glm::ivec3 min{0}, max{0};
-    bool empty() const { return max.x <= min.x || max.y <= min.y || max.z <= min.z; }
-};
 
 /// One 8^3 brick as a source hands it over: values in brickOffset order,
 /// inactive voxels 0.

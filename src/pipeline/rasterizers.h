@@ -23,9 +23,10 @@ std::unique_ptr<RegionRasterizer> makeRasterizer(Backend backend, const SlicedGa
 /// The zoom regions, planned on the host's cores while `rasterizer` does the
 /// work that needs no plan (the GL backend's upload and programs, on this
 /// thread). The ranks of an MPI run (`group`) all plan with rank 0's budget,
-/// so they plan the same regions. `seconds`: how long the planning took.
+/// so they plan the same regions. `box`: a --bbox run's box, the only voxels
+/// planned. `seconds`: how long the planning took.
 ZoomPlan planZoomWhilePreparing(RegionRasterizer& rasterizer, const SlicedGarment& sliced, const VoxelGrid& grid,
-                                int supersample, Cluster* group, double& seconds);
+                                int supersample, const std::optional<VoxelBox>& box, Cluster* group, double& seconds);
 
 /// Destroys the rasterizer on a thread of its own (the GL backend's buffers
 /// and context take tens of ms to free) while the caller goes on to write the

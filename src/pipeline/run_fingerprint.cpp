@@ -49,7 +49,7 @@ std::uint64_t samplingCodeHash() {
 
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
                              const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,
-                             const ZoomPlan& zoom, const std::string& backend) {
+                             const ZoomPlan& zoom, const std::string& backend, const std::optional<VoxelBox>& box) {
     Fingerprint f;
     f.add(YV_VERSION, std::strlen(YV_VERSION));
     f.add(samplingCodeHash());
@@ -66,6 +66,8 @@ std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& s
     f.add(grid.origin), f.add(grid.voxelSize), f.add(grid.dims);
     f.add(static_cast<int>(reduce)), f.add(static_cast<int>(overlap)), f.add(supersample);
     for (const ZoomRegion& r : zoom.regions) f.add(r.id), f.add(r.min), f.add(r.max);
+    // Two boxes within the same bricks plan the same regions but keep other voxels.
+    if (box) f.add(box->min), f.add(box->max);
     return f.value();
 }
 

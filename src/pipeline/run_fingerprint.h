@@ -8,6 +8,7 @@
 #include "vdb/vdb_writer.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace yv {
@@ -19,9 +20,11 @@ std::uint64_t samplingCodeHash();
 /// Hash of everything that decides the bricks: the yarnvox version
 /// (YV_VERSION), the sampling code (samplingCodeHash), the garment file's bytes, the
 /// slice options, the cross-section texture (and its albedo), the grid, the reduction, the overlap rule and
-/// supersampling, the zoom regions (ids and bounds), and the backend ("gl", "cpu").
+/// supersampling, the zoom regions (ids and bounds), the backend ("gl", "cpu"),
+/// and a --bbox run's box (whole runs hash as they always have).
 std::uint64_t runFingerprint(const std::string& inputPath, const SliceOptions& slices, const CrossSection& xs,
                              const VoxelGrid& grid, Reduce reduce, Overlap overlap, int supersample,
-                             const ZoomPlan& zoom, const std::string& backend);
+                             const ZoomPlan& zoom, const std::string& backend,
+                             const std::optional<VoxelBox>& box = std::nullopt);
 
 } // namespace yv

@@ -45,8 +45,9 @@ JsonObject runStats(const RunRecord& run) {
         .set("samples", run.samples)
         .set("voxel_size", grid.voxelSize)
         .set("grid_dims", std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" +
-                              std::to_string(grid.dims.z))
-        .set("active_voxels", run.totals.activeVoxels)
+                              std::to_string(grid.dims.z));
+    if (run.box) stats.set("bbox", *run.box);
+    stats.set("active_voxels", run.totals.activeVoxels)
         .set("bricks", run.totals.bricks)
         .set("slice_spacing", plan.maxSpacing)
         .set("overlap", toString(run.job.overlap))

@@ -10,6 +10,8 @@
 #include "pipeline/stage_timer.h"
 #include "vdb/vdb_writer.h"
 
+#include <optional>
+
 namespace yv {
 
 /// Everything a finished run's statistics are made of.
@@ -24,6 +26,7 @@ struct RunRecord {
     const VdbWriteTimings& writeTimings;
     const StageTimer& timer;
     JsonObject backendStats; ///< the rasterizer's counters and the destination's
+    std::optional<JsonObject> box; ///< --bbox: the box's record (voxelize_box.h), after grid_dims
 };
 
 /// The run's --stats object, keys in their documented order.

@@ -57,7 +57,9 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
     // A run that would leave no voxels is refused before any slicing.
     const RunScale scale{s.radius.radius, s.radius.description, voxelSize, scaleOption(job), job.supersample, job.spacing};
     for (const std::string& w : checkRunScale(scale, s.xs)) tell("warning: " + w);
-    checkDiskNeeds(job, throughWorkDir, s.garment, s.radius.radius, voxelSize, scale.voxelSource);
+    // The whole garment's bound says nothing of a --bbox run's box (a cuff at
+    // a resolution the garment could never have): checkOutputFits covers it.
+    if (!job.box) checkDiskNeeds(job, throughWorkDir, s.garment, s.radius.radius, voxelSize, scale.voxelSource);
 
     s.explicitSpacing = job.slicesPerSegment > 0 || job.spacing > 0.0;
     s.sliceOptions.slicesPerSegment = job.slicesPerSegment;
@@ -75,10 +77,11 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
 }
 
 void checkOutputFits(const VoxelizeJob& job, bool throughWorkDir, const SlicedGarment& sliced, const VoxelGrid& grid,
-                     const VdbShape& shape) {
+                     const VdbShape& shape, std::optional<double> boxYarnLength) {
     const TraceSpan span("estimate the output");
-    const std::string problem =
-        checkExpectedDisk(outputPlan(sliced.plan, grid, sliced.xs, shape), runPlace(job, throughWorkDir), scaleOption(job));
+    OutputPlan expected = outputPlan(sliced.plan, grid, sliced.xs, shape);
+    if (boxYarnLength) expected.yarnLength = *boxYarnLength;
+    const std::string problem = checkExpectedDisk(expected, runPlace(job, throughWorkDir), scaleOption(job));
     if (!problem.empty()) throw Error(job.input + ": " + problem);
 }
 

@@ -9,6 +9,8 @@
 #include "pipeline/yarn_radius.h"
 #include "plan/resource_estimate.h"
 
+#include <optional>
+
 namespace yv {
 
 /// What reading and slicing the garment gives the rest of the run.
@@ -32,9 +34,11 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
 /// Refuses, once the slices lie on `grid`, a run whose expected output (the
 /// .vdb as `shape` stores it, its scratch file, the work dir's regions) does
 /// not fit the free disk: the bound sliceGarment checks before slicing
-/// catches only runs far too large. Throws yv::Error naming the input, the
-/// bytes expected and free, and what to change.
+/// catches only runs far too large. `boxYarnLength`: a --bbox run's, the
+/// arc length of the segments that reach its box (the whole garment's
+/// otherwise). Throws yv::Error naming the input, the bytes expected and
+/// free, and what to change.
 void checkOutputFits(const VoxelizeJob& job, bool throughWorkDir, const SlicedGarment& sliced, const VoxelGrid& grid,
-                     const VdbShape& shape);
+                     const VdbShape& shape, std::optional<double> boxYarnLength = std::nullopt);
 
 } // namespace yv

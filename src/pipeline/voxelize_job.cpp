@@ -15,6 +15,7 @@ void checkJob(const VoxelizeJob& job, bool sharedByRanks) {
             throw Error("--stats " + job.statsPath + ": is the same file as -o: refusing to overwrite it");
     }
     const bool dense = job.method == VoxelizeMethod::Dense;
+    if (job.box && dense) throw Error(job.box->named() + ": a box needs the sparse method (--method dense voxelizes the whole grid)");
     if (dense && sharedByRanks) throw Error("--method dense runs in one process, not under mpirun -np 2 or more");
     if (dense && job.backend == BackendRequest::Cpu) throw Error("--method dense needs --backend gl");
     if (dense && (!job.workDir.empty() || job.resume)) throw Error("--work-dir and --resume need the sparse method");
@@ -26,6 +27,10 @@ void checkJob(const VoxelizeJob& job, bool sharedByRanks) {
     if (job.albedo && dense) throw Error("--albedo: the dense method has no albedo; use --method sparse");
     if (job.albedo && job.reduce != Reduce::Mean)
         throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
+    // The box selects voxels of the grid the options define; it never defines one.
+    if (job.box && job.resolution == 0 && job.voxelSize == 0.0)
+        throw Error(job.box->named() + ": the box lies on the grid of the whole garment, which is not defined yet: "
+                    "give --resolution N (voxels on the longest axis) or --voxel-size H");
     if (job.resolution == 0 && job.voxelSize == 0.0)
         throw Error("give --resolution N (voxels on the longest axis) or --voxel-size H");
     checkSupersample(job.supersample);

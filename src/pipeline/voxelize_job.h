@@ -4,11 +4,13 @@
 #pragma once
 
 #include "core/sampling.h"
+#include "plan/box_request.h"
 #include "vdb/lod_request.h"
 #include "vdb/vdb_writer.h"
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace yv {
@@ -42,6 +44,9 @@ struct VoxelizeJob {
     int device = -1;                                    ///< --device (-1: first GPU, else llvmpipe)
     std::uint64_t fragmentCapacity = 0;                 ///< --fragment-budget (0: from the machine)
     LodRequest lod;                                     ///< --lod: level-of-detail grids in the .vdb (lodOf)
+    /// --bbox or --bbox-world: voxelize only this box, on the grid the whole
+    /// garment and --resolution or --voxel-size fix (none: the whole garment).
+    std::optional<BoxRequest> box;
     bool albedo = false;  ///< --albedo: the cross-section PNG's colour as an "albedo" grid
     bool resume = false, keepWorkDir = false;           ///< --resume, --keep-work-dir
     bool quiet = false, verbose = false;                ///< --quiet, --verbose
@@ -57,7 +62,7 @@ struct VoxelizeJob {
 /// Every rule between a job's options, each stated here once, checked
 /// before any work: where the results go (-o and --stats writable and
 /// distinct from the input), a grid size given, the supersample range, what
-/// the dense method and --albedo need. `sharedByRanks`: the run's regions are
+/// the dense method, --albedo and --bbox need. `sharedByRanks`: the run's regions are
 /// shared by the ranks of an MPI run. Throws yv::Error with one line.
 void checkJob(const VoxelizeJob& job, bool sharedByRanks);
 

@@ -12,6 +12,7 @@
 #include "pipeline/run_fingerprint.h"
 #include "pipeline/run_stats.h"
 #include "pipeline/sliced_garment.h"
+#include "pipeline/voxelize_box.h"
 #include "plan/grid.h"
 #include "vdb/lod_request.h"
 
@@ -41,7 +42,8 @@ void warnCoarseSpacing(const VoxelizeJob& job, const SlicedGarment& sliced, cons
 }
 
 /// What the .vdb records of the run (formats/vdb-subset.md).
-VolumeMetadata describeRun(const VoxelizeJob& job, Backend backend, const SlicedGarment& sliced) {
+VolumeMetadata describeRun(const VoxelizeJob& job, Backend backend, const SlicedGarment& sliced,
+                           const std::optional<RunBox>& box) {
     VolumeMetadata meta;
     meta.input = job.input;
     meta.backend = backendName(backend);
@@ -57,6 +59,7 @@ VolumeMetadata describeRun(const VoxelizeJob& job, Backend backend, const Sliced
     meta.slicesPerSegment = job.slicesPerSegment;
     meta.sliceSpacingOption = job.spacing;
     meta.albedo = sliced.xs.hasAlbedo();
+    if (box) meta.bbox = box->placed.text();
     return meta;
 }
 
@@ -80,7 +83,8 @@ VdbWriteOptions writeOptionsFor(const VoxelizeJob& job, const VoxelGrid& grid, c
 RefuseEmpty refuseEmptyFor(const VoxelizeJob& job, const SlicedGarment& sliced, const VoxelGrid& grid) {
     return [&job, &sliced, voxelSize = grid.voxelSize](std::uint64_t activeVoxels) {
         if (activeVoxels == 0)
-            throw Error(job.input + ": no yarn reached a voxel's samples (" + sliced.radius.description +
+            throw Error(job.input + ": no yarn reached a voxel's samples" + (job.box ? " in " + job.box->named() : "") +
+                        " (" + sliced.radius.description +
                         ", voxel size " + numberText(voxelSize) + "): the volume would be empty, " + job.output +
                         " was not written (a finer --resolution, a higher --supersample, or --cross-section disk)");
     };
@@ -103,10 +107,11 @@ Backend agreeOnBackend(Backend mine, Cluster* group, const VoxelizeJob& job, GlS
 /// The work dir's identity: a fingerprint of everything that decides the
 /// bricks (it reads the whole garment file, so only a work dir computes it).
 StoreManifest workDirManifest(const VoxelizeJob& job, Backend backend, const SlicedGarment& sliced,
-                              const VoxelGrid& grid, const ZoomPlan& zoom, const VolumeMetadata& meta) {
+                              const VoxelGrid& grid, const VoxelizeSettings& settings, const ZoomPlan& zoom,
+                              const VolumeMetadata& meta) {
     StoreManifest manifest;
     manifest.fingerprint = runFingerprint(job.input, sliced.sliceOptions, sliced.xs, grid, job.reduce, job.overlap,
-                                          job.supersample, zoom, backendName(backend));
+                                          job.supersample, zoom, backendName(backend), settings.clip);
     manifest.samplingCode = samplingCodeHash();
     manifest.grid = grid;
     manifest.reduce = job.reduce;
@@ -121,7 +126,7 @@ std::unique_ptr<RegionDestination> makeDestination(DestinationSetup& setup, Clus
                                                    const VolumeMetadata& meta) {
     const VoxelizeJob& job = setup.job;
     if (!group && job.workDir.empty() && !job.keepWorkDir) return makeMemoryDestination(setup);
-    setup.manifest = workDirManifest(job, backend, sliced, setup.grid, zoom, meta);
+    setup.manifest = workDirManifest(job, backend, sliced, setup.grid, setup.settings, zoom, meta);
     return group ? makeClusterDestination(setup, *group) : makeWorkDirDestination(setup);
 }
 
@@ -141,7 +146,8 @@ SparseRun runSparse(const VoxelizeJob& job, Backend backend, const SlicedGarment
                     const VdbWriteOptions& writeOptions, StageTimer& timer, const Tell& note, const Tell& tell) {
     std::unique_ptr<RegionRasterizer> rasterizer = makeRasterizer(backend, sliced, grid, settings, job, std::move(gl));
     double zoomPlanSeconds = 0.0;
-    const ZoomPlan zoom = planZoomWhilePreparing(*rasterizer, sliced, grid, job.supersample, group, zoomPlanSeconds);
+    const ZoomPlan zoom =
+        planZoomWhilePreparing(*rasterizer, sliced, grid, job.supersample, settings.clip, group, zoomPlanSeconds);
     timer.lap("plan");
     if (job.verbose)
         tell("plan: " + std::to_string(zoom.regions.size()) + " zoom regions, " + numberText(zoom.estimatedFragments) +
@@ -220,14 +226,18 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
     const Backend backend = agreeOnBackend(chosen, group, job, gl);
 
     const VoxelGrid grid = makeGrid(sliced.plan, job.resolution, job.voxelSize);
+    // --bbox: the box selects voxels of that grid (refused here, before anything is written, when it misses).
+    const std::optional<RunBox> box = placeRunBox(job, sliced, grid, tell);
     warnCoarseSpacing(job, sliced, grid, tell);
-    const VoxelizeSettings settings{job.reduce, job.supersample, job.quiet, job.overlap};
-    VolumeMetadata meta = describeRun(job, backend, sliced);
+    VoxelizeSettings settings{job.reduce, job.supersample, job.quiet, job.overlap, {}};
+    if (box) settings.clip = box->placed.box;
+    VolumeMetadata meta = describeRun(job, backend, sliced, box);
     VdbWriteTimings writeTimings;
     const VdbWriteOptions writeOptions = writeOptionsFor(job, grid, sliced, writeTimings);
     checkOutputFits(job, job.throughWorkDir(group != nullptr), sliced, grid,
                     {job.precision == VdbPrecision::Half, writeOptions.albedo, writeOptions.lodLevels,
-                     writeOptions.lodFirstLevel});
+                     writeOptions.lodFirstLevel},
+                    box ? std::optional<double>(box->yarnLength) : std::nullopt);
 
     RunTotals totals;
     double voxelizeSeconds = 0.0;
@@ -257,7 +267,7 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
     timer.lap("finish");
     VoxelizeReport report = reportOf(job, backend, sliced, grid, totals, voxelizeSeconds);
     report.stats = runStats({job, backend, sliced, grid, totals, samples, voxelizeSeconds, writeTimings,
-                             timer, backendStats});
+                             timer, backendStats, box ? std::optional<JsonObject>(boxStats(job, *box, grid)) : std::nullopt});
     if (!job.statsPath.empty()) {
         const TraceSpan span("write the stats");
         writeTextFileAtomically(job.statsPath, report.stats.dump() + "\n");

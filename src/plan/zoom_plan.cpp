@@ -57,26 +57,35 @@ std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGr
 
 namespace {
 
+/// Expected fragments per cell of `cell`^3 voxels, over the cells that
+/// cover `over` (the grid, or a --bbox run's box: a box at a resolution the
+/// whole grid's map would not fit in memory gets a map of its own size).
 class HeatMap {
   public:
-    HeatMap(const VoxelGrid& grid, int cell) : cell_(cell), dims_((grid.dims + cell - 1) / cell) {
+    HeatMap(VoxelBox over, int cell, bool dropOutside)
+        : cell_(cell), first_(over.min / cell), dims_((over.max + cell - 1) / cell - first_), dropOutside_(dropOutside) {
         cells_ = std::make_unique<std::atomic<std::uint64_t>[]>(std::size_t(dims_.x) * dims_.y * dims_.z);
     }
     /// Fragments are kept in 1/1024ths: at coarse resolutions a slice
     /// expects less than one fragment, which rounded to whole ones was none.
+    /// A slice centred outside a box's map adds nothing (only its edge can
+    /// reach the box); in the grid's map it goes to the nearest cell.
     void add(glm::ivec3 voxel, double fragments) {
-        const glm::ivec3 c = glm::clamp(voxel / cell_, glm::ivec3(0), dims_ - 1);
+        glm::ivec3 c = voxel / cell_ - first_;
+        const bool outside = glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, dims_));
+        if (outside && dropOutside_) return;
+        c = glm::clamp(c, glm::ivec3(0), dims_ - 1);
         cells_[index(c)].fetch_add(static_cast<std::uint64_t>(fragments * kUnits + 0.5), std::memory_order_relaxed);
     }
-    /// Estimated fragments in voxels [min, max): whole cells summed, cut
-    /// cells in proportion to the part of them inside.
+    /// Estimated fragments in voxels [min, max) (within the map's box):
+    /// whole cells summed, cut cells in proportion to the part of them inside.
     double sum(glm::ivec3 min, glm::ivec3 max) const {
-        const glm::ivec3 c0 = min / cell_, c1 = glm::min((max + cell_ - 1) / cell_, dims_);
+        const glm::ivec3 c0 = min / cell_, c1 = glm::min((max + cell_ - 1) / cell_, first_ + dims_);
         double total = 0.0;
         for (int z = c0.z; z < c1.z; ++z)
             for (int y = c0.y; y < c1.y; ++y)
                 for (int x = c0.x; x < c1.x; ++x) {
-                    const std::uint64_t v = cells_[index({x, y, z})].load(std::memory_order_relaxed);
+                    const std::uint64_t v = cells_[index(glm::ivec3(x, y, z) - first_)].load(std::memory_order_relaxed);
                     if (!v) continue;
                     const glm::ivec3 lo = glm::max(min, glm::ivec3(x, y, z) * cell_);
                     const glm::ivec3 hi = glm::min(max, glm::ivec3(x + 1, y + 1, z + 1) * cell_);
@@ -95,7 +104,8 @@ class HeatMap {
     static constexpr double kUnits = 1024.0;
     std::size_t index(glm::ivec3 c) const { return (std::size_t(c.z) * dims_.y + c.y) * dims_.x + c.x; }
     int cell_;
-    glm::ivec3 dims_;
+    glm::ivec3 first_, dims_; ///< the map's first cell, and its cells along each axis
+    bool dropOutside_;
     std::unique_ptr<std::atomic<std::uint64_t>[]> cells_;
 };
 
@@ -112,11 +122,24 @@ int splitPoint(int lo, int hi) {
 } // namespace
 
 ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs,
-                         const ZoomPlanOptions& options) {
+                         const ZoomPlanOptions& options, const std::optional<VoxelBox>& box) {
     if (options.fragmentBudget == 0) throw Error("fragment budget must be positive");
     if (options.maxRegionSize < 8 || options.maxRegionSize % 8) throw Error("region size must be a multiple of 8");
     ZoomPlan zp;
-    HeatMap heat(grid, zp.heatCell);
+    // The voxels planned (the grid, or the box) and the whole bricks around them.
+    const VoxelBox whole{glm::ivec3(0), grid.dims};
+    const VoxelBox wanted = box ? intersect(*box, whole) : whole;
+    if (wanted.empty()) throw Error("the box to plan holds no voxel of the grid");
+    const VoxelBox root = roundOutToBricks(wanted);
+    // A region's segments: those that reach its voxels in the box.
+    const auto reachingIn = [&](const std::vector<std::uint32_t>& from, glm::ivec3 min, glm::ivec3 max) {
+        const VoxelBox part = intersect({min, max}, wanted);
+        return segmentsReaching(plan, grid, from, part.min, part.max);
+    };
+    std::vector<std::uint32_t> all(plan.segments.size());
+    for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    std::vector<std::uint32_t> reaching = reachingIn(all, root.min, root.max);
+    HeatMap heat(root, zp.heatCell, box.has_value());
 
     // Expected fragments of a slice: its square, projected on the face of its
     // dominant axis, in supersampled pixels, times the filled fraction, times
@@ -127,8 +150,9 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     filled /= double(xs.density.size());
     const double side = 2.0 * plan.options.radius / grid.voxelSize * options.supersample;
     const double perSlice = side * side * filled;
-    tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t s) {
-        const SegmentRecord& seg = plan.segments[s];
+    // Only the slices that can reach the planned voxels (all of them without --bbox).
+    tbb::parallel_for(std::size_t(0), reaching.size(), [&](std::size_t i) {
+        const SegmentRecord& seg = plan.segments[reaching[i]];
         const double depth = seg.length / seg.sliceCount / grid.voxelSize;
         for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
             const double t = (k + 0.5) / seg.sliceCount;
@@ -139,7 +163,7 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
         }
     });
     zp.heatCellsTouched = heat.touched();
-    zp.estimatedFragments = heat.sum(glm::ivec3(0), grid.dims);
+    zp.estimatedFragments = heat.sum(root.min, root.max);
 
     // Octree split; children in z, y, x order, and regions listed depth
     // first, so ids follow space. Children are split on every core, each
@@ -198,16 +222,13 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
         std::vector<std::vector<ZoomRegion>> parts(children.size());
         tbb::parallel_for(std::size_t(0), children.size(), [&](std::size_t i) {
             const auto& [childMin, childMax] = children[i];
-            parts[i] = split(childMin, childMax, segmentsReaching(plan, grid, segments, childMin, childMax));
+            parts[i] = split(childMin, childMax, reachingIn(segments, childMin, childMax));
         });
         std::vector<ZoomRegion> out;
         for (auto& part : parts) std::move(part.begin(), part.end(), std::back_inserter(out));
         return out;
     };
-    std::vector<std::uint32_t> all(plan.segments.size());
-    for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-    std::vector<std::uint32_t> reaching = segmentsReaching(plan, grid, all, glm::ivec3(0), grid.dims);
-    zp.regions = split(glm::ivec3(0), grid.dims, std::move(reaching));
+    zp.regions = split(root.min, root.max, std::move(reaching));
     for (std::size_t i = 0; i < zp.regions.size(); ++i) zp.regions[i].id = i;
     return zp;
 }

@@ -3,6 +3,7 @@
 // will produce at the target resolution.
 #pragma once
 
+#include "core/voxel_box.h"
 #include "core/zoom_region.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
@@ -11,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace yv {
@@ -47,7 +49,12 @@ std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGr
 /// maxRegionSize. A thin axis (at most 128 voxels and a quarter of the
 /// box's longest) is not halved, so a flat garment's regions keep its whole
 /// thickness. Regions no segment reaches are left out.
+/// With `box` (--bbox: plan only the voxels of this box of the grid), the
+/// same over the box rounded out to whole bricks, with a heat map of the
+/// segments that reach the box only, and a region's segments are those that
+/// reach its voxels inside the box: the voxels on the box's faces get every
+/// slice that reaches them, and no other.
 ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs,
-                         const ZoomPlanOptions& options);
+                         const ZoomPlanOptions& options, const std::optional<VoxelBox>& box = std::nullopt);
 
 } // namespace yv

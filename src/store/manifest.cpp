@@ -110,6 +110,11 @@ std::string runDifference(const StoreManifest& disk, const StoreManifest& now) {
         add("the sampling code differs (" + hex64(disk.samplingCode) + " on disk, " + hex64(now.samplingCode) +
             " in this yarnvox): its regions may hold other values");
     else if (disk.fingerprint != now.fingerprint) {
+        // A --bbox run resumed with another box (or none) is the likely reason.
+        if (disk.run.bbox != now.run.bbox) {
+            const auto box = [](const std::string& b) { return b.empty() ? std::string("the whole garment") : "box " + b; };
+            add("made for " + box(disk.run.bbox) + ", this run asks for " + box(now.run.bbox) + " (voxels, max exclusive)");
+        }
         // Where the runs name their backends, a change of backend is the likely reason.
         const std::string& before = disk.run.backend;
         const std::string& after = now.run.backend;

@@ -31,7 +31,7 @@ VolumeMetadata vdbRunMetadata(const openvdb::MetaMap& meta, const std::string& w
     Json fields = runMetadataJson(VolumeMetadata{});
     for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it) {
         const std::string& name = it->first;
-        if (!fields.contains(name) || name == "albedo") continue;
+        if (!isRunMetadataField(name) || name == "albedo") continue;
         const openvdb::Metadata& item = *it->second;
         if (const auto* s = dynamic_cast<const openvdb::StringMetadata*>(&item)) fields[name] = s->value();
         else if (const auto* i = dynamic_cast<const openvdb::Int32Metadata*>(&item)) fields[name] = i->value();
