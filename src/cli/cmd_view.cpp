@@ -7,6 +7,7 @@
 #include "cli/option_words.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/voxelize_settings.h"
 #include "view/view_run.h"
 
 #include <CLI/CLI.hpp>

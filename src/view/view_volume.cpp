@@ -56,6 +56,12 @@ std::optional<SliceInstances> runSlicesOf(const std::string& volumePath, const s
 
 } // namespace
 
+ViewVolume::ViewVolume(ViewVolume&& other) noexcept
+    : source(std::move(other.source)), slices(std::move(other.slices)), garment(other.garment),
+      activeVoxels(other.activeVoxels), name(std::move(other.name)), scratch(std::move(other.scratch)) {
+    other.scratch.clear();
+}
+
 ViewVolume::~ViewVolume() {
     source.reset(); // its file first
     if (!scratch.empty()) {

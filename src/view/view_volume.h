@@ -26,7 +26,8 @@ struct ViewVolume {
     std::filesystem::path scratch; ///< where a garment's voxelization lies while the view runs ("" when none)
 
     ViewVolume() = default;
-    ViewVolume(ViewVolume&&) = default;
+    /// The scratch directory goes with the move: only the last owner removes it.
+    ViewVolume(ViewVolume&& other) noexcept;
     ViewVolume& operator=(ViewVolume&&) = delete;
     ~ViewVolume(); ///< removes `scratch`
 };

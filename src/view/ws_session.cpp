@@ -77,7 +77,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
     void onRead(beast::error_code ec) {
         if (ec == websocket::error::message_too_big) {
-            refuse("a message over " + std::to_string(kMaxViewMessageBytes) + " bytes; the connection is closed");
+            // Beast closes the stream itself (status 1009): logged, and no notice written over its close.
+            logRefusal("a message over " + std::to_string(kMaxViewMessageBytes) + " bytes; the connection is closed");
             return leave();
         }
         if (ec) return leave();
@@ -97,10 +98,14 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
     /// One line in the server's log (the first few a page, then a count), and a notice to the page.
     void refuse(const std::string& why) {
+        logRefusal(why);
+        send(Outgoing{nlohmann::json{{"type", "notice"}, {"text", "refused: " + why}}.dump(), nullptr});
+    }
+
+    void logRefusal(const std::string& why) {
         ++refused_;
         if (refused_ <= 10) shared_.log("refused a message from " + peer_ + ": " + why);
         if (refused_ == 10) shared_.log("further refusals from " + peer_ + " are not logged");
-        send(Outgoing{nlohmann::json{{"type", "notice"}, {"text", "refused: " + why}}.dump(), nullptr});
     }
 
     void leave() {
