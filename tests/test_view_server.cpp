@@ -168,16 +168,16 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
     CHECK(page.hello["modes"][0] == "raycast");
     CHECK(page.hello["activeVoxels"].get<std::uint64_t>() > 0);
 
-    // The first frame comes unasked, at the --size given: slices on the left, the ray cast on the right.
-    const auto [firstStats, first] = page.readFrame();
+    // The first frame, at the --size given: slices on the left, the ray cast on the right.
+    page.sendCamera(30, 1);
+    const auto [firstStats, first] = page.frameOf(1);
     CHECK(first.width == 192);
     CHECK(first.height == 96);
     CHECK(firstStats["slices"].get<std::uint64_t>() > 0);
     CHECK(litPixels(first, 0, 96) > 100);
     CHECK(litPixels(first, 96, 192) > 100);
 
-    page.sendCamera(30, 1);
-    const yv::RgbImage a = page.frameOf(1).second;
+    const yv::RgbImage& a = first;
     page.sendCamera(120, 2);
     const yv::RgbImage b = page.frameOf(2).second;
     page.sendCamera(30, 3);
@@ -210,7 +210,8 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
 
     // A binary message and one over the size limit: the second closes that page, not the server.
     Page other(port);
-    other.readFrame();
+    other.sendCamera(0, 1);
+    other.frameOf(1);
     other.ws.binary(true);
     other.ws.write(net::buffer(std::string("\x01\x02", 2)));
     other.send(std::string(4096, ' '));

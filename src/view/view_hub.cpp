@@ -10,7 +10,8 @@ namespace yv {
 struct ViewHub::Client {
     Deliver deliver;
     ViewState wanted;
-    std::uint64_t wantedVersion = 1, drawnVersion = 0; ///< a new page is drawn once at once
+    /// A new page is drawn once it says what it wants (its size and camera follow the hello at once).
+    std::uint64_t wantedVersion = 0, drawnVersion = 0;
     bool voxelizeAsked = false;
 };
 
@@ -54,8 +55,8 @@ void ViewHub::apply(Client& client, const ViewMessage& message) {
     } else {
         client.voxelizeAsked = true;
     }
-    // A state already wanted is not drawn again; a changed one replaces any not yet drawn.
-    if (!(next == client.wanted)) {
+    // A state already drawn is not drawn again; a changed one replaces any not yet drawn.
+    if (!(next == client.wanted) || client.drawnVersion == 0) {
         client.wanted = next;
         ++client.wantedVersion;
     }

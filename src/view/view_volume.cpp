@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <bit>
+#include <cstdio>
 #include <cstdlib>
 #include <system_error>
 
@@ -13,6 +14,12 @@ namespace yv {
 namespace {
 
 namespace fs = std::filesystem;
+
+std::string secondsText(double s) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f", s);
+    return text;
+}
 
 bool isGarment(const std::string& path) { return fs::path(path).extension() == ".bcc"; }
 
@@ -85,7 +92,7 @@ ViewVolume openViewVolume(const std::string& path, const VoxelizeJob& job, const
         const VoxelizeReport report = runVoxelize(run, note);
         note("voxelized " + v.name + ": " + std::to_string(report.dims.x) + "x" + std::to_string(report.dims.y) + "x" +
              std::to_string(report.dims.z) + " voxels, " + std::to_string(report.activeVoxels) + " active, " +
-             std::to_string(report.voxelizeSeconds) + " s (" + report.backend + ")");
+             secondsText(report.voxelizeSeconds) + " s (" + report.backend + ")");
         v.source = openVdbSource(run.output);
         v.activeVoxels = report.activeVoxels;
         v.slices = runSlicesOf(run.output, path, note);

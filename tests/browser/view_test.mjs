@@ -63,7 +63,7 @@ const browser = await chromium.launch({
 try {
   const context = await browser.newContext({ viewport: { width: 640, height: 360 }, deviceScaleFactor: 1 });
   const page = await context.newPage();
-  const settled = () => page.waitForFunction(() => window.yvView && window.yvView.settled(), null, { timeout: 60000 });
+  const settled = () => page.waitForFunction(() => window.yvView && window.yvView.settled(), null, { timeout: 180000 });
   // The picture shown, as grey levels of an 80x45 grid (drawn from the <img> into a canvas).
   const picture = (p = page) => p.evaluate(() => {
     const img = document.getElementById('frame');
@@ -103,7 +103,7 @@ try {
   const link = page.url();
   const reopened = await context.newPage();
   await reopened.goto(link);
-  await reopened.waitForFunction(() => window.yvView && window.yvView.settled(), null, { timeout: 60000 });
+  await reopened.waitForFunction(() => window.yvView && window.yvView.settled(), null, { timeout: 180000 });
   const again = await picture(reopened);
   check('the link reopens the same view', difference(after, again) < 1, 'mean difference ' + difference(after, again));
   check('the reopened address is the link', reopened.url() === link, reopened.url() + ' vs ' + link);
@@ -112,14 +112,14 @@ try {
   // A mode key: 2 is the second mode (mip).
   const modes = await page.evaluate(() => window.yvView.stats && document.getElementById('overlay').textContent);
   await page.keyboard.press('2');
-  await page.waitForFunction(() => window.yvView.stats.mode !== 'raycast' && window.yvView.settled(), null, { timeout: 60000 });
+  await page.waitForFunction(() => window.yvView.stats.mode !== 'raycast' && window.yvView.settled(), null, { timeout: 180000 });
   const mode = await page.evaluate(() => ({ mode: window.yvView.stats.mode, hash: location.hash }));
   check('a mode key switches the render and the address', mode.mode === 'mip' && /mode=mip/.test(mode.hash),
         JSON.stringify(mode) + ' ' + modes);
   await page.keyboard.press('1');
   await page.keyboard.press('r');
   await page.keyboard.press('h'); // the help panel off the bottom-left corner
-  await page.waitForFunction(() => window.yvView.stats.mode === 'raycast' && window.yvView.settled(), null, { timeout: 60000 });
+  await page.waitForFunction(() => window.yvView.stats.mode === 'raycast' && window.yvView.settled(), null, { timeout: 180000 });
 
   // A screenshot of the page: the garment near the centre of each half (slices left, ray cast right),
   // background at the corners the overlay does not cover.
