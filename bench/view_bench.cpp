@@ -52,6 +52,7 @@ class Session {
     explicit Session(const Options& o) : ws_(io_) {
         tcp::resolver resolver(io_);
         net::connect(ws_.next_layer(), resolver.resolve(o.host, std::to_string(o.port)));
+        ws_.next_layer().set_option(tcp::no_delay(true));
         ws_.handshake(o.host, "/ws");
         hello_ = Json::parse(readText());
         send(Json{{"type", "size"}, {"width", o.width}, {"height", o.height}});

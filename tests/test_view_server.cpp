@@ -17,11 +17,10 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include <sys/socket.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <future>
 #include <mutex>
@@ -42,8 +41,11 @@ struct ServedView {
     std::mutex logMutex;
     std::vector<std::string> log;
     std::promise<int> port;
-    std::thread thread;
+    std::thread thread, watchdog;
     std::exception_ptr failure;
+    std::mutex doneMutex;
+    std::condition_variable doneWake;
+    bool done = false;
 
     ServedView() {
         const fs::path bcc = scratch.path / "plain.bcc";
@@ -54,6 +56,12 @@ struct ServedView {
         request.initial.width = 192;
         request.initial.height = 96;
         request.voxelize.resolution = 48;
+        // A frame that never comes must fail the test, not hang it: after 300 s the
+        // server stops, which closes the pages and ends their blocking reads.
+        watchdog = std::thread([this] {
+            std::unique_lock lock(doneMutex);
+            if (!doneWake.wait_for(lock, std::chrono::seconds(300), [this] { return done; })) stop = true;
+        });
         thread = std::thread([this, request] {
             try {
                 yv::runView(
@@ -72,6 +80,12 @@ struct ServedView {
         });
     }
     ~ServedView() {
+        {
+            const std::lock_guard lock(doneMutex);
+            done = true;
+        }
+        doneWake.notify_all();
+        watchdog.join();
         stop = true;
         thread.join();
     }
@@ -83,7 +97,7 @@ struct ServedView {
     }
 };
 
-/// A page's side of the protocol, synchronous, with a receive timeout so a silent server fails the test.
+/// A page's side of the protocol, synchronous (ServedView's watchdog ends a read that waits too long).
 struct Page {
     net::io_context io;
     beast::websocket::stream<tcp::socket> ws{io};
@@ -93,8 +107,7 @@ struct Page {
     explicit Page(int port) {
         tcp::resolver resolver(io);
         net::connect(ws.next_layer(), resolver.resolve("127.0.0.1", std::to_string(port)));
-        const timeval limit{60, 0};
-        setsockopt(ws.next_layer().native_handle(), SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
+        ws.next_layer().set_option(tcp::no_delay(true));
         ws.handshake("127.0.0.1", "/ws");
         hello = Json::parse(readText());
     }

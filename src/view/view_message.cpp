@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <initializer_list>
 
 namespace yv {
@@ -15,6 +16,13 @@ using Json = nlohmann::json;
 
 /// The largest integer a double (and so the page's JavaScript) holds exactly.
 constexpr double kMaxExactInteger = 9007199254740992.0;
+
+/// A limit as a message shows it: "16", "0.01", "9.0072e+15".
+std::string limitText(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.5g", v);
+    return text;
+}
 
 void requireOnlyFields(const Json& object, std::initializer_list<const char*> allowed, const std::string& type) {
     for (const auto& [key, value] : object.items()) {
@@ -30,8 +38,8 @@ double number(const Json& object, const char* field, double lo, double hi, const
     if (!it->is_number()) throw Error("'" + std::string(field) + "' of a '" + type + "' message must be a number");
     const double v = it->get<double>();
     if (!std::isfinite(v) || v < lo || v > hi)
-        throw Error("'" + std::string(field) + "' of a '" + type + "' message must lie in [" + Json(lo).dump() + ", " +
-                    Json(hi).dump() + "]");
+        throw Error("'" + std::string(field) + "' of a '" + type + "' message must lie in [" + limitText(lo) + ", " +
+                    limitText(hi) + "]");
     return v;
 }
 

@@ -27,6 +27,10 @@ struct ViewServer::Impl {
                 if (!acceptor.is_open()) return;
                 shared.log(std::string("a connection could not be accepted: ") + ec.message());
             } else {
+                // A frame is a text message and a binary one back to back: without this, Nagle's
+                // algorithm holds the second until the page acknowledges the first (up to 40 ms).
+                boost::system::error_code ignored;
+                socket.set_option(tcp::no_delay(true), ignored);
                 startHttpSession(std::move(socket), shared);
             }
             accept();
