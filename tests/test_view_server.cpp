@@ -47,11 +47,15 @@ struct ServedView {
     std::condition_variable doneWake;
     bool done = false;
 
-    ServedView() {
+    /// `asVdb`: the garment voxelized by `yarnvox voxelize` first and the .vdb viewed; else the garment.
+    explicit ServedView(bool asVdb = false) {
         const fs::path bcc = scratch.path / "plain.bcc";
         REQUIRE(yv::test::runYarnvox("gen --pattern plain --crossings 16 --quiet -o " + bcc.string()).exitCode == 0);
+        const fs::path vdb = scratch.path / "plain.vdb";
+        if (asVdb)
+            REQUIRE(yv::test::runYarnvox("voxelize " + bcc.string() + " --resolution 48 --quiet -o " + vdb.string()).exitCode == 0);
         yv::ViewRequest request;
-        request.input = bcc.string();
+        request.input = asVdb ? vdb.string() : bcc.string();
         request.server.port = 0;
         request.initial.width = 192;
         request.initial.height = 96;
@@ -233,6 +237,34 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
     CHECK(view.logged("a binary message"));
     CHECK(view.logged("over 1024 bytes"));
     CHECK(!view.failure);
+}
+
+TEST_CASE("View: a .vdb is ray cast full width, and every mode it offers draws a frame", "[view][gl]") {
+    YV_REQUIRE_GL();
+    ServedView view(true);
+    Page page(view.port.get_future().get());
+    CHECK(page.hello["sideBySide"] == false);
+    const std::vector<std::string> modes = page.hello["modes"];
+    INFO(page.hello.dump());
+    // The .vdb records its garment, which is still there: the slices are one key away too.
+    for (const char* expected : {"raycast", "mip", "texture-slicing", "half-angle", "splatting", "orientation", "slices"})
+        CHECK(std::find(modes.begin(), modes.end(), expected) != modes.end());
+    std::uint64_t seq = 0;
+    yv::RgbImage raycast;
+    for (const std::string& mode : modes) {
+        page.send(Json{{"type", "mode"}, {"mode", mode}}.dump());
+        page.sendCamera(30, ++seq);
+        const auto [stats, picture] = page.frameOf(seq);
+        INFO(mode);
+        CHECK(stats["mode"] == mode);
+        CHECK(picture.width == 192);
+        // The garment fills the middle of the frame in every mode; the corners stay background.
+        CHECK(litPixels(picture, 72, 120) > 200);
+        CHECK(litPixels(picture, 0, 8) == 0);
+        if (mode == "raycast") raycast = picture;
+        else CHECK(meanDifference(raycast, picture) > 0.5); // each mode is a picture of its own
+    }
+    CHECK(page.notices.empty());
 }
 
 TEST_CASE("View: the page is served over HTTP on the same port", "[view][gl]") {
