@@ -10,6 +10,7 @@
 #include "store/manifest.h"
 #include "store/region_file.h"
 #include "vdb/vdb_file_check.h"
+#include "view/view_message.h"
 
 #include <catch2/catch.hpp>
 
@@ -119,4 +120,12 @@ TEST_CASE("Fuzz corpus: every colour map input is read or refused with an error"
             for (int c = 0; c < 4; ++c) CHECK((e[c] >= 0.0f && e[c] <= 1.0f));
     });
     CHECK(accepted >= 2);
+}
+
+TEST_CASE("Fuzz corpus: every view message input is read or refused with an error", "[fuzz-corpus][view]") {
+    const int accepted = replay("view_message", [](const fs::path&, const Bytes& b) {
+        const yv::ViewMessage m = yv::parseViewMessage(std::string(b.begin(), b.end()));
+        CHECK(yv::formatViewMessage(yv::parseViewMessage(yv::formatViewMessage(m))) == yv::formatViewMessage(m));
+    });
+    CHECK(accepted >= 5); // the valid seeds
 }

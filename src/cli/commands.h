@@ -12,5 +12,6 @@ void addVoxelizeCommand(CLI::App& app);
 void addMergeCommand(CLI::App& app);
 void addInspectCommand(CLI::App& app);
 void addExportCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);
 
 } // namespace yv

@@ -57,6 +57,7 @@ int runCommand(int argc, char** argv) {
     yv::addMergeCommand(app);
     yv::addInspectCommand(app);
     yv::addExportCommand(app);
+    yv::addViewCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

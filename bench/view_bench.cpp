@@ -1,0 +1,175 @@
+// yv_view_bench: drives a running `yarnvox view` through its WebSocket
+// protocol along a scripted camera path (an orbit, a close-up pan, a zoom
+// out) and prints one JSON line a phase: input-to-picture latency (a camera
+// message sent to its frame received, one at a time), the server's render
+// and encode times, frame intervals, and bytes a frame. The view and the
+// benchmark may run on different machines; the numbers include the network.
+//   build/yarnvox view garment.vdb --port 8080 &
+//   build/bench/yv_view_bench --port 8080 --size 1280x720 --frames 120 --mode raycast
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/websocket.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace beast = boost::beast;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+using Json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Options {
+    std::string host = "127.0.0.1", mode = "raycast";
+    int port = 8080, width = 1280, height = 720, frames = 120;
+};
+
+Json percentiles(std::vector<double> v) {
+    if (v.empty()) return nullptr;
+    std::sort(v.begin(), v.end());
+    const auto at = [&](double p) { return v[std::min(v.size() - 1, std::size_t(p * double(v.size() - 1) + 0.5))]; };
+    double sum = 0.0;
+    for (double x : v) sum += x;
+    return {{"p50", at(0.5)}, {"p95", at(0.95)}, {"p99", at(0.99)}, {"max", v.back()}, {"mean", sum / double(v.size())}};
+}
+
+struct Camera {
+    double azimuth, elevation, distance, panX, panY;
+};
+
+class Session {
+  public:
+    explicit Session(const Options& o) : ws_(io_) {
+        tcp::resolver resolver(io_);
+        net::connect(ws_.next_layer(), resolver.resolve(o.host, std::to_string(o.port)));
+        ws_.next_layer().set_option(tcp::no_delay(true));
+        ws_.handshake(o.host, "/ws");
+        hello_ = Json::parse(readText());
+        send(Json{{"type", "size"}, {"width", o.width}, {"height", o.height}});
+        send(Json{{"type", "mode"}, {"mode", o.mode}});
+    }
+    const Json& hello() const { return hello_; }
+
+    /// Sends `c` and waits for its frame; returns the stats with latencyMs and arrival added.
+    Json frameOf(const Camera& c) {
+        ++seq_;
+        const auto sent = Clock::now();
+        send(Json{{"type", "camera"}, {"azimuth", c.azimuth}, {"elevation", c.elevation}, {"distance", c.distance},
+                  {"panX", c.panX}, {"panY", c.panY}, {"seq", seq_}});
+        for (;;) {
+            beast::flat_buffer b;
+            ws_.read(b);
+            if (ws_.got_text()) {
+                const Json m = Json::parse(beast::buffers_to_string(b.data()));
+                if (m["type"] == "stats") stats_ = m;
+                else if (m["type"] == "notice") std::fprintf(stderr, "view: %s\n", m["text"].get<std::string>().c_str());
+                continue;
+            }
+            if (stats_.value("seq", std::uint64_t(0)) != seq_) continue; // an earlier state's frame
+            Json s = stats_;
+            s["latencyMs"] = std::chrono::duration<double, std::milli>(Clock::now() - sent).count();
+            s["receivedBytes"] = b.size();
+            return s;
+        }
+    }
+
+  private:
+    std::string readText() {
+        beast::flat_buffer b;
+        ws_.read(b);
+        return beast::buffers_to_string(b.data());
+    }
+    void send(const Json& m) {
+        ws_.text(true);
+        ws_.write(net::buffer(m.dump()));
+    }
+
+    net::io_context io_;
+    beast::websocket::stream<tcp::socket> ws_;
+    Json hello_, stats_;
+    std::uint64_t seq_ = 0;
+};
+
+void runPhase(Session& s, const std::string& phase, int frames, const std::function<Camera(double)>& path,
+              const Options& o) {
+    std::vector<double> latency, render, encode, bytes, interval;
+    auto last = Clock::now();
+    const auto start = last;
+    for (int i = 0; i < frames; ++i) {
+        const Json f = s.frameOf(path(frames > 1 ? double(i) / double(frames - 1) : 0.0));
+        const auto now = Clock::now();
+        if (i > 0) interval.push_back(std::chrono::duration<double, std::milli>(now - last).count());
+        last = now;
+        latency.push_back(f["latencyMs"]);
+        render.push_back(f["renderMs"]);
+        encode.push_back(f["encodeMs"]);
+        bytes.push_back(f["receivedBytes"]);
+    }
+    double meanBytes = 0.0;
+    for (double b : bytes) meanBytes += b / double(bytes.size());
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const Json line = {{"phase", phase},
+                       {"mode", o.mode},
+                       {"input", s.hello()["name"]},
+                       {"renderer", s.hello()["renderer"]},
+                       {"activeVoxels", s.hello()["activeVoxels"]},
+                       {"width", o.width},
+                       {"height", o.height},
+                       {"frames", frames},
+                       {"framesPerSecond", double(frames) / seconds},
+                       {"latencyMs", percentiles(latency)},
+                       {"frameIntervalMs", percentiles(interval)},
+                       {"renderMs", percentiles(render)},
+                       {"encodeMs", percentiles(encode)},
+                       {"bytes", percentiles(bytes)},
+                       {"mbitPerSecondAt30", meanBytes * 8.0 * 30.0 / 1e6}};
+    std::printf("%s\n", line.dump().c_str());
+    std::fflush(stdout);
+}
+
+int usage(const char* why) {
+    std::fprintf(stderr, "yv_view_bench: %s\nusage: yv_view_bench [--host H] [--port P] [--size WxH] [--frames N] [--mode M]\n", why);
+    return 2;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (i + 1 >= argc) return usage(("a value after " + a).c_str());
+        const std::string v = argv[++i];
+        if (a == "--host") o.host = v;
+        else if (a == "--port") o.port = std::atoi(v.c_str());
+        else if (a == "--frames") o.frames = std::atoi(v.c_str());
+        else if (a == "--mode") o.mode = v;
+        else if (a == "--size") {
+            if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2) return usage("--size WIDTHxHEIGHT");
+        } else return usage(("an unknown option " + a).c_str());
+    }
+    if (o.frames < 2 || o.port <= 0) return usage("--frames at least 2, --port above 0");
+    try {
+        Session s(o);
+        // A full turn around the garment at the default distance.
+        runPhase(s, "orbit", o.frames, [](double t) { return Camera{30.0 + 360.0 * t, 20.0, 4.0, 0.0, 0.0}; }, o);
+        // Close up, panning across the surface (the worst case for the slices: every slice still drawn).
+        runPhase(s, "close-up", o.frames, [](double t) { return Camera{60.0, 10.0, 0.6, -0.5 + t, 0.2 * std::sin(6.0 * t)}; }, o);
+        // Zooming back out from the close-up.
+        runPhase(s, "zoom-out", o.frames / 2, [](double t) { return Camera{60.0, 10.0 + 20.0 * t, 0.6 + 3.4 * t, 0.5 * (1.0 - t), 0.0}; }, o);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "yv_view_bench: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

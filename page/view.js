@@ -1,0 +1,209 @@
+// The page of `yarnvox view`: shows the JPEG frames the server sends over a
+// WebSocket, turns mouse, wheel and keys into camera messages (at most one
+// an animation frame; the server draws only the latest), and keeps the
+// camera and mode in the address (#az=..&el=..) so a link reopens the view.
+'use strict';
+(() => {
+  const defaults = { az: 30, el: 20, d: 4, px: 0, py: 0 };
+  const cam = Object.assign({}, defaults);
+  let mode = null, modes = [], hello = null, seq = 0;
+  let socket = null, dirty = false, pendingStats = null, lastUrl = null;
+  const sentAt = new Map(); // seq -> when sent, for input-to-picture time
+  const img = document.getElementById('frame');
+  const stage = document.getElementById('stage');
+  const overlay = document.getElementById('overlay');
+  const notice = document.getElementById('notice');
+  // What tests (tests/browser) and the benchmark read.
+  const view = window.yvView = { frames: 0, stats: null, shownSeq: -1, latencyMs: null, notices: [] };
+
+  const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
+  const round = (v) => Math.round(v * 1000) / 1000;
+
+  function readHash() {
+    const h = new URLSearchParams(location.hash.slice(1));
+    for (const k of Object.keys(defaults)) {
+      const v = Number(h.get(k));
+      if (h.has(k) && Number.isFinite(v)) cam[k] = v;
+    }
+    cam.el = clamp(cam.el, -89.9, 89.9);
+    cam.d = clamp(cam.d, 0.05, 100);
+    cam.px = clamp(cam.px, -50, 50);
+    cam.py = clamp(cam.py, -50, 50);
+    cam.az = ((cam.az % 360) + 360) % 360;
+    return h.get('mode');
+  }
+
+  function writeHash() {
+    const h = new URLSearchParams();
+    for (const k of Object.keys(defaults)) h.set(k, String(round(cam[k])));
+    if (mode) h.set('mode', mode);
+    history.replaceState(null, '', '#' + h.toString());
+  }
+
+  function send(message) {
+    if (socket && socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(message));
+  }
+
+  function cameraChanged() {
+    cam.az = ((cam.az % 360) + 360) % 360;
+    cam.el = clamp(cam.el, -89.9, 89.9);
+    cam.d = clamp(cam.d, 0.05, 100);
+    cam.px = clamp(cam.px, -50, 50);
+    cam.py = clamp(cam.py, -50, 50);
+    if (!dirty) { dirty = true; requestAnimationFrame(flush); }
+  }
+
+  function flush() {
+    dirty = false;
+    seq += 1;
+    sentAt.set(seq, performance.now());
+    if (sentAt.size > 256) sentAt.delete(sentAt.keys().next().value);
+    view.seq = seq;
+    send({ type: 'camera', azimuth: round(cam.az), elevation: round(cam.el), distance: round(cam.d),
+           panX: round(cam.px), panY: round(cam.py), seq });
+    writeHash();
+  }
+
+  function sendSize() {
+    const dpr = Math.min(window.devicePixelRatio || 1, 2);
+    const w = clamp(Math.round(stage.clientWidth * dpr), 16, 4096);
+    const h = clamp(Math.round(stage.clientHeight * dpr), 16, 4096);
+    view.size = [w, h];
+    send({ type: 'size', width: w, height: h });
+  }
+
+  function setMode(m) {
+    if (!modes.includes(m)) return;
+    mode = m;
+    send({ type: 'mode', mode });
+    writeHash();
+  }
+
+  function showNotice(text) {
+    view.notices.push(text);
+    notice.textContent = text;
+    notice.style.display = 'block';
+    clearTimeout(showNotice.timer);
+    showNotice.timer = setTimeout(() => { notice.style.display = 'none'; }, 5000);
+  }
+
+  function showOverlay(s) {
+    const net = view.latencyMs === null ? '' : '   input to picture ' + view.latencyMs.toFixed(1) + ' ms' +
+      ' (network and waiting ' + Math.max(0, view.latencyMs - s.renderMs - s.encodeMs).toFixed(1) + ' ms)';
+    const which = hello && hello.sideBySide ? 'left: slices, right: ' + s.mode : s.mode;
+    overlay.textContent =
+      (hello ? hello.name + '   ' : '') + which + '   ' + s.width + 'x' + s.height + '   frame ' + s.frame + '\n' +
+      'render ' + s.renderMs.toFixed(1) + ' ms (draw ' + s.drawMs.toFixed(1) + ')   encode ' + s.encodeMs.toFixed(1) +
+      ' ms' + net + '\n' +
+      s.activeVoxels.toLocaleString('en') + ' active voxels   level ' + s.level +
+      (s.slices ? '   ' + s.slices.toLocaleString('en') + ' slices' : '') + '   ' +
+      (s.bytes / 1024).toFixed(1) + ' KiB a frame' + (hello ? '\n' + hello.renderer : '') +
+      '\nmodes: ' + modes.map((m, i) => (i + 1) + ' ' + m).join('  ');
+  }
+
+  function onText(data) {
+    let m;
+    try { m = JSON.parse(data); } catch (e) { return; }
+    if (m.type === 'hello') {
+      hello = m;
+      modes = m.modes;
+      const wanted = readHash();
+      mode = modes.includes(wanted) ? wanted : m.mode;
+      sendSize();
+      send({ type: 'mode', mode });
+      flush();
+    } else if (m.type === 'stats') {
+      pendingStats = m;
+    } else if (m.type === 'notice') {
+      showNotice(m.text);
+    }
+  }
+
+  function onFrame(blob) {
+    const s = pendingStats;
+    pendingStats = null;
+    const url = URL.createObjectURL(new Blob([blob], { type: 'image/jpeg' }));
+    img.onload = () => {
+      if (lastUrl) URL.revokeObjectURL(lastUrl);
+      lastUrl = url;
+      view.frames += 1;
+      if (s) {
+        const t = sentAt.get(s.seq);
+        if (t !== undefined) { view.latencyMs = performance.now() - t; sentAt.delete(s.seq); }
+        view.stats = s;
+        view.shownSeq = s.seq;
+        view.shownMode = s.mode;
+        showOverlay(s);
+      }
+    };
+    img.src = url;
+  }
+
+  function connect() {
+    socket = new WebSocket((location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws');
+    socket.binaryType = 'arraybuffer';
+    socket.onmessage = (e) => (typeof e.data === 'string' ? onText(e.data) : onFrame(e.data));
+    socket.onclose = () => { overlay.textContent = 'disconnected: is yarnvox view still running? (reload to reconnect)'; };
+  }
+
+  // True once the picture shown is of the latest camera, mode and size asked for (tests wait on it).
+  view.settled = () => view.stats !== null && view.shownSeq === seq && view.shownMode === mode &&
+    view.size && view.stats.width === view.size[0] && view.stats.height === view.size[1];
+
+  let drag = null;
+  stage.addEventListener('contextmenu', (e) => e.preventDefault());
+  stage.addEventListener('pointerdown', (e) => {
+    drag = { x: e.clientX, y: e.clientY, pan: e.button === 2 || e.shiftKey };
+    stage.setPointerCapture(e.pointerId);
+    stage.classList.add('dragging');
+  });
+  stage.addEventListener('pointermove', (e) => {
+    if (!drag) return;
+    const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
+    drag.x = e.clientX; drag.y = e.clientY;
+    if (drag.pan) {
+      // A pixel moves the point looked at by about a pixel's worth of the sphere at the centre.
+      const k = 2 * cam.d * Math.tan(Math.PI / 12) / Math.max(1, stage.clientHeight);
+      cam.px -= dx * k; cam.py += dy * k;
+    } else {
+      cam.az -= dx * 0.4; cam.el += dy * 0.4;
+    }
+    cameraChanged();
+  });
+  const endDrag = () => { drag = null; stage.classList.remove('dragging'); };
+  stage.addEventListener('pointerup', endDrag);
+  stage.addEventListener('pointercancel', endDrag);
+  stage.addEventListener('wheel', (e) => {
+    e.preventDefault();
+    const unit = e.deltaMode === 1 ? 16 : e.deltaMode === 2 ? 400 : 1;
+    if (e.shiftKey && !e.ctrlKey) {
+      const k = 2 * cam.d * Math.tan(Math.PI / 12) / Math.max(1, stage.clientHeight);
+      cam.px += e.deltaX * unit * k; cam.py -= e.deltaY * unit * k;
+    } else {
+      // A pinch on a touchpad arrives as a wheel with ctrlKey and small steps: the same zoom, faster.
+      cam.d *= Math.exp(e.deltaY * unit * (e.ctrlKey ? 0.01 : 0.0015));
+    }
+    cameraChanged();
+  }, { passive: false });
+  window.addEventListener('keydown', (e) => {
+    if (e.altKey || e.metaKey || e.ctrlKey) return;
+    const step = 5, k = 0.05 * cam.d;
+    const keys = {
+      ArrowLeft: () => (e.shiftKey ? (cam.px -= k) : (cam.az += step)),
+      ArrowRight: () => (e.shiftKey ? (cam.px += k) : (cam.az -= step)),
+      ArrowUp: () => (e.shiftKey ? (cam.py += k) : (cam.el += step)),
+      ArrowDown: () => (e.shiftKey ? (cam.py -= k) : (cam.el -= step)),
+      '+': () => (cam.d /= 1.1), '=': () => (cam.d /= 1.1), '-': () => (cam.d *= 1.1),
+      r: () => Object.assign(cam, defaults),
+    };
+    if (keys[e.key]) { keys[e.key](); cameraChanged(); e.preventDefault(); return; }
+    if (/^[1-9]$/.test(e.key) && modes[Number(e.key) - 1]) { setMode(modes[Number(e.key) - 1]); return; }
+    if (e.key === 'v') send({ type: 'voxelize-view' });
+    if (e.key === 'h') { const h = document.getElementById('help'); h.style.display = h.style.display === 'none' ? '' : 'none'; }
+  });
+  let resizeTimer = null;
+  window.addEventListener('resize', () => { clearTimeout(resizeTimer); resizeTimer = setTimeout(sendSize, 150); });
+
+  readHash();
+  connect();
+})();

@@ -1,0 +1,115 @@
+// `yarnvox view`: a live view of a volume or a garment in a web browser. The
+// command parses its options into a ViewRequest (src/view/view_run.h), says
+// where the page is and how to reach it over SSH, and serves until Ctrl-C
+// or SIGTERM.
+#include "cli/commands.h"
+#include "cli/option_checks.h"
+#include "cli/option_words.h"
+#include "core/error.h"
+#include "core/interrupt.h"
+#include "core/voxelize_settings.h"
+#include "view/view_run.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <memory>
+
+namespace yv {
+namespace {
+
+struct ViewArgs {
+    ViewRequest request;
+    std::string size = "960x540";
+};
+
+/// "WxH", each within the frame limits the page's size messages have too.
+void parseFrameSize(const std::string& text, ViewState& state) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w < kMinViewSide ||
+        h < kMinViewSide || w > kMaxViewSide || h > kMaxViewSide)
+        throw Error("--size '" + text + "': expected WIDTHxHEIGHT, each from " + std::to_string(kMinViewSide) + " to " +
+                    std::to_string(kMaxViewSide) + " pixels");
+    state.width = w;
+    state.height = h;
+}
+
+/// The options of `voxelize` a garment's view takes (the grid, the slices, the backend).
+void addVoxelizeOptions(CLI::App* cmd, VoxelizeJob& job) {
+    auto* res = cmd->add_option("--resolution", job.resolution,
+                                "A garment: voxels on the longest axis of its padded box (default 256)")
+                    ->check(wholeNumber(8, 1 << 20));
+    cmd->add_option("--voxel-size", job.voxelSize, "A garment: voxel edge length, world units (instead of --resolution)")
+        ->check(worldLength())
+        ->excludes(res);
+    cmd->add_option("--yarn-radius", job.yarnRadius, "A garment: yarn radius, world units (default: as voxelize)")
+        ->check(worldLength());
+    auto* perSegment = cmd->add_option("--slices-per-segment", job.slicesPerSegment, "A garment: slices per curve segment")
+                           ->check(wholeNumber(1, 100000));
+    cmd->add_option("--slice-spacing", job.spacing, "A garment: distance between slices, world units")
+        ->check(worldLength())
+        ->excludes(perSegment);
+    cmd->add_option("--twist", job.twist, "A garment: yarn twist, radians per world unit of yarn length")
+        ->check(finiteNumber(kMaxTwist));
+    cmd->add_option("--cross-section", job.crossSection, "A garment: fibers, disk, or FILE.png (alpha = density)")
+        ->capture_default_str();
+    cmd->add_option("--backend", job.backend, "A garment: auto, gl or cpu (as voxelize)")
+        ->default_str("auto")
+        ->transform(oneOf(kBackendWords));
+    cmd->add_option("--supersample", job.supersample, "A garment: samples per voxel face along each axis")
+        ->capture_default_str()
+        ->check(wholeNumber(1, kMaxSupersample));
+}
+
+void runViewCommand(ViewArgs& a) {
+    parseFrameSize(a.size, a.request.initial);
+    ViewRequest& r = a.request;
+    if (r.voxelize.resolution == 0 && r.voxelize.voxelSize == 0.0) r.voxelize.resolution = 256;
+    r.voxelize.device = r.device;
+    const auto log = [](const std::string& line) {
+        std::fprintf(stderr, "yarnvox view: %s\n", line.c_str());
+        std::fflush(stderr);
+    };
+    const InterruptScope signals;
+    runView(
+        r,
+        [&](int port) {
+            const std::string host = r.server.bind.find(':') != std::string::npos ? "[" + r.server.bind + "]" : r.server.bind;
+            std::printf("yarnvox view: %s at http://%s:%d/\n", r.input.c_str(), host.c_str(), port);
+            std::printf("  from another machine: ssh -L %d:127.0.0.1:%d HOST, then open http://127.0.0.1:%d/\n", port,
+                        port, port);
+            if (r.server.bind != "127.0.0.1" && r.server.bind != "::1")
+                std::printf("  note: --bind %s lets anyone who reaches this machine see the view (no password)\n",
+                            r.server.bind.c_str());
+            std::printf("  Ctrl-C stops it\n");
+            std::fflush(stdout);
+        },
+        [] { return interruptSignal() != 0; }, log);
+    std::printf("yarnvox view: stopped by %s\n", interruptSignalName().c_str());
+}
+
+} // namespace
+
+void addViewCommand(CLI::App& app) {
+    auto* cmd = app.add_subcommand("view", "Live view in a web browser: a .vdb, a work directory, or a garment "
+                                           "(voxelized first), served on one port");
+    auto a = std::make_shared<ViewArgs>();
+    cmd->add_option("input", a->request.input, "A .vdb, a work directory, or a .bcc garment")->required();
+    cmd->add_option("--port", a->request.server.port, "TCP port (0: any free one, printed)")
+        ->capture_default_str()
+        ->check(wholeNumber(0, 65535));
+    cmd->add_option("--bind", a->request.server.bind,
+                    "Address to listen on (default 127.0.0.1: this machine only; reach it with ssh -L)")
+        ->capture_default_str();
+    cmd->add_option("--device", a->request.device, "EGL device index (default: first GPU, else llvmpipe)")
+        ->check(wholeNumber(0, 1023));
+    cmd->add_option("--size", a->size, "Frame size until the page sends its own, WIDTHxHEIGHT")->capture_default_str();
+    cmd->add_option("--quality", a->request.jpegQuality, "JPEG quality of the frames, 1 to 100")
+        ->capture_default_str()
+        ->check(wholeNumber(1, 100));
+    addVoxelizeOptions(cmd, a->request.voxelize);
+    cmd->callback([a] { runViewCommand(*a); });
+}
+
+} // namespace yv

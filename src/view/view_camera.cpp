@@ -1,0 +1,36 @@
+#include "view/view_camera.h"
+
+#include <glm/ext/matrix_clip_space.hpp>
+#include <glm/ext/matrix_transform.hpp>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace yv {
+
+Camera viewCamera(const VoxelBox& box, const ViewCamera& v, int width, int height) {
+    const glm::dvec3 lo(box.min), hi(box.max);
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double radius = std::max(0.5 * glm::length(hi - lo), 0.5);
+    const double az = glm::radians(v.azimuth), el = glm::radians(v.elevation);
+    const glm::dvec3 dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    // Looking straight down or up, z cannot be the up vector: y is (as frameBox).
+    const glm::dvec3 up = std::abs(std::sin(el)) > 0.999 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
+    const glm::dvec3 right = glm::normalize(glm::cross(-dir, up));
+    const glm::dvec3 pictureUp = glm::cross(right, -dir);
+    const glm::dvec3 target = centre + radius * (v.panX * right + v.panY * pictureUp);
+    const double d = v.distance * radius;
+    Camera c;
+    c.width = width, c.height = height;
+    c.eye = target + d * dir;
+    c.view = glm::lookAt(c.eye, target, up);
+    // The planes enclose the bounding sphere, wherever the pan put its centre.
+    const double toCentre = glm::length(centre - c.eye);
+    const double nearPlane = std::max(toCentre - radius, 1e-3 * d), farPlane = toCentre + radius;
+    c.projection = glm::perspective(glm::radians(kFieldOfViewDegrees), double(width) / double(height), nearPlane, farPlane);
+    return c;
+}
+
+} // namespace yv

@@ -1,0 +1,17 @@
+// The camera of a live view: inspect's framing of a voxel box (azimuth,
+// elevation, distance in bounding-sphere radii, inspect/camera.h) with the
+// point looked at panned across the picture, so orbit, pan and zoom from the
+// page map onto the cameras every renderer already takes.
+#pragma once
+
+#include "inspect/camera.h"
+#include "view/view_message.h"
+
+namespace yv {
+
+/// The perspective camera of `view` around `box`, `width` x `height` pixels.
+/// Without pan it is frameBox's camera; a pan of 1 moves the point looked at
+/// one sphere radius along the picture's right (panX) or up (panY).
+Camera viewCamera(const VoxelBox& box, const ViewCamera& view, int width, int height);
+
+} // namespace yv

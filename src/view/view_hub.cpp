@@ -1,0 +1,114 @@
+#include "view/view_hub.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+namespace yv {
+
+struct ViewHub::Client {
+    Deliver deliver;
+    ViewState wanted;
+    /// A new page is drawn once it says what it wants (its size and camera follow the hello at once).
+    std::uint64_t wantedVersion = 0, drawnVersion = 0;
+    bool voxelizeAsked = false;
+};
+
+namespace {
+
+Outgoing notice(const std::string& text) {
+    return Outgoing{nlohmann::json{{"type", "notice"}, {"text", text}}.dump(), nullptr};
+}
+
+} // namespace
+
+ViewHub::ViewHub(std::vector<std::string> modes, ViewState initial) : modes_(std::move(modes)), initial_(std::move(initial)) {}
+
+std::shared_ptr<ViewHub::Client> ViewHub::join(Deliver deliver) {
+    auto client = std::make_shared<Client>();
+    client->deliver = std::move(deliver);
+    client->wanted = initial_;
+    const std::lock_guard lock(mutex_);
+    clients_.push_back(client);
+    wake_.notify_all();
+    return client;
+}
+
+void ViewHub::leave(const std::shared_ptr<Client>& client) {
+    const std::lock_guard lock(mutex_);
+    clients_.erase(std::remove(clients_.begin(), clients_.end(), client), clients_.end());
+}
+
+void ViewHub::apply(Client& client, const ViewMessage& message) {
+    const std::lock_guard lock(mutex_);
+    ViewState next = client.wanted;
+    if (const auto* c = std::get_if<CameraMessage>(&message)) {
+        next.camera = c->camera;
+    } else if (const auto* m = std::get_if<ModeMessage>(&message)) {
+        if (std::find(modes_.begin(), modes_.end(), m->mode) == modes_.end())
+            throw Error("no mode '" + m->mode + "' in this view");
+        next.mode = m->mode;
+    } else if (const auto* s = std::get_if<SizeMessage>(&message)) {
+        next.width = s->width;
+        next.height = s->height;
+    } else {
+        client.voxelizeAsked = true;
+    }
+    // A state already drawn is not drawn again; a changed one replaces any not yet drawn.
+    if (!(next == client.wanted) || client.drawnVersion == 0) {
+        client.wanted = next;
+        ++client.wantedVersion;
+    }
+    wake_.notify_all();
+}
+
+std::shared_ptr<ViewHub::Client> ViewHub::nextDirty() {
+    for (std::size_t i = 0; i < clients_.size(); ++i) {
+        const std::size_t at = (turn_ + i) % clients_.size();
+        const auto& c = clients_[at];
+        if (c->voxelizeAsked || c->wantedVersion != c->drawnVersion) {
+            turn_ = at + 1;
+            return c;
+        }
+    }
+    return nullptr;
+}
+
+void ViewHub::run(FrameSource& source) {
+    for (;;) {
+        std::shared_ptr<Client> client;
+        ViewState state;
+        std::uint64_t version = 0;
+        bool voxelize = false;
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [&] { return stopped_ || (client = nextDirty()) != nullptr; });
+            if (stopped_) return;
+            state = client->wanted;
+            version = client->wantedVersion;
+            voxelize = client->voxelizeAsked;
+            client->voxelizeAsked = false;
+        }
+        Outgoing out;
+        try {
+            if (voxelize) source.voxelizeInView(state);
+            else out = source.draw(state);
+        } catch (const Error& e) {
+            out = notice(e.what());
+        }
+        if (!voxelize) {
+            const std::lock_guard lock(mutex_);
+            client->drawnVersion = version; // a state that failed is not retried until it changes
+        }
+        client->deliver(std::move(out));
+    }
+}
+
+void ViewHub::stop() {
+    const std::lock_guard lock(mutex_);
+    stopped_ = true;
+    wake_.notify_all();
+}
+
+} // namespace yv

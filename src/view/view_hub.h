@@ -1,0 +1,68 @@
+// Between the pages and the render thread of `yarnvox view`: each page's
+// wanted view state, and the loop that draws them. Camera messages are
+// coalesced (a page's state is overwritten; only the latest is drawn), pages
+// are served in turn, and a frame goes to its page's delivery function,
+// which keeps only the newest undelivered one. GL-free: the drawing is a
+// FrameSource, so the loop is tested without a context.
+#pragma once
+
+#include "view/view_message.h"
+#include "view/view_scene.h"
+
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace yv {
+
+/// What goes to a page: a text message and, for a frame, the JPEG after it.
+struct Outgoing {
+    std::string text;
+    std::shared_ptr<const std::vector<std::uint8_t>> jpeg; ///< null for a text message alone
+};
+
+/// Draws frames for the loop (the render thread's side).
+class FrameSource {
+  public:
+    virtual ~FrameSource() = default;
+    /// The stats text and the JPEG of `state`; throws yv::Error.
+    virtual Outgoing draw(const ViewState& state) = 0;
+    /// The voxelize-on-stop hook (ViewScene::voxelizeInView); throws yv::Error.
+    virtual void voxelizeInView(const ViewState& state) = 0;
+};
+
+class ViewHub {
+  public:
+    using Deliver = std::function<void(Outgoing)>;
+    struct Client;
+
+    /// `modes`: the modes pages may ask for; `initial`: a new page's state.
+    ViewHub(std::vector<std::string> modes, ViewState initial);
+
+    /// A new page, whose frames go to `deliver` (called on the render thread).
+    std::shared_ptr<Client> join(Deliver deliver);
+    void leave(const std::shared_ptr<Client>& client);
+    /// Applies a parsed message to `client`'s wanted state. Throws yv::Error
+    /// for a mode this view does not have.
+    void apply(Client& client, const ViewMessage& message);
+
+    /// Draws what pages want until stop(): each page's latest state, once.
+    void run(FrameSource& source);
+    void stop();
+
+  private:
+    std::shared_ptr<Client> nextDirty(); ///< with mutex_ held
+    std::vector<std::string> modes_;
+    ViewState initial_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::vector<std::shared_ptr<Client>> clients_;
+    std::size_t turn_ = 0;
+    bool stopped_ = false;
+};
+
+} // namespace yv

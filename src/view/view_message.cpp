@@ -1,0 +1,129 @@
+#include "view/view_message.h"
+
+#include "core/error.h"
+#include "core/text.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <initializer_list>
+
+namespace yv {
+namespace {
+
+using Json = nlohmann::json;
+
+/// The largest integer a double (and so the page's JavaScript) holds exactly.
+constexpr double kMaxExactInteger = 9007199254740992.0;
+
+/// A limit as a message shows it: "16", "0.01", "9.0072e+15".
+std::string limitText(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.5g", v);
+    return text;
+}
+
+void requireOnlyFields(const Json& object, std::initializer_list<const char*> allowed, const std::string& type) {
+    for (const auto& [key, value] : object.items()) {
+        bool known = false;
+        for (const char* name : allowed) known = known || key == name;
+        if (!known) throw Error("a '" + type + "' message has no field '" + shownName(key) + "'");
+    }
+}
+
+double number(const Json& object, const char* field, double lo, double hi, const std::string& type) {
+    const auto it = object.find(field);
+    if (it == object.end()) throw Error("a '" + type + "' message needs the field '" + field + "'");
+    if (!it->is_number()) throw Error("'" + std::string(field) + "' of a '" + type + "' message must be a number");
+    const double v = it->get<double>();
+    if (!std::isfinite(v) || v < lo || v > hi)
+        throw Error("'" + std::string(field) + "' of a '" + type + "' message must lie in [" + limitText(lo) + ", " +
+                    limitText(hi) + "]");
+    return v;
+}
+
+double integer(const Json& object, const char* field, double lo, double hi, const std::string& type) {
+    const double v = number(object, field, lo, hi, type);
+    if (v != std::floor(v)) throw Error("'" + std::string(field) + "' of a '" + type + "' message must be a whole number");
+    return v;
+}
+
+CameraMessage parseCamera(const Json& m) {
+    const std::string type = "camera";
+    requireOnlyFields(m, {"type", "azimuth", "elevation", "distance", "panX", "panY", "seq"}, type);
+    CameraMessage c;
+    // The page keeps the azimuth within a turn or two; a wider range is a runaway client.
+    c.camera.azimuth = number(m, "azimuth", -3600.0, 3600.0, type);
+    c.camera.elevation = number(m, "elevation", -90.0, 90.0, type);
+    c.camera.distance = number(m, "distance", 0.01, 1000.0, type);
+    c.camera.panX = number(m, "panX", -100.0, 100.0, type);
+    c.camera.panY = number(m, "panY", -100.0, 100.0, type);
+    c.camera.seq = std::uint64_t(integer(m, "seq", 0.0, kMaxExactInteger, type));
+    return c;
+}
+
+ModeMessage parseMode(const Json& m) {
+    requireOnlyFields(m, {"type", "mode"}, "mode");
+    const auto it = m.find("mode");
+    if (it == m.end() || !it->is_string()) throw Error("a 'mode' message needs the string field 'mode'");
+    const std::string& mode = it->get_ref<const std::string&>();
+    if (mode.empty() || mode.size() > 32) throw Error("a 'mode' message's mode must be 1 to 32 characters");
+    for (char ch : mode)
+        if (!((ch >= 'a' && ch <= 'z') || ch == '-'))
+            throw Error("a 'mode' message's mode may hold only a-z and '-'");
+    return ModeMessage{mode};
+}
+
+SizeMessage parseSize(const Json& m) {
+    requireOnlyFields(m, {"type", "width", "height"}, "size");
+    SizeMessage s;
+    s.width = int(integer(m, "width", kMinViewSide, kMaxViewSide, "size"));
+    s.height = int(integer(m, "height", kMinViewSide, kMaxViewSide, "size"));
+    return s;
+}
+
+} // namespace
+
+ViewMessage parseViewMessage(std::string_view text) {
+    if (text.size() > kMaxViewMessageBytes)
+        throw Error("a message of " + std::to_string(text.size()) + " bytes (at most " +
+                    std::to_string(kMaxViewMessageBytes) + ")");
+    // No exceptions from the parser: a bad byte is a refusal, not a stack unwinding through it.
+    const Json m = Json::parse(text.begin(), text.end(), nullptr, false);
+    if (m.is_discarded()) throw Error("a message that is not JSON");
+    if (!m.is_object()) throw Error("a message that is not a JSON object");
+    const auto type = m.find("type");
+    if (type == m.end() || !type->is_string()) throw Error("a message without a string 'type'");
+    const std::string& t = type->get_ref<const std::string&>();
+    if (t == "camera") return parseCamera(m);
+    if (t == "mode") return parseMode(m);
+    if (t == "size") return parseSize(m);
+    if (t == "voxelize-view") {
+        requireOnlyFields(m, {"type"}, t);
+        return VoxelizeViewMessage{};
+    }
+    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, voxelize-view)");
+}
+
+std::string formatViewMessage(const ViewMessage& message) {
+    Json j;
+    if (const auto* c = std::get_if<CameraMessage>(&message)) {
+        j = {{"type", "camera"},
+             {"azimuth", c->camera.azimuth},
+             {"elevation", c->camera.elevation},
+             {"distance", c->camera.distance},
+             {"panX", c->camera.panX},
+             {"panY", c->camera.panY},
+             {"seq", c->camera.seq}};
+    } else if (const auto* m = std::get_if<ModeMessage>(&message)) {
+        j = {{"type", "mode"}, {"mode", m->mode}};
+    } else if (const auto* s = std::get_if<SizeMessage>(&message)) {
+        j = {{"type", "size"}, {"width", s->width}, {"height", s->height}};
+    } else {
+        j = {{"type", "voxelize-view"}};
+    }
+    return j.dump();
+}
+
+} // namespace yv

@@ -1,0 +1,60 @@
+// What a page of `yarnvox view` may say to the server: JSON text messages
+// over the WebSocket, parsed and checked here before anything acts on them.
+// Every field is bounded (a message's size, numbers finite and within
+// range, strings short and of known characters, no unknown type or field),
+// so a malformed or hostile message is refused with one line and nothing
+// else happens. No GL and no network here: the fuzz target links this alone.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <variant>
+
+namespace yv {
+
+/// The largest client message accepted, in bytes (a camera message is about 120).
+constexpr std::size_t kMaxViewMessageBytes = 1024;
+/// The frame size limits, pixels a side (the upper one: the 4096 screenshot).
+constexpr int kMinViewSide = 16, kMaxViewSide = 4096;
+
+/// Where the camera is: the angles of inspect's --view (degrees, degrees,
+/// bounding-sphere radii) and a pan of the point looked at, in sphere radii
+/// along the picture's right and up.
+struct ViewCamera {
+    double azimuth = 30.0, elevation = 20.0, distance = 4.0;
+    double panX = 0.0, panY = 0.0;
+    /// The page's number for this camera state, echoed in the stats of the
+    /// frame that shows it, so the page can time input to picture.
+    std::uint64_t seq = 0;
+    bool operator==(const ViewCamera&) const = default;
+};
+
+/// {"type":"camera","azimuth":A,"elevation":E,"distance":D,"panX":X,"panY":Y,"seq":N}
+struct CameraMessage {
+    ViewCamera camera;
+};
+/// {"type":"mode","mode":"raycast"}: which render; the scene says whether it has it.
+struct ModeMessage {
+    std::string mode;
+};
+/// {"type":"size","width":W,"height":H}: the frame's size in pixels.
+struct SizeMessage {
+    int width = 0, height = 0;
+};
+/// {"type":"voxelize-view"}: voxelize what the camera sees (the place for
+/// voxelize-on-stop; the server answers that it is not there yet).
+struct VoxelizeViewMessage {};
+
+using ViewMessage = std::variant<CameraMessage, ModeMessage, SizeMessage, VoxelizeViewMessage>;
+
+/// Parses one text message. Throws yv::Error with one line saying what is
+/// wrong (too long, not JSON, not an object, an unknown type or field, a
+/// field missing, of the wrong kind, not finite or out of range).
+ViewMessage parseViewMessage(std::string_view text);
+
+/// The message as JSON text again (what parseViewMessage reads back to the same message).
+std::string formatViewMessage(const ViewMessage& message);
+
+} // namespace yv

@@ -1,0 +1,69 @@
+#include "view/view_run.h"
+
+#include "core/error.h"
+#include "view/view_frames.h"
+#include "view/view_hub.h"
+
+#include <atomic>
+#include <exception>
+#include <filesystem>
+#include <future>
+#include <optional>
+#include <thread>
+
+namespace yv {
+
+void runView(const ViewRequest& request, const std::function<void(int port)>& ready,
+             const std::function<bool()>& stopWanted, const std::function<void(const std::string&)>& log) {
+    std::error_code ec;
+    if (!std::filesystem::exists(request.input, ec)) throw Error(request.input + ": no such file or directory");
+    // The hub outlives the server: a session closed as the server goes leaves it.
+    std::optional<ViewHub> hub;
+    ViewServer server(request.server, log);
+
+    std::promise<std::string> opened; // the hello text, once the scene can draw
+    std::atomic<bool> renderFailed{false};
+    std::string renderError;
+    std::thread render([&] {
+        bool serving = false;
+        try {
+            // The scene and its GL context live and die on this thread.
+            ViewScene scene(openViewVolume(request.input, request.voxelize, log), request.device, request.gpuBudgetBytes);
+            ViewFrames frames(scene, request.jpegQuality, log);
+            ViewState initial = request.initial;
+            initial.mode = scene.modes().front();
+            hub.emplace(scene.modes(), initial);
+            opened.set_value(helloText(scene, initial));
+            serving = true;
+            hub->run(frames);
+        } catch (...) {
+            if (!serving) return opened.set_exception(std::current_exception());
+            try {
+                throw;
+            } catch (const std::exception& e) {
+                renderError = e.what();
+            }
+            renderFailed = true;
+        }
+    });
+    std::string hello;
+    try {
+        hello = opened.get_future().get();
+    } catch (...) {
+        render.join();
+        throw;
+    }
+    try {
+        ready(server.port());
+        server.serve(*hub, hello, [&] { return renderFailed || stopWanted(); });
+    } catch (...) {
+        hub->stop();
+        render.join();
+        throw;
+    }
+    hub->stop();
+    render.join();
+    if (renderFailed) throw Error("the render thread stopped: " + renderError);
+}
+
+} // namespace yv

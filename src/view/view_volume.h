@@ -1,0 +1,44 @@
+// What a live view draws, opened once when `yarnvox view` starts: the
+// volume's bricks (a work directory or a .vdb as inspect reads them, or a
+// garment voxelized here first) and, where they can be found, the garment's
+// slices in the volume's voxel coordinates. Nothing here is reloaded per frame.
+#pragma once
+
+#include "inspect/slice_instances.h"
+#include "inspect/volume_source.h"
+#include "pipeline/voxelize_job.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace yv {
+
+struct ViewVolume {
+    std::unique_ptr<VolumeSource> source;
+    std::optional<SliceInstances> slices; ///< the garment's slices, where the garment is known
+    /// A garment was given: its slices are drawn beside the ray cast of its voxelization.
+    bool garment = false;
+    std::uint64_t activeVoxels = 0;
+    std::string name; ///< the input's file name, for the page's title
+    std::filesystem::path scratch; ///< where a garment's voxelization lies while the view runs ("" when none)
+
+    ViewVolume() = default;
+    /// The scratch directory goes with the move: only the last owner removes it.
+    ViewVolume(ViewVolume&& other) noexcept;
+    ViewVolume& operator=(ViewVolume&&) = delete;
+    ~ViewVolume(); ///< removes `scratch`
+};
+
+/// Opens `path`: a work directory or a .vdb (its slices too, where the run
+/// that made it names a garment that is still there), or a .bcc garment,
+/// voxelized first as `voxelize` (with `job`'s options, its input and output
+/// set here) would, into a scratch .vdb removed when the view ends. Must run
+/// on the thread that will render (a voxelization makes a GL context of its
+/// own and leaves none current). Notes go to `note`. Throws yv::Error naming
+/// `path` (missing, not a volume, an empty volume, a voxelization refused).
+ViewVolume openViewVolume(const std::string& path, const VoxelizeJob& job, const Tell& note);
+
+} // namespace yv

@@ -1,0 +1,161 @@
+// `yarnvox view` in a real browser: Debian's chromium driven by playwright-core
+// (tools/setup installs it here with npm ci; no browser is downloaded). A small
+// garment is generated and viewed (voxelized by the view) on llvmpipe; the
+// page is opened, the camera dragged, and the test checks that frames arrive
+// and change with the camera, that the address reopens the same view (the
+// same picture), that a mode key switches the render, and that a screenshot
+// shows the garment in the middle and background at the corners. No frame
+// rate is asserted. Fails (never skips) when chromium or node_modules is missing.
+//   node tests/browser/view_test.mjs --yarnvox build/yarnvox --scratch DIR
+import { spawn, execFileSync } from 'node:child_process';
+import { existsSync, mkdirSync, rmSync } from 'node:fs';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const arg = (name) => { const i = process.argv.indexOf(name); return i > 0 ? process.argv[i + 1] : undefined; };
+const yarnvox = arg('--yarnvox');
+const scratch = arg('--scratch');
+const chromiumPath = '/usr/bin/chromium';
+let passed = 0, failed = 0;
+
+function check(what, ok, detail = '') {
+  if (ok) { passed += 1; console.log('ok: ' + what); }
+  else { failed += 1; console.log('FAILED: ' + what + (detail ? ' (' + detail + ')' : '')); }
+}
+
+function fatal(why) {
+  console.log('FAILED: ' + why);
+  console.log(`${passed} passed, ${failed + 1} failed`);
+  process.exit(1);
+}
+
+if (!yarnvox || !scratch) fatal('usage: view_test.mjs --yarnvox PATH --scratch DIR');
+if (!existsSync(chromiumPath)) fatal(chromiumPath + ' is missing: run tools/setup (installs Debian\'s chromium)');
+if (!existsSync(join(here, 'node_modules', 'playwright-core')))
+  fatal('tests/browser/node_modules is missing: run tools/setup (npm ci in tests/browser; needs the npm registry once)');
+const { chromium } = await import('playwright-core');
+
+rmSync(scratch, { recursive: true, force: true });
+mkdirSync(scratch, { recursive: true });
+const bcc = join(scratch, 'plain.bcc');
+execFileSync(yarnvox, ['gen', '--pattern', 'plain', '--crossings', '16', '--quiet', '-o', bcc]);
+
+// The view, on any free port; its address is the line with http://.
+const server = spawn(yarnvox, ['view', bcc, '--port', '0', '--resolution', '48', '--size', '320x180'],
+                     { stdio: ['ignore', 'pipe', 'pipe'] });
+let serverOut = '';
+server.stderr.on('data', (d) => { serverOut += d; });
+const url = await new Promise((resolve, reject) => {
+  const timer = setTimeout(() => reject(new Error('no address within 180 s:\n' + serverOut)), 180000);
+  server.stdout.on('data', (d) => {
+    serverOut += d;
+    const m = /http:\/\/127\.0\.0\.1:\d+\//.exec(serverOut);
+    if (m) { clearTimeout(timer); resolve(m[0]); }
+  });
+  server.on('exit', (code) => reject(new Error('yarnvox view ended (' + code + '):\n' + serverOut)));
+}).catch((e) => fatal(e.message));
+
+const browser = await chromium.launch({
+  executablePath: chromiumPath, headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking'],
+});
+try {
+  const context = await browser.newContext({ viewport: { width: 640, height: 360 }, deviceScaleFactor: 1 });
+  const page = await context.newPage();
+  const settled = () => page.waitForFunction(() => window.yvView && window.yvView.settled(), null, { timeout: 180000 });
+  // The picture shown, as grey levels of an 80x45 grid (drawn from the <img> into a canvas).
+  const picture = (p = page) => p.evaluate(() => {
+    const img = document.getElementById('frame');
+    const c = document.createElement('canvas');
+    c.width = 80; c.height = 45;
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0, 80, 45);
+    const d = g.getImageData(0, 0, 80, 45).data;
+    const out = [];
+    for (let i = 0; i < d.length; i += 4) out.push((d[i] + d[i + 1] + d[i + 2]) / 3);
+    return out;
+  });
+  const difference = (a, b) => a.reduce((s, v, i) => s + Math.abs(v - b[i]), 0) / a.length;
+
+  await page.goto(url);
+  await settled();
+  const first = await page.evaluate(() => ({ frames: window.yvView.frames, hash: location.hash, stats: window.yvView.stats }));
+  check('a frame arrives with its stats', first.frames >= 1 && first.stats.bytes > 0 && first.stats.activeVoxels > 0,
+        JSON.stringify(first));
+  check('the frame has the page\'s size', first.stats.width === 640 && first.stats.height === 360, JSON.stringify(first.stats));
+  check('the address holds the camera and mode', /az=30/.test(first.hash) && /mode=raycast/.test(first.hash), first.hash);
+  const before = await picture();
+
+  // Drag the camera across the middle.
+  await page.mouse.move(320, 180);
+  await page.mouse.down();
+  await page.mouse.move(420, 200, { steps: 8 });
+  await page.mouse.up();
+  await settled();
+  const dragged = await page.evaluate(() => ({ frames: window.yvView.frames, hash: location.hash }));
+  const after = await picture();
+  check('frames keep arriving while dragging', dragged.frames > first.frames, `${first.frames} then ${dragged.frames}`);
+  check('the address follows the camera', dragged.hash !== first.hash && !/az=30&/.test(dragged.hash), dragged.hash);
+  check('the picture changes with the camera', difference(before, after) > 2, 'mean difference ' + difference(before, after));
+
+  // The address reopens the same view: the same picture in a fresh page.
+  const link = page.url();
+  const reopened = await context.newPage();
+  await reopened.goto(link);
+  await reopened.waitForFunction(() => window.yvView && window.yvView.settled(), null, { timeout: 180000 });
+  const again = await picture(reopened);
+  check('the link reopens the same view', difference(after, again) < 1, 'mean difference ' + difference(after, again));
+  check('the reopened address is the link', reopened.url() === link, reopened.url() + ' vs ' + link);
+  await reopened.close();
+
+  // A mode key: 2 is the second mode (mip).
+  const modes = await page.evaluate(() => window.yvView.stats && document.getElementById('overlay').textContent);
+  await page.keyboard.press('2');
+  await page.waitForFunction(() => window.yvView.stats.mode !== 'raycast' && window.yvView.settled(), null, { timeout: 180000 });
+  const mode = await page.evaluate(() => ({ mode: window.yvView.stats.mode, hash: location.hash }));
+  check('a mode key switches the render and the address', mode.mode === 'mip' && /mode=mip/.test(mode.hash),
+        JSON.stringify(mode) + ' ' + modes);
+  await page.keyboard.press('1');
+  await page.keyboard.press('r');
+  await page.keyboard.press('h'); // the help panel off the bottom-left corner
+  await page.waitForFunction(() => window.yvView.stats.mode === 'raycast' && window.yvView.settled(), null, { timeout: 180000 });
+
+  // A screenshot of the page: the garment near the centre of each half (slices left, ray cast right),
+  // background at the corners the overlay does not cover.
+  const png = await page.screenshot();
+  const regions = await page.evaluate(async (b64) => {
+    const img = new Image();
+    img.src = 'data:image/png;base64,' + b64;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width; c.height = img.height;
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    const lit = (x0, y0, w, h) => {
+      const d = g.getImageData(x0, y0, w, h).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) n += d[i] + d[i + 1] + d[i + 2] > 60 ? 1 : 0;
+      return n / (w * h);
+    };
+    const W = img.width, H = img.height;
+    return {
+      leftCentre: lit(W / 4 - 40, H / 2 - 30, 80, 60), rightCentre: lit((3 * W) / 4 - 40, H / 2 - 30, 80, 60),
+      topRight: lit(W - 16, 0, 16, 16), bottomRight: lit(W - 16, H - 16, 16, 16), bottomLeft: lit(0, H - 16, 16, 16),
+    };
+  }, png.toString('base64'));
+  check('the screenshot shows the slices near the centre of the left half', regions.leftCentre > 0.2, JSON.stringify(regions));
+  check('the screenshot shows the ray cast near the centre of the right half', regions.rightCentre > 0.2, JSON.stringify(regions));
+  check('the corners are background', regions.topRight === 0 && regions.bottomRight === 0 && regions.bottomLeft === 0,
+        JSON.stringify(regions));
+} catch (e) {
+  check('the browser session', false, e.stack);
+} finally {
+  await browser.close();
+}
+
+server.kill('SIGTERM');
+const code = await new Promise((resolve) => server.on('exit', (c) => resolve(c)));
+check('yarnvox view stops cleanly on SIGTERM', code === 0 && /stopped by SIGTERM/.test(serverOut), 'exit ' + code + '\n' + serverOut);
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed === 0 ? 0 : 1);

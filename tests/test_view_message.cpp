@@ -1,0 +1,97 @@
+// The page messages of `yarnvox view` (src/view/view_message.h): what is
+// accepted, field by field, and that every malformed or out-of-range message
+// is refused with one line naming what is wrong.
+#include "core/error.h"
+#include "view/view_message.h"
+
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <variant>
+
+using yv::parseViewMessage;
+
+namespace {
+
+std::string camera(const std::string& azimuth, const std::string& extra = "") {
+    return R"({"type":"camera","azimuth":)" + azimuth + R"(,"elevation":20,"distance":4,"panX":0.5,"panY":-1,"seq":7)" +
+           extra + "}";
+}
+
+} // namespace
+
+TEST_CASE("View messages: a camera message is read field by field", "[view][message]") {
+    const yv::ViewMessage m = parseViewMessage(camera("-45.5"));
+    const auto* c = std::get_if<yv::CameraMessage>(&m);
+    REQUIRE(c);
+    CHECK(c->camera.azimuth == -45.5);
+    CHECK(c->camera.elevation == 20.0);
+    CHECK(c->camera.distance == 4.0);
+    CHECK(c->camera.panX == 0.5);
+    CHECK(c->camera.panY == -1.0);
+    CHECK(c->camera.seq == 7u);
+}
+
+TEST_CASE("View messages: mode, size and voxelize-view are read, and every kind formats back to itself", "[view][message]") {
+    const yv::ViewMessage mode = parseViewMessage(R"({"type":"mode","mode":"half-angle"})");
+    REQUIRE(std::get_if<yv::ModeMessage>(&mode));
+    CHECK(std::get<yv::ModeMessage>(mode).mode == "half-angle");
+    const yv::ViewMessage size = parseViewMessage(R"({"type":"size","width":1280,"height":720})");
+    REQUIRE(std::get_if<yv::SizeMessage>(&size));
+    CHECK(std::get<yv::SizeMessage>(size).width == 1280);
+    CHECK(std::get<yv::SizeMessage>(size).height == 720);
+    CHECK(std::holds_alternative<yv::VoxelizeViewMessage>(parseViewMessage(R"({"type":"voxelize-view"})")));
+    for (const yv::ViewMessage& m : {parseViewMessage(camera("12.25")), mode, size, parseViewMessage(R"({"type":"voxelize-view"})")}) {
+        const std::string text = yv::formatViewMessage(m);
+        CHECK(yv::formatViewMessage(parseViewMessage(text)) == text);
+    }
+    const auto again = parseViewMessage(yv::formatViewMessage(parseViewMessage(camera("12.25"))));
+    CHECK(std::get<yv::CameraMessage>(again).camera == std::get<yv::CameraMessage>(parseViewMessage(camera("12.25"))).camera);
+}
+
+TEST_CASE("View messages: malformed or hostile messages are refused with what is wrong", "[view][message]") {
+    using Catch::Contains;
+    CHECK_THROWS_WITH(parseViewMessage("not json"), Contains("not JSON"));
+    CHECK_THROWS_WITH(parseViewMessage(""), Contains("not JSON"));
+    CHECK_THROWS_WITH(parseViewMessage("[1,2]"), Contains("not a JSON object"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"kind":"camera"})"), Contains("without a string 'type'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":7})"), Contains("without a string 'type'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"shutdown"})"), Contains("unknown type 'shutdown'"));
+    CHECK_THROWS_WITH(parseViewMessage(std::string(R"({"type":")") + std::string(5000, 'x') + "\"}"),
+                      Contains("bytes (at most 1024)"));
+    // Numbers: present, numeric, finite, in range, whole where they count.
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"camera","azimuth":1})"), Contains("needs the field 'elevation'"));
+    CHECK_THROWS_WITH(parseViewMessage(camera("\"30\"")), Contains("'azimuth' of a 'camera' message must be a number"));
+    CHECK_THROWS_AS(parseViewMessage(camera("1e999")), yv::Error); // an overflow: refused as JSON or as out of range
+    CHECK_THROWS_WITH(parseViewMessage(camera("1e300")), Contains("'azimuth'") && Contains("must lie in"));
+    CHECK_THROWS_WITH(parseViewMessage(camera("NaN")), Contains("not JSON"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"camera","azimuth":0,"elevation":91,"distance":4,"panX":0,"panY":0,"seq":1})"),
+                      Contains("'elevation'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"camera","azimuth":0,"elevation":0,"distance":0,"panX":0,"panY":0,"seq":1})"),
+                      Contains("'distance'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"camera","azimuth":0,"elevation":0,"distance":1,"panX":0,"panY":0,"seq":1.5})"),
+                      Contains("'seq'") && Contains("whole number"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"camera","azimuth":0,"elevation":0,"distance":1,"panX":0,"panY":0,"seq":-1})"),
+                      Contains("'seq'"));
+    CHECK_THROWS_WITH(parseViewMessage(camera("0", R"(,"admin":true)")), Contains("no field 'admin'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"size","width":8,"height":720})"), Contains("'width'") && Contains("[16, 4096]"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"size","width":100000,"height":720})"), Contains("'width'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"size","width":640.5,"height":720})"), Contains("whole number"));
+    // Strings: short, of known characters.
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"mode","mode":""})"), Contains("1 to 32 characters"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"mode","mode":"../../etc"})"), Contains("only a-z and '-'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"mode","mode":3})"), Contains("string field 'mode'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"voxelize-view","box":[0,0,0]})"), Contains("no field 'box'"));
+    // Deep nesting within the size cap is refused as not an object, not a crash.
+    CHECK_THROWS_WITH(parseViewMessage(std::string(500, '[') + std::string(500, ']')), Contains("not a JSON object"));
+}
+
+TEST_CASE("View messages: a field name of control bytes is shown printable in the refusal", "[view][message]") {
+    try {
+        parseViewMessage("{\"type\":\"size\",\"w\\u0001\\u001b[2J\":1}");
+        FAIL("accepted");
+    } catch (const yv::Error& e) {
+        const std::string what = e.what();
+        for (char ch : what) CHECK((ch >= 0x20 && ch <= 0x7e));
+    }
+}

@@ -1,0 +1,336 @@
+// `yarnvox view` end to end without a browser: the server run in-process on
+// a small generated garment (llvmpipe), a WebSocket client speaking the
+// protocol with Beast, JPEG frames decoded and compared for different
+// cameras; a garbage message is refused, logged, and the page and the server
+// go on. And the command's refusals before serving, and its stop on SIGTERM.
+#include "core/error.h"
+#include "run_cli.h"
+#include "test_helpers.h"
+#include "view/jpeg_frame.h"
+#include "view/view_run.h"
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdlib>
+#include <future>
+#include <mutex>
+#include <thread>
+
+namespace fs = std::filesystem;
+namespace beast = boost::beast;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+using Json = nlohmann::json;
+
+namespace {
+
+/// A view of a small garment served on a thread of the test, stopped and joined when it goes.
+struct ServedView {
+    yv::test::ScratchDir scratch{"yv_view"};
+    std::atomic<bool> stop{false};
+    std::mutex logMutex;
+    std::vector<std::string> log;
+    std::promise<int> port;
+    std::thread thread, watchdog;
+    std::exception_ptr failure;
+    std::mutex doneMutex;
+    std::condition_variable doneWake;
+    bool done = false;
+
+    /// `asVdb`: the garment voxelized by `yarnvox voxelize` first and the .vdb viewed; else the garment.
+    explicit ServedView(bool asVdb = false) {
+        const fs::path bcc = scratch.path / "plain.bcc";
+        REQUIRE(yv::test::runYarnvox("gen --pattern plain --crossings 16 --quiet -o " + bcc.string()).exitCode == 0);
+        const fs::path vdb = scratch.path / "plain.vdb";
+        if (asVdb)
+            REQUIRE(yv::test::runYarnvox("voxelize " + bcc.string() + " --resolution 48 --quiet -o " + vdb.string()).exitCode == 0);
+        yv::ViewRequest request;
+        request.input = asVdb ? vdb.string() : bcc.string();
+        request.server.port = 0;
+        request.initial.width = 192;
+        request.initial.height = 96;
+        request.voxelize.resolution = 48;
+        // A frame that never comes must fail the test, not hang it: after 300 s the
+        // server stops, which closes the pages and ends their blocking reads.
+        watchdog = std::thread([this] {
+            std::unique_lock lock(doneMutex);
+            if (!doneWake.wait_for(lock, std::chrono::seconds(300), [this] { return done; })) stop = true;
+        });
+        thread = std::thread([this, request] {
+            try {
+                yv::runView(
+                    request, [this](int p) { port.set_value(p); }, [this] { return stop.load(); },
+                    [this](const std::string& line) {
+                        const std::lock_guard lock(logMutex);
+                        log.push_back(line);
+                    });
+            } catch (...) {
+                failure = std::current_exception();
+                try {
+                    port.set_exception(std::current_exception());
+                } catch (...) {
+                }
+            }
+        });
+    }
+    ~ServedView() {
+        {
+            const std::lock_guard lock(doneMutex);
+            done = true;
+        }
+        doneWake.notify_all();
+        watchdog.join();
+        stop = true;
+        thread.join();
+    }
+    bool logged(const std::string& part) {
+        const std::lock_guard lock(logMutex);
+        for (const std::string& line : log)
+            if (line.find(part) != std::string::npos) return true;
+        return false;
+    }
+};
+
+/// A page's side of the protocol, synchronous (ServedView's watchdog ends a read that waits too long).
+struct Page {
+    net::io_context io;
+    beast::websocket::stream<tcp::socket> ws{io};
+    Json hello;
+    std::vector<std::string> notices;
+
+    explicit Page(int port) {
+        tcp::resolver resolver(io);
+        net::connect(ws.next_layer(), resolver.resolve("127.0.0.1", std::to_string(port)));
+        ws.next_layer().set_option(tcp::no_delay(true));
+        ws.handshake("127.0.0.1", "/ws");
+        hello = Json::parse(readText());
+    }
+    std::string readText() {
+        beast::flat_buffer b;
+        ws.read(b);
+        REQUIRE(ws.got_text());
+        return beast::buffers_to_string(b.data());
+    }
+    void send(const std::string& text) {
+        ws.text(true);
+        ws.write(net::buffer(text));
+    }
+    void sendCamera(double azimuth, std::uint64_t seq) {
+        send(Json{{"type", "camera"}, {"azimuth", azimuth}, {"elevation", 20}, {"distance", 3},
+                  {"panX", 0}, {"panY", 0}, {"seq", seq}}.dump());
+    }
+    /// The next frame: its stats and its picture (notices on the way are kept).
+    std::pair<Json, yv::RgbImage> readFrame() {
+        Json stats;
+        for (;;) {
+            beast::flat_buffer b;
+            ws.read(b);
+            if (ws.got_text()) {
+                const Json m = Json::parse(beast::buffers_to_string(b.data()));
+                if (m["type"] == "stats") stats = m;
+                if (m["type"] == "notice") notices.push_back(m["text"]);
+                continue;
+            }
+            const auto* p = static_cast<const std::uint8_t*>(b.data().data());
+            REQUIRE(stats.is_object());
+            CHECK(stats["bytes"] == b.size());
+            return {stats, yv::decodeJpeg(std::vector<std::uint8_t>(p, p + b.size()))};
+        }
+    }
+    /// Frames until the one showing camera `seq`.
+    std::pair<Json, yv::RgbImage> frameOf(std::uint64_t seq) {
+        for (;;) {
+            auto frame = readFrame();
+            if (frame.first["seq"] == seq) return frame;
+        }
+    }
+};
+
+/// The mean absolute difference of two pictures' bytes.
+double meanDifference(const yv::RgbImage& a, const yv::RgbImage& b) {
+    REQUIRE(a.pixels.size() == b.pixels.size());
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
+    return sum / double(a.pixels.size());
+}
+
+/// Pixels brighter than black in `image`'s columns [x0, x1).
+int litPixels(const yv::RgbImage& image, int x0, int x1) {
+    int lit = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = x0; x < x1; ++x) lit += image.at(x, y)[0] + image.at(x, y)[1] + image.at(x, y)[2] > 48;
+    return lit;
+}
+
+} // namespace
+
+TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, and a garbage message is refused and logged",
+          "[view][gl]") {
+    YV_REQUIRE_GL();
+    ServedView view;
+    const int port = view.port.get_future().get();
+    Page page(port);
+    CHECK(page.hello["type"] == "hello");
+    CHECK(page.hello["sideBySide"] == true);
+    CHECK(page.hello["modes"][0] == "raycast");
+    CHECK(page.hello["activeVoxels"].get<std::uint64_t>() > 0);
+
+    // The first frame, at the --size given: slices on the left, the ray cast on the right.
+    page.sendCamera(30, 1);
+    const auto [firstStats, first] = page.frameOf(1);
+    CHECK(first.width == 192);
+    CHECK(first.height == 96);
+    CHECK(firstStats["slices"].get<std::uint64_t>() > 0);
+    CHECK(litPixels(first, 0, 96) > 100);
+    CHECK(litPixels(first, 96, 192) > 100);
+
+    const yv::RgbImage& a = first;
+    page.sendCamera(120, 2);
+    const yv::RgbImage b = page.frameOf(2).second;
+    page.sendCamera(30, 3);
+    const yv::RgbImage again = page.frameOf(3).second;
+    CHECK(meanDifference(a, b) > 2.0);      // another camera, another picture
+    CHECK(meanDifference(a, again) < 0.5); // the same camera, the same picture (the render is deterministic)
+
+    // A size message changes the frame's size.
+    page.send(R"({"type":"size","width":128,"height":64})");
+    page.sendCamera(30, 4);
+    CHECK(page.frameOf(4).second.width == 128);
+
+    // Garbage: refused, logged in one line, and the page still gets frames.
+    page.send("{{{ not json");
+    page.send(R"({"type":"mode","mode":"no-such-mode"})");
+    page.sendCamera(60, 5);
+    const auto [stats5, picture5] = page.frameOf(5);
+    CHECK(picture5.width == 128);
+    REQUIRE(page.notices.size() >= 2);
+    CHECK(page.notices[0].find("not JSON") != std::string::npos);
+    CHECK(page.notices[1].find("no mode 'no-such-mode'") != std::string::npos);
+    CHECK(view.logged("refused a message from 127.0.0.1:"));
+    CHECK(view.logged("not JSON"));
+
+    // The voxelize-on-stop hook answers that it is not there yet, and changes nothing.
+    page.send(R"({"type":"voxelize-view"})");
+    page.sendCamera(60, 6);
+    page.frameOf(6);
+    CHECK(page.notices.back().find("not there yet") != std::string::npos);
+
+    // A binary message and one over the size limit: the second closes that page, not the server.
+    Page other(port);
+    other.sendCamera(0, 1);
+    other.frameOf(1);
+    other.ws.binary(true);
+    other.ws.write(net::buffer(std::string("\x01\x02", 2)));
+    other.send(std::string(4096, ' '));
+    page.sendCamera(90, 7);
+    CHECK(page.frameOf(7).second.width == 128);
+    CHECK(view.logged("a binary message"));
+    CHECK(view.logged("over 1024 bytes"));
+    CHECK(!view.failure);
+}
+
+TEST_CASE("View: a .vdb is ray cast full width, and every mode it offers draws a frame", "[view][gl]") {
+    YV_REQUIRE_GL();
+    ServedView view(true);
+    Page page(view.port.get_future().get());
+    CHECK(page.hello["sideBySide"] == false);
+    const std::vector<std::string> modes = page.hello["modes"];
+    INFO(page.hello.dump());
+    // The .vdb records its garment, which is still there: the slices are one key away too.
+    for (const char* expected : {"raycast", "mip", "texture-slicing", "half-angle", "splatting", "orientation", "slices"})
+        CHECK(std::find(modes.begin(), modes.end(), expected) != modes.end());
+    std::uint64_t seq = 0;
+    yv::RgbImage raycast;
+    for (const std::string& mode : modes) {
+        page.send(Json{{"type", "mode"}, {"mode", mode}}.dump());
+        page.sendCamera(30, ++seq);
+        const auto [stats, picture] = page.frameOf(seq);
+        INFO(mode);
+        CHECK(stats["mode"] == mode);
+        CHECK(picture.width == 192);
+        // The garment fills the middle of the frame in every mode; the corners stay background.
+        CHECK(litPixels(picture, 72, 120) > 200);
+        CHECK(litPixels(picture, 0, 8) == 0);
+        if (mode == "raycast") raycast = picture;
+        else CHECK(meanDifference(raycast, picture) > 0.5); // each mode is a picture of its own
+    }
+    CHECK(page.notices.empty());
+}
+
+TEST_CASE("View: the page is served over HTTP on the same port", "[view][gl]") {
+    YV_REQUIRE_GL();
+    ServedView view;
+    const int port = view.port.get_future().get();
+    net::io_context io;
+    beast::tcp_stream stream(io);
+    tcp::resolver resolver(io);
+    stream.connect(resolver.resolve("127.0.0.1", std::to_string(port)));
+    for (const char* target : {"/", "/view.js", "/nothing"}) {
+        beast::http::request<beast::http::string_body> request(beast::http::verb::get, target, 11);
+        request.set(beast::http::field::host, "127.0.0.1");
+        beast::http::write(stream, request);
+        beast::flat_buffer buffer;
+        beast::http::response<beast::http::string_body> response;
+        beast::http::read(stream, buffer, response);
+        INFO(target);
+        if (std::string(target) == "/nothing") {
+            CHECK(response.result() == beast::http::status::not_found);
+        } else {
+            CHECK(response.result() == beast::http::status::ok);
+            CHECK(response.body().find(std::string(target) == "/" ? "<script src=\"view.js\">" : "new WebSocket(") !=
+                  std::string::npos);
+        }
+    }
+}
+
+TEST_CASE("yarnvox view refuses a port in use, a missing file and a bad option in one line, before serving", "[view][cli]") {
+    yv::test::ScratchDir scratch("yv_view_cli");
+    const fs::path bcc = scratch.path / "plain.bcc";
+    REQUIRE(yv::test::runYarnvox("gen --pattern plain --crossings 4 --quiet -o " + bcc.string()).exitCode == 0);
+    yv::ViewServerOptions taken;
+    taken.port = 0;
+    const yv::ViewServer holder(taken, [](const std::string&) {});
+    const std::string port = std::to_string(holder.port());
+
+    const auto inUse = yv::test::runYarnvox("view " + bcc.string() + " --port " + port);
+    CHECK(inUse.exitCode == 1);
+    CHECK(inUse.output == "yarnvox: error: 127.0.0.1 port " + port + " is in use: give another with --port (0: any free port)\n");
+    const auto missing = yv::test::runYarnvox("view " + (scratch.path / "none.vdb").string() + " --port 0");
+    CHECK(missing.exitCode == 1);
+    CHECK(missing.output.find("none.vdb: no such file or directory") != std::string::npos);
+    CHECK(std::count(missing.output.begin(), missing.output.end(), '\n') == 1);
+    const auto size = yv::test::runYarnvox("view " + bcc.string() + " --port 0 --size 8x8");
+    CHECK(size.exitCode == 1);
+    CHECK(size.output.find("--size '8x8'") != std::string::npos);
+    const auto bind = yv::test::runYarnvox("view " + bcc.string() + " --bind localhost-ish --port 0");
+    CHECK(bind.exitCode == 1);
+    CHECK(bind.output.find("--bind 'localhost-ish': not an IP address") != std::string::npos);
+}
+
+TEST_CASE("yarnvox view says its address and the ssh -L line, and stops cleanly on SIGTERM", "[view][cli][gl]") {
+    YV_REQUIRE_GL();
+    yv::test::ScratchDir scratch("yv_view_stop");
+    const fs::path bcc = scratch.path / "plain.bcc";
+    REQUIRE(yv::test::runYarnvox("gen --pattern plain --crossings 4 --quiet -o " + bcc.string()).exitCode == 0);
+    const fs::path out = scratch.path / "out.txt";
+    // Started in the background; SIGTERM once the address is printed (at most 120 s).
+    const auto run = yv::test::runShell(
+        std::string(YV_BINARY_DIR) + "/yarnvox view " + bcc.string() + " --port 0 --resolution 32 > " + out.string() +
+        " 2>&1 & pid=$!; for i in $(seq 1200); do grep -q 'http://' " + out.string() +
+        " && break; sleep 0.1; done; kill -TERM $pid; wait $pid; echo \"exit $?\"; cat " + out.string());
+    INFO(run.output);
+    CHECK(run.output.find("exit 0") != std::string::npos);
+    CHECK(run.output.find("at http://127.0.0.1:") != std::string::npos);
+    CHECK(run.output.find("ssh -L ") != std::string::npos);
+    CHECK(run.output.find("yarnvox view: stopped by SIGTERM") != std::string::npos);
+}
