@@ -111,6 +111,16 @@ inline SliceFace sliceFace(const Slice& slice, double radius, const VoxelGrid& g
     return f;
 }
 
+/// diskCoverage(c, shape, 1): its first tests here, where they inline (most
+/// footprints lie wholly inside or outside the disk), the rest in it.
+inline double diskFootprintCoverage(glm::dvec2 c, const FootprintShape& shape) {
+    if (!(shape.area > 0.0)) return 0.0;
+    const double dist = glm::length(c);
+    if (dist - shape.reach >= 1.0) return 0.0;
+    if (dist + shape.reach <= 1.0) return 1.0;
+    return diskCoverage(c, shape, 1.0);
+}
+
 /// A footprint's cells that hold fibre and depth, in footprint order, each
 /// with its density and its column [z0, z1) through the slab (in voxels).
 struct FootprintCells {
@@ -186,13 +196,13 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, doub
             const double y = (f.Rb * dc - f.Rc * db) / f.det;
             if (depthWindow) {
                 const double pa = (slice.center[a] + x * slice.right[a] + y * slice.up[a] - grid.origin[a]) / f.h;
-                const double halfDepth = 0.5 * f.depthScale * (1.0 + f.bend * (std::hypot(x, y) + f.offsetReach));
+                const double halfDepth = 0.5 * f.depthScale * (1.0 + f.bend * (std::sqrt(x * x + y * y) + f.offsetReach));
                 const double spread = f.spreadA / f.h + halfDepth + 1.0;
                 if (pa + spread <= vLo || pa - spread >= vHi) continue;
             }
             double coverage = 0.0;
             if (xs.analyticDisk) {
-                coverage = diskCoverage(glm::dvec2(x, y) * f.invRadius, f.pixelShape, 1.0);
+                coverage = diskFootprintCoverage(glm::dvec2(x, y) * f.invRadius, f.pixelShape);
                 if (!(coverage > 0.0)) continue;
             } else if (glm::length(glm::dvec2(x, y) * f.invRadius) - f.reach > support) {
                 continue;
@@ -206,7 +216,7 @@ void sampleSlice(const Slice& slice, double radius, const CrossSection& xs, doub
                 const double cx = x + f.offsetX[k], cy = y + f.offsetY[k];
                 const double density = !xs.analyticDisk  ? xs.bilinear(cx * f.invRadius, cy * f.invRadius)
                                        : coverage >= 1.0 ? 1.0
-                                                         : diskCoverage(glm::dvec2(cx, cy) * f.invRadius, f.cellShape, 1.0);
+                                                         : diskFootprintCoverage(glm::dvec2(cx, cy) * f.invRadius, f.cellShape);
                 const double depth = slabScale(slice, cx, cy) * f.depthScale;
                 if (!(density > 0.0) || !(depth > 0.0)) continue;
                 const double pa = slice.center[a] + cx * slice.right[a] + cy * slice.up[a];
