@@ -37,14 +37,10 @@ JsonObject CpuRegionBackend::stats() const {
     JsonObject out;
     out.set("samples", counters_.sampling.samples)
         .set("threads", counters_.sampling.threads)
-        .set("slices_sampled", counters_.sampling.slicesSampled)
         .set("zoom_regions", counters_.regions + counters_.resumedRegions)
         .set("regions_computed", counters_.regions)
         .set("regions_resumed", counters_.resumedRegions)
         .set("fragment_budget", budget_);
-    // Reported where some region had work enough for every thread.
-    if (counters_.sampling.busyBoxThreadsMin != ~std::uint64_t(0))
-        out.set("busy_region_threads_min", counters_.sampling.busyBoxThreadsMin);
     return out;
 }
 

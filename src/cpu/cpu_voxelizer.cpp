@@ -37,6 +37,49 @@ struct ThreadBricks {
     }
 };
 
+/// The box's voxels, whose samples a box's pass computes. A side of the box
+/// on the grid's face is left open, so that a sample beyond the grid is
+/// still met there, and refused.
+SampleWindow windowOf(const VoxelGrid& grid, glm::ivec3 boxMin, glm::ivec3 boxMax) {
+    SampleWindow window;
+    for (int a = 0; a < 3; ++a) {
+        if (boxMin[a] > 0) window.min[a] = boxMin[a];
+        if (boxMax[a] < grid.dims[a]) window.max[a] = boxMax[a];
+    }
+    return window;
+}
+
+/// The numbers (see accumulateBox's `first`) of the slices of `segments`
+/// whose samples can reach `window`, ascending, placed and tested on every
+/// core: the slice's centre and its segment's reach, as the zoom planner
+/// bins segments, plus a voxel.
+std::vector<std::uint64_t> slicesReaching(const SlicePlan& plan, const VoxelGrid& grid,
+                                          std::span<const std::uint32_t> segments,
+                                          const std::vector<std::uint64_t>& first, const SampleWindow& window) {
+    const double invH = 1.0 / grid.voxelSize;
+    const auto reachesWindow = [&](const Slice& slice, const SegmentRecord& seg) {
+        const glm::dvec3 c = (slice.center - grid.origin) * invH;
+        const double reach = seg.reach * invH + kSampleReachVoxels + 2.0;
+        for (int a = 0; a < 3; ++a)
+            if (c[a] + reach <= double(window.min[a]) || c[a] - reach >= double(window.max[a])) return false;
+        return true;
+    };
+    const std::uint64_t sliceCount = first.back();
+    std::vector<std::uint8_t> reaches(sliceCount);
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, sliceCount, 256), [&](const tbb::blocked_range<std::uint64_t>& range) {
+        std::size_t i = std::upper_bound(first.begin(), first.end(), range.begin()) - first.begin() - 1;
+        for (std::uint64_t n = range.begin(); n != range.end(); ++n) {
+            while (n >= first[i + 1]) ++i;
+            const SegmentRecord& seg = plan.segments[segments[i]];
+            reaches[n] = reachesWindow(placeSlice(seg, static_cast<std::uint32_t>(n - first[i])), seg);
+        }
+    });
+    std::vector<std::uint64_t> out;
+    for (std::uint64_t n = 0; n < sliceCount; ++n)
+        if (reaches[n]) out.push_back(n);
+    return out;
+}
+
 } // namespace
 
 void accumulateSample(Reduce reduce, std::uint32_t* words, int v, double volumeFraction, float density,
@@ -75,42 +118,26 @@ std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSe
     // every core busy.
     std::vector<std::uint64_t> first(segments.size() + 1, 0);
     for (std::size_t i = 0; i < segments.size(); ++i) first[i + 1] = first[i] + plan.segments[segments[i]].sliceCount;
-    const std::uint64_t sliceCount = first.back();
-    Progress progress("voxelize", sliceCount, settings.quiet, "slices");
     std::atomic<bool> outside{false};
-    std::atomic<std::uint64_t> tasks{0}, slicesSampled{0};
+    std::atomic<std::uint64_t> tasks{0};
 
-    // Samples are computed for the box's voxels only. A side of the box on
-    // the grid's face is left open, so that a sample beyond the grid is
-    // still met there, and refused.
-    SampleWindow window;
-    for (int a = 0; a < 3; ++a) {
-        if (boxMin[a] > 0) window.min[a] = boxMin[a];
-        if (boxMax[a] < grid.dims[a]) window.max[a] = boxMax[a];
-    }
-    const double invH = 1.0 / grid.voxelSize;
-    // A slice whose samples cannot reach the window is skipped: its centre's
-    // voxel and its segment's reach, as the zoom planner bins segments (plus
-    // a voxel).
-    const auto reachesWindow = [&](const Slice& slice, const SegmentRecord& seg) {
-        const glm::dvec3 c = (slice.center - grid.origin) * invH;
-        const double reach = seg.reach * invH + kSampleReachVoxels + 2.0;
-        for (int a = 0; a < 3; ++a)
-            if (c[a] + reach <= double(window.min[a]) || c[a] - reach >= double(window.max[a])) return false;
-        return true;
+    // The slices that can reach the box are sampled a few a task: the work
+    // splits by what is sampled, so a small region's few slices still go to
+    // every core. Their order is the plan's, and consecutive slices are
+    // close in space, so each task touches few bricks.
+    const SampleWindow window = windowOf(grid, boxMin, boxMax);
+    const std::vector<std::uint64_t> toSample = slicesReaching(plan, grid, segments, first, window);
+    const auto segmentOf = [&](std::uint64_t n) {
+        return std::size_t(std::upper_bound(first.begin(), first.end(), n) - first.begin() - 1);
     };
-
-    // Consecutive slices are close in space, so each task touches few bricks.
-    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, sliceCount, 8), [&](const tbb::blocked_range<std::uint64_t>& range) {
+    Progress progress("voxelize", toSample.size(), settings.quiet, "slices");
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, toSample.size(), 2), [&](const tbb::blocked_range<std::size_t>& range) {
         ThreadBricks& local = perThread.local();
-        std::size_t i = std::upper_bound(first.begin(), first.end(), range.begin()) - first.begin() - 1;
-        std::uint64_t sampled = 0;
-        for (std::uint64_t n = range.begin(); n != range.end(); ++n) {
+        for (std::size_t r = range.begin(), i = segmentOf(toSample[r]); r != range.end(); ++r) {
+            const std::uint64_t n = toSample[r];
             while (n >= first[i + 1]) ++i;
             const SegmentRecord& seg = plan.segments[segments[i]];
             const Slice slice = placeSlice(seg, static_cast<std::uint32_t>(n - first[i]));
-            if (!reachesWindow(slice, seg)) continue;
-            ++sampled;
             sampleSlice(slice, radius, xs, support, grid, settings.supersample, window, [&](const SliceSample& smp) {
                 const glm::ivec3 v = smp.voxel;
                 if (glm::any(glm::lessThan(v, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(v, grid.dims))) {
@@ -126,9 +153,9 @@ std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSe
             });
         }
         progress.advance(range.size());
-        slicesSampled.fetch_add(sampled, std::memory_order_relaxed);
         tasks.fetch_add(1, std::memory_order_relaxed);
     });
+    const std::uint64_t slicesSampled = toSample.size();
     progress.finish();
     if (outside) throw Error("a slice sample fell outside the voxel grid (the grid does not contain the garment)");
 
