@@ -1,9 +1,12 @@
 #include "core/bricks.h"
 
+#include "core/principal_axis_pair.h"
+
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 
@@ -72,6 +75,32 @@ glm::dvec3 principalAxis(const double t[6]) {
     return glm::normalize(glm::dvec3(v[0][best], v[1][best], v[2][best]));
 }
 
+namespace {
+
+/// The principal axis of each voxel with fibre of a mean's accumulator
+/// (the others are left as they are), two voxels at a time.
+void fibreAxes(const std::uint32_t* w, glm::dvec3* axes) {
+    const auto tensor = [w](int v, double t[6]) {
+        for (int i = 0; i < 6; ++i) t[i] = static_cast<std::int32_t>(w[(1 + i) * kBrickVoxels + v]);
+    };
+    int held = -1;
+    double first[6], second[6];
+    for (int v = 0; v < kBrickVoxels; ++v) {
+        if (w[v] == 0) continue;
+        if (held < 0) {
+            held = v;
+            tensor(v, first);
+            continue;
+        }
+        tensor(v, second);
+        principalAxisPair(first, second, axes[held], axes[v]);
+        held = -1;
+    }
+    if (held >= 0) axes[held] = principalAxis(first);
+}
+
+} // namespace
+
 ResolveTally& ResolveTally::operator+=(const ResolveTally& o) {
     activeVoxels += o.activeVoxels;
     voxelsOverOne += o.voxelsOverOne;
@@ -92,6 +121,8 @@ bool resolveBrick(Reduce reduce, Overlap overlap, const BrickAccumulator& acc, V
         out.albedo.clear();
     bool any = false;
     ResolveTally local;
+    std::array<glm::dvec3, kBrickVoxels> axes;
+    if (reduce == Reduce::Mean) fibreAxes(w, axes.data());
     for (int v = 0; v < kBrickVoxels; ++v) {
         float density = 0.0f;
         glm::dvec3 axis(0.0);
@@ -104,9 +135,7 @@ bool resolveBrick(Reduce reduce, Overlap overlap, const BrickAccumulator& acc, V
             }
             density = static_cast<float>(overlap == Overlap::Clamp ? std::min(raw, 1.0) : raw);
             if (w[v] != 0) {
-                double t[6];
-                for (int i = 0; i < 6; ++i) t[i] = static_cast<std::int32_t>(w[(1 + i) * kBrickVoxels + v]);
-                axis = canonicalAxis(principalAxis(t));
+                axis = canonicalAxis(axes[v]);
                 if (albedo)
                     for (int i = 0; i < 3; ++i)
                         out.albedo[v][i] = static_cast<float>(

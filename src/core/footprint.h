@@ -13,16 +13,29 @@
 
 namespace yv {
 
+/// What diskCoverage finds of a parallelogram's edges before it looks at the
+/// disk: found once for the many centres of a slice's same-shaped footprints.
+struct FootprintShape {
+    glm::dvec2 u, v;
+    double area;  ///< |u x v|
+    double reach; ///< half the sum of the edges' lengths: no point lies further from the centre
+};
+
+inline FootprintShape footprintShape(glm::dvec2 u, glm::dvec2 v) {
+    return {u, v, std::abs(u.x * v.y - u.y * v.x), 0.5 * (glm::length(u) + glm::length(v))};
+}
+
 /// Area of (disk of radius r about the origin) ∩ (parallelogram centred at
-/// `c` with edge vectors `u`, `v`), divided by the parallelogram's area.
+/// `c` with the edges of `shape`), divided by the parallelogram's area.
 /// Exact: the clipped polygon's area by the shoelace formula about `c` (no
 /// cancellation however far the disk's centre is), plus a circular cap for
 /// every arc of the boundary, r^2 / 2 (theta - sin theta), by its series when
 /// theta is small.
-inline double diskCoverage(glm::dvec2 c, glm::dvec2 u, glm::dvec2 v, double r) {
-    const double area = std::abs(u.x * v.y - u.y * v.x);
+inline double diskCoverage(glm::dvec2 c, const FootprintShape& shape, double r) {
+    glm::dvec2 u = shape.u, v = shape.v;
+    const double area = shape.area;
     if (!(area > 0.0)) return 0.0;
-    const double reach = 0.5 * (glm::length(u) + glm::length(v)), dist = glm::length(c);
+    const double reach = shape.reach, dist = glm::length(c);
     if (dist - reach >= r) return 0.0;
     if (dist + reach <= r) return 1.0;
     if (u.x * v.y - u.y * v.x < 0.0) std::swap(u, v); // counter-clockwise corners
@@ -86,6 +99,11 @@ inline double diskCoverage(glm::dvec2 c, glm::dvec2 u, glm::dvec2 v, double r) {
         return std::min(1.0, M_PI * r2 / area);
     }
     return std::clamp((0.5 * twice + caps) / area, 0.0, 1.0);
+}
+
+/// The same, with edge vectors `u`, `v`.
+inline double diskCoverage(glm::dvec2 c, glm::dvec2 u, glm::dvec2 v, double r) {
+    return diskCoverage(c, footprintShape(u, v), r);
 }
 
 } // namespace yv

@@ -3,9 +3,11 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "cpu/slice_sampler.h"
+#include "plan/grid.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -34,6 +36,49 @@ struct ThreadBricks {
         return bricks[lastSlot].words.data();
     }
 };
+
+/// The box's voxels, whose samples a box's pass computes. A side of the box
+/// on the grid's face is left open, so that a sample beyond the grid is
+/// still met there, and refused.
+SampleWindow windowOf(const VoxelGrid& grid, glm::ivec3 boxMin, glm::ivec3 boxMax) {
+    SampleWindow window;
+    for (int a = 0; a < 3; ++a) {
+        if (boxMin[a] > 0) window.min[a] = boxMin[a];
+        if (boxMax[a] < grid.dims[a]) window.max[a] = boxMax[a];
+    }
+    return window;
+}
+
+/// The numbers (see accumulateBox's `first`) of the slices of `segments`
+/// whose samples can reach `window`, ascending, placed and tested on every
+/// core: the slice's centre and its segment's reach, as the zoom planner
+/// bins segments, plus a voxel.
+std::vector<std::uint64_t> slicesReaching(const SlicePlan& plan, const VoxelGrid& grid,
+                                          std::span<const std::uint32_t> segments,
+                                          const std::vector<std::uint64_t>& first, const SampleWindow& window) {
+    const double invH = 1.0 / grid.voxelSize;
+    const auto reachesWindow = [&](const Slice& slice, const SegmentRecord& seg) {
+        const glm::dvec3 c = (slice.center - grid.origin) * invH;
+        const double reach = seg.reach * invH + kSampleReachVoxels + 2.0;
+        for (int a = 0; a < 3; ++a)
+            if (c[a] + reach <= double(window.min[a]) || c[a] - reach >= double(window.max[a])) return false;
+        return true;
+    };
+    const std::uint64_t sliceCount = first.back();
+    std::vector<std::uint8_t> reaches(sliceCount);
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, sliceCount, 256), [&](const tbb::blocked_range<std::uint64_t>& range) {
+        std::size_t i = std::upper_bound(first.begin(), first.end(), range.begin()) - first.begin() - 1;
+        for (std::uint64_t n = range.begin(); n != range.end(); ++n) {
+            while (n >= first[i + 1]) ++i;
+            const SegmentRecord& seg = plan.segments[segments[i]];
+            reaches[n] = reachesWindow(placeSlice(seg, static_cast<std::uint32_t>(n - first[i])), seg);
+        }
+    });
+    std::vector<std::uint64_t> out;
+    for (std::uint64_t n = 0; n < sliceCount; ++n)
+        if (reaches[n]) out.push_back(n);
+    return out;
+}
 
 } // namespace
 
@@ -73,45 +118,50 @@ std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSe
     const double radius = plan.options.radius;
     const double support = textureSupport(xs);
     tbb::enumerable_thread_specific<ThreadBricks> perThread;
-    std::uint64_t sliceCount = 0;
-    for (std::uint32_t s : segments) sliceCount += plan.segments[s].sliceCount;
-    Progress progress("voxelize", sliceCount, settings.quiet, "slices");
+    // The box's slices numbered one after another across its segments
+    // (first[i]: the number of segment i's first slice), so that the work
+    // splits by slice: a region crossed by a few long segments still keeps
+    // every core busy.
+    std::vector<std::uint64_t> first(segments.size() + 1, 0);
+    for (std::size_t i = 0; i < segments.size(); ++i) first[i + 1] = first[i] + plan.segments[segments[i]].sliceCount;
     std::atomic<bool> outside{false};
     std::atomic<std::uint64_t> tasks{0};
 
-    // Consecutive segments are close in space, so each task touches few bricks.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 64),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                          ThreadBricks& local = perThread.local();
-                          std::uint64_t slices = 0;
-                          for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                              const SegmentRecord& seg = plan.segments[segments[i]];
-                              for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
-                                  const Slice slice = placeSlice(seg, k);
-                                  sampleSlice(slice, radius, xs, support, grid, settings.supersample,
-                                              [&](const SliceSample& smp) {
-                                                  const glm::ivec3 v = smp.voxel;
-                                                  if (glm::any(glm::lessThan(v, glm::ivec3(0))) ||
-                                                      glm::any(glm::greaterThanEqual(v, grid.dims))) {
-                                                      outside = true;
-                                                      return;
-                                                  }
-                                                  // Another box's voxel: that box's pass takes it.
-                                                  if (glm::any(glm::lessThan(v, boxMin)) ||
-                                                      glm::any(glm::greaterThanEqual(v, boxMax)))
-                                                      return;
-                                                  std::uint32_t* w = local.words(brickKey(v >> 3), reduce, albedo);
-                                                  accumulateSample(reduce, w, brickOffset(v.x & 7, v.y & 7, v.z & 7),
-                                                                   smp.volumeFraction, smp.density, smp.direction,
-                                                                   albedo ? &smp.albedo : nullptr);
-                                                  ++local.samples;
-                                              });
-                              }
-                              slices += seg.sliceCount;
-                          }
-                          progress.advance(slices);
-                          tasks.fetch_add(1, std::memory_order_relaxed);
-                      });
+    // The slices that can reach the box are sampled a few a task: the work
+    // splits by what is sampled, so a small region's few slices still go to
+    // every core. Their order is the plan's, and consecutive slices are
+    // close in space, so each task touches few bricks.
+    const SampleWindow window = windowOf(grid, boxMin, boxMax);
+    const std::vector<std::uint64_t> toSample = slicesReaching(plan, grid, segments, first, window);
+    const auto segmentOf = [&](std::uint64_t n) {
+        return std::size_t(std::upper_bound(first.begin(), first.end(), n) - first.begin() - 1);
+    };
+    Progress progress("voxelize", toSample.size(), settings.quiet, "slices");
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, toSample.size(), 2), [&](const tbb::blocked_range<std::size_t>& range) {
+        ThreadBricks& local = perThread.local();
+        for (std::size_t r = range.begin(), i = segmentOf(toSample[r]); r != range.end(); ++r) {
+            const std::uint64_t n = toSample[r];
+            while (n >= first[i + 1]) ++i;
+            const SegmentRecord& seg = plan.segments[segments[i]];
+            const Slice slice = placeSlice(seg, static_cast<std::uint32_t>(n - first[i]));
+            sampleSlice(slice, radius, xs, support, grid, settings.supersample, window, [&](const SliceSample& smp) {
+                const glm::ivec3 v = smp.voxel;
+                if (glm::any(glm::lessThan(v, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(v, grid.dims))) {
+                    outside = true;
+                    return;
+                }
+                // Another box's voxel: that box's pass takes it.
+                if (glm::any(glm::lessThan(v, boxMin)) || glm::any(glm::greaterThanEqual(v, boxMax))) return;
+                std::uint32_t* w = local.words(brickKey(v >> 3), reduce, albedo);
+                accumulateSample(reduce, w, brickOffset(v.x & 7, v.y & 7, v.z & 7), smp.volumeFraction, smp.density,
+                                 smp.direction, albedo ? &smp.albedo : nullptr);
+                ++local.samples;
+            });
+        }
+        progress.advance(range.size());
+        tasks.fetch_add(1, std::memory_order_relaxed);
+    });
+    const std::uint64_t slicesSampled = toSample.size();
     progress.finish();
     if (outside) throw Error("a slice sample fell outside the voxel grid (the grid does not contain the garment)");
 
@@ -147,7 +197,11 @@ std::vector<BrickAccumulator> accumulateBox(const SlicePlan& plan, const CrossSe
     if (counters) {
         counters->samples += samples;
         counters->tasks += tasks;
+        counters->slicesSampled += slicesSampled;
         counters->threads = std::max<std::uint64_t>(counters->threads, threads.size());
+        // Boxes with fewer slices than threads cannot keep them all busy.
+        if (slicesSampled >= 8 * std::uint64_t(tbb::this_task_arena::max_concurrency()))
+            counters->busyBoxThreadsMin = std::min<std::uint64_t>(counters->busyBoxThreadsMin, threads.size());
     }
     return merged;
 }

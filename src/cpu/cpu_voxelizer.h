@@ -18,6 +18,10 @@ struct CpuVoxelizeCounters {
     std::uint64_t samples = 0; ///< samples that landed on fibre
     std::uint64_t tasks = 0;   ///< slice-range tasks TBB ran (a test checks that the work was split)
     std::uint64_t threads = 0; ///< threads that ran at least one of them
+    std::uint64_t slicesSampled = 0; ///< slices whose samples could reach their box (the others are skipped)
+    /// Fewest threads that ran a box's tasks, over the boxes with at least 8
+    /// slices sampled a thread (UINT64_MAX: none had as many).
+    std::uint64_t busyBoxThreadsMin = ~std::uint64_t(0);
 };
 
 /// Accumulates the slices of `segments` (indices into plan.segments) into the

@@ -316,10 +316,14 @@ Slice placeSlice(const SegmentRecord& segment, std::uint32_t k) {
     return s;
 }
 
-glm::dvec3 fiberDirection(const Slice& slice, double x, double y) {
+FiberTwist fiberTwist(const Slice& slice) { return {std::cos(slice.twistStep), std::sin(slice.twistStep)}; }
+
+glm::dvec3 fiberDirection(const Slice& slice, double x, double y) { return fiberDirection(slice, fiberTwist(slice), x, y); }
+
+glm::dvec3 fiberDirection(const Slice& slice, const FiberTwist& twist, double x, double y) {
     // Eq. 1: the fibre at (x, y) sits at (x, y) turned by the twist step on the
     // next slice, one thickness further along the tangent.
-    const double c = std::cos(slice.twistStep), s = std::sin(slice.twistStep);
+    const double c = twist.cos, s = twist.sin;
     const double dx = x * c - y * s - x;
     const double dy = x * s + y * c - y;
     return glm::normalize(dx * slice.right + dy * slice.up + slice.thickness * slice.tangent);

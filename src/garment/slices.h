@@ -120,4 +120,12 @@ glm::dvec3 rotateMinimal(const glm::dvec3& v, const glm::dvec3& from, const glm:
 /// between this slice and the next (the paper's eq. 1), sign along the tangent.
 glm::dvec3 fiberDirection(const Slice& slice, double x, double y);
 
+/// The cosine and sine of a slice's twist step, found once for all of its samples.
+struct FiberTwist {
+    double cos = 1.0, sin = 0.0;
+};
+FiberTwist fiberTwist(const Slice& slice);
+/// fiberDirection with the slice's twist found beforehand: the same bits.
+glm::dvec3 fiberDirection(const Slice& slice, const FiberTwist& twist, double x, double y);
+
 } // namespace yv
