@@ -86,6 +86,7 @@ void writeText(const fs::path& p, const std::string& s) {
 
 /// The record's text as the file holds it (through OpenVDB, as any metadata).
 std::string recordOf(const std::string& path) {
+    openvdb::initialize();
     openvdb::io::File file(path);
     file.open(false);
     const auto item = file.getMetadata()->getMetadata<openvdb::StringMetadata>(kVoxelStatisticsName);
