@@ -1,4 +1,4 @@
-// Shader texts embedded at build time from shaders/ (see cmake/EmbedShaders.cmake).
+// Shader texts embedded at build time from shaders/ (see cmake/EmbedFiles.cmake).
 #pragma once
 
 namespace yv {

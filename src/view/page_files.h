@@ -1,5 +1,5 @@
 // The page of `yarnvox view` (page/ in the source tree), packed into the
-// binary at build time as the shaders are (cmake/EmbedPage.cmake).
+// binary at build time as the shaders are (cmake/EmbedFiles.cmake).
 #pragma once
 
 namespace yv {
