@@ -108,6 +108,13 @@ void addViewCommand(CLI::App& app) {
     cmd->add_option("--quality", a->request.jpegQuality, "JPEG quality of the frames, 1 to 100")
         ->capture_default_str()
         ->check(wholeNumber(1, 100));
+    cmd->add_option("--save-dir", a->request.saveDir,
+                    "A garment: where the s and W keys save the view's voxelization (a .vdb, a work directory)")
+        ->capture_default_str();
+    cmd->add_option("--view-voxels", a->request.maxSideVoxels,
+                    "A garment: the most voxels along the longest side of what the camera sees when it is voxelized")
+        ->capture_default_str()
+        ->check(wholeNumber(16, 8192));
     addVoxelizeOptions(cmd, a->request.voxelize);
     cmd->callback([a] { runViewCommand(*a); });
 }

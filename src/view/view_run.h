@@ -22,6 +22,8 @@ struct ViewRequest {
     VoxelizeJob voxelize;      ///< how a garment is voxelized (its input and output are set by the view)
     std::uint64_t gpuBudgetBytes = 512ull << 20;
     int jpegQuality = 85;      ///< --quality
+    std::string saveDir = "."; ///< --save-dir: where the view's voxelizations are saved
+    int maxSideVoxels = 1024;  ///< --view-voxels: a view voxelization's longest side, in voxels
 };
 
 /// Runs the view. `ready(port)` is called once the page is served (the
