@@ -178,8 +178,11 @@ void runStopPhase(Session& s, int stops, const Options& o) {
         stopToDetail.push_back(f["stopToDetailMs"]);
         runSeconds.push_back(d["seconds"]);
         active.push_back(d["activeVoxels"]);
+        // Where the time went: the run (request to .vdb written), then the
+        // frame that opens it and loads its atlas (renderMs), then encoding and sending.
         runs.push_back({{"voxelSize", d["voxelSize"]}, {"bboxWorld", d["bboxWorld"]}, {"activeVoxels", d["activeVoxels"]},
-                        {"stopToDetailMs", f["stopToDetailMs"]}});
+                        {"stopToDetailMs", f["stopToDetailMs"]}, {"runSeconds", d["seconds"]},
+                        {"frameRenderMs", f["renderMs"]}, {"frameEncodeMs", f["encodeMs"]}});
     }
     const Json line = {{"phase", "stop-and-voxelize"},
                        {"mode", o.mode},
