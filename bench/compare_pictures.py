@@ -2,7 +2,10 @@
 """How far apart two renders of the same scene are, as one JSON line:
 PSNR over the RGB channels (0-255 scale), the largest per-channel pixel
 difference, the pixels whose largest channel difference is over 1 and over
-the given threshold, and the mean absolute difference.
+8, and the mean absolute difference; and the PSNR over the foreground only:
+the pixels where either picture is not the top left pixel's colour (the
+flat background of tools/render-blender.py), so that a garment small in the
+frame does not have its difference diluted by the background.
 
     bench/compare_pictures.py A.png B.png [LABEL]
 
@@ -25,12 +28,20 @@ def rgb(path):
         raise SystemExit(f"compare_pictures: {path}: {e}")
 
 
+def psnr(diff):
+    """None where the pictures are identical."""
+    mse = float(np.mean(diff.astype(np.float64) ** 2)) if diff.size else 0.0
+    return None if mse == 0 else round(10 * math.log10(255.0 ** 2 / mse), 2)
+
+
 def compare(a, b):
     diff = np.abs(a - b)
     per_pixel = diff.max(axis=2)
-    mse = float(np.mean(diff.astype(np.float64) ** 2))
+    foreground = np.any(a != a[0, 0], axis=2) | np.any(b != b[0, 0], axis=2)
     return {
-        "psnr_db": None if mse == 0 else round(10 * math.log10(255.0 ** 2 / mse), 2),  # None: identical
+        "psnr_db": psnr(diff),
+        "psnr_db_foreground": psnr(diff[foreground]),
+        "foreground_pixels": int(np.count_nonzero(foreground)),
         "max_channel_diff": int(diff.max()),
         "pixels_over_1": int(np.count_nonzero(per_pixel > 1)),
         "pixels_over_8": int(np.count_nonzero(per_pixel > 8)),
