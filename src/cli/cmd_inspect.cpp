@@ -251,7 +251,7 @@ void addPictureOptions(CLI::App* cmd, InspectArgs& a) {
                     "Draw a picture to -o instead of printing numbers: raycast (transfer function), mip (maximum "
                     "density along each ray), cut (one plane of voxels, --cut), orientation (|axis| as RGB), slices "
                     "(the run's garment as alpha-blended slices shaded by fibre orientation, sorted back to front on "
-                    "every core; the garment and slice options the run recorded, or --garment), texture-slicing "
+                    "the GPU; the garment and slice options the run recorded, or --garment), texture-slicing "
                     "(view-aligned planes blended back to front, --slices), half-angle (planes lit by a directional "
                     "light, --light, with shadows), splatting (each voxel a Gaussian splat, for comparing coarse "
                     "levels with raycast), isosurface (the surface at density --iso, shaded by the density gradient) "

@@ -1,7 +1,8 @@
 // The slices of `yarnvox inspect --render slices` (the paper's own view of
 // the garment, its section 3.5): one record a slice in the voxel grid's
 // coordinates, as the renderer draws them, and their back-to-front order
-// for alpha blending, sorted on every core.
+// for alpha blending sorted on every core of the host: the reference for
+// the order the renderer sorts on the GPU (src/render/slice_renderer.h).
 #pragma once
 
 #include "garment/slices.h"

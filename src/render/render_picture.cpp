@@ -157,8 +157,8 @@ std::string pictureText(const PictureRequest& p, const Drawn& d) {
     if (r.kind == RenderKind::Slices) {
         appendf(out, "%s: slices, %dx%d, on %s\n", p.output.c_str(), r.width, r.height, rep.renderer.c_str());
         for (const std::string& n : d.notes) appendf(out, "  %s\n", n.c_str());
-        appendf(out, "  %llu slices; back-to-front sort %.3f s (on %s), draw %.3f s%s (uploading %.3f s)\n",
-                static_cast<unsigned long long>(rep.slices), rep.sortSeconds, "every core", rep.frameSeconds,
+        appendf(out, "  %llu slices; back-to-front sort %.3f s (on the GPU), draw %.3f s%s (uploading %.3f s)\n",
+                static_cast<unsigned long long>(rep.slices), rep.sortSeconds, rep.frameSeconds,
                 r.repeat > 1 ? " (medians)" : "", rep.loadSeconds);
         return out;
     }

@@ -32,8 +32,9 @@ struct RenderReport {
     std::uint64_t budgetBytes = 0; ///< the budget the level was chosen for
     double meanSamples = 0.0, loadSeconds = 0.0;
     double frameSeconds = 0.0, bestFrameSeconds = 0.0; ///< median and fastest of the repeated frames
-    /// The host work before each frame's draw (Renderer::prepare): for
-    /// slices, the back-to-front sort (their frame time is the draw alone).
+    /// The work before each frame's draw (Renderer::prepare): for slices,
+    /// the back-to-front sort, on the GPU, to its end (their frame time is
+    /// the draw alone).
     double sortSeconds = 0.0, bestSortSeconds = 0.0;
 };
 

@@ -1,12 +1,15 @@
 #include "render/slice_renderer.h"
 
 #include "core/error.h"
+#include "gpu/gl_bindings.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
 #include <algorithm>
+#include <cstddef>
+#include <cstring>
 
 namespace yv {
 namespace {
@@ -14,21 +17,39 @@ namespace {
 /// Extinction times the yarn's radius: a ray through the axis keeps e^-4 (2 %).
 constexpr float kOpacityTimesRadius = 2.0f;
 const glm::vec3 kAlbedo(0.92f, 0.78f, 0.58f);
+constexpr GLuint kBoxVertices = 14;   // one slab: a triangle strip (inspect_slices.vert)
+constexpr std::uint64_t kKeyGroup = 256; // inspect_slices_keys.comp's local_size_x
 
-/// Refuses more slices than the driver's buffer textures hold (two texels each).
+/// glDrawArraysIndirect's command.
+struct DrawCommand {
+    GLuint count, instanceCount, first, baseInstance;
+};
+
+/// Refuses more slices than the driver's buffer textures (two texels each)
+/// or storage blocks (the sort's, a word each) hold.
 const SliceInstances& fitting(const SliceInstances& s) {
     GLint maxTexels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-    if (s.records.size() > std::size_t(maxTexels))
-        throw Error("--render slices: " + std::to_string(s.count()) + " slices exceed the driver's buffer textures (" +
-                    std::to_string(maxTexels / 2) + " slices): draw a --region");
+    GLint64 maxBlock = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+    const std::uint64_t fit = std::min<std::uint64_t>(std::uint64_t(maxTexels) / 2, std::uint64_t(maxBlock) / 4);
+    if (s.count() > fit)
+        throw Error("--render slices: " + std::to_string(s.count()) + " slices exceed the driver's buffers (" +
+                    std::to_string(fit) + " slices): draw a --region");
     return s;
+}
+
+GLuint maxComputeGroups() {
+    GLint groups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
+    return GLuint(std::max(groups, 1));
 }
 
 } // namespace
 
-SliceRenderer::SliceRenderer(const SliceInstances& slices)
-    : slices_(fitting(slices)), program_(GlProgram::graphics("inspect_slices.vert", "inspect_slices.frag")),
+SliceRenderer::SliceRenderer(const SliceInstances& slices, const SliceSettings& settings)
+    : slices_(fitting(slices)), settings_(settings),
+      program_(GlProgram::graphics("inspect_slices.vert", "inspect_slices.frag")),
       sliceTexture_(createTexture(GL_TEXTURE_BUFFER)), orderArray_(createVertexArray()) {
     const std::size_t records = std::max<std::size_t>(slices.records.size(), 2);
     sliceBuffer_.reserve(records * sizeof(glm::vec4), nullptr);
@@ -42,15 +63,51 @@ SliceRenderer::SliceRenderer(const SliceInstances& slices)
     glEnableVertexArrayAttrib(vao, 0);
     glVertexArrayAttribIFormat(vao, 0, 1, GL_UNSIGNED_INT, 0);
     glVertexArrayAttribBinding(vao, 0, 0);
+    // The host's order draws every slice; the GPU's, the count its sort kept.
+    const DrawCommand command{kBoxVertices, GLuint(settings.sortOnHost ? slices.count() : 0), 0, 0};
+    drawCommand_.reserve(sizeof(command), nullptr);
+    glNamedBufferSubData(drawCommand_.id(), 0, sizeof(command), &command);
+    if (!settings.sortOnHost) {
+        maxGroups_ = maxComputeGroups();
+        keys_ = GlProgram::compute("inspect_slices_keys.comp");
+        sort_.emplace(slices.count(), maxGroups_);
+    }
     checkGlError("uploading the slices");
 }
 
-void SliceRenderer::prepare(const Camera& camera) { sortBackToFront(slices_, camera.eye, order_); }
+void SliceRenderer::prepare(const Camera& camera) {
+    const std::uint64_t n = slices_.count();
+    if (settings_.sortOnHost) {
+        sortBackToFront(slices_, camera.eye, hostOrder_);
+        if (n) glNamedBufferSubData(orderBuffer_.id(), 0, GLsizeiptr(n * sizeof(std::uint32_t)), hostOrder_.data());
+        drawn_ = n;
+        return;
+    }
+    drawn_ = 0;
+    if (n == 0) return;
+    keys_.use();
+    glUniform1ui(keys_.uniform("uSlices"), GLuint(n));
+    const glm::vec3 eye(camera.eye); // as sortBackToFront rounds it
+    glUniform3fv(keys_.uniform("uEye"), 1, glm::value_ptr(eye));
+    glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
+    sort_->keys().bindStorage(kSortKeysInBinding);
+    sort_->values().bindStorage(kSortValuesInBinding);
+    glDispatchCompute(GLuint(std::min<std::uint64_t>((n + kKeyGroup - 1) / kKeyGroup, maxGroups_)), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    sort_->sort(GLuint(n), orderBuffer_);
+    // The kept count becomes the draw's instances, on the GPU; the host reads
+    // it only for the report (and that read waits for the sort).
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glCopyNamedBufferSubData(sort_->kept().id(), drawCommand_.id(), 0, offsetof(DrawCommand, instanceCount), 4);
+    glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    GLuint kept = 0;
+    std::memcpy(&kept, readback_.read(sort_->kept().id(), 4, nullptr), 4);
+    drawn_ = kept;
+    checkGlError("sorting the slices");
+}
 
 void SliceRenderer::draw(const Frame& frame) {
     const Camera& camera = frame.camera;
-    if (!order_.empty())
-        glNamedBufferSubData(orderBuffer_.id(), 0, GLsizeiptr(order_.size() * sizeof(std::uint32_t)), order_.data());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glEnable(GL_BLEND);
@@ -68,11 +125,19 @@ void SliceRenderer::draw(const Frame& frame) {
     glUniform3fv(program_.uniform("albedo"), 1, glm::value_ptr(kAlbedo));
     const float radius = slices_.count() ? slices_.records[1].w : 1.0f;
     glUniform1f(program_.uniform("opacityPerVoxel"), kOpacityTimesRadius / std::max(radius, 1e-6f));
-    glBindTextureUnit(0, sliceTexture_.id());
+    glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
     glBindVertexArray(orderArray_.id());
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 14, GLsizei(order_.size()));
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, drawCommand_.id());
+    glDrawArraysIndirect(GL_TRIANGLE_STRIP, nullptr);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glDisable(GL_BLEND);
     checkGlError("drawing the slices");
+}
+
+std::vector<std::uint32_t> SliceRenderer::drawOrder() {
+    std::vector<std::uint32_t> order(drawn_);
+    if (drawn_) std::memcpy(order.data(), readback_.read(orderBuffer_.id(), drawn_ * 4, nullptr), drawn_ * 4);
+    return order;
 }
 
 } // namespace yv
