@@ -145,3 +145,59 @@ TEST_CASE("slices on the GPU: the back-to-front order is sortBackToFront's, ties
     CHECK(coveredPixels(fromHost.image) > 96 * 72 / 10);
     CHECK(differingBytes(fromGpu.image, fromHost.image) == 0);
 }
+
+TEST_CASE("slices on the GPU: a close-up draws only the slices in view, and the same picture as drawing all", "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    RenderContext context;
+    context.gl();
+    const TestSlices t = knitSlices(120, 48, 0);
+    const std::uint64_t n = t.slices.count();
+    // Close enough that the near plane and the picture's sides cut the cylinder.
+    const Camera camera = frameBox(t.box, ViewAngles{35.0, 25.0, 1.2}, 96, 72);
+    SliceSettings every;
+    every.cull = false;
+    SliceRenderer culled(t.slices), all(t.slices, every);
+    RenderReport fromCulled, fromAll;
+    drawFrames(culled, camera, 1, fromCulled);
+    drawFrames(all, camera, 1, fromAll);
+    INFO(fromCulled.slices << " of " << n << " slices drawn");
+    CHECK(fromAll.slices == n);
+    CHECK(fromCulled.slices < n * 3 / 4);
+    CHECK(fromCulled.slices > n / 10);
+    CHECK(coveredPixels(fromAll.image) > 96 * 72 / 4);
+    CHECK(differingBytes(fromCulled.image, fromAll.image) == 0);
+
+    // The order kept is the host's with the culled slices left out; every
+    // slice well inside the picture is kept, every one well outside dropped.
+    const std::vector<std::uint32_t> kept = culled.drawOrder();
+    REQUIRE(kept.size() == fromCulled.slices);
+    std::vector<std::uint32_t> expected;
+    sortBackToFront(t.slices, camera.eye, expected);
+    std::vector<char> isKept(n, 0);
+    for (std::uint32_t i : kept) isKept[i] = 1;
+    std::vector<std::uint32_t> expectedKept;
+    for (std::uint32_t i : expected)
+        if (isKept[i]) expectedKept.push_back(i);
+    CHECK(expectedKept == kept);
+    const glm::dmat4 vp = camera.viewProjection();
+    int wellInside = 0, wellOutside = 0, insideDropped = 0, outsideKept = 0;
+    for (std::uint64_t i = 0; i < n; ++i) {
+        const glm::dvec4 clip = vp * glm::dvec4(glm::dvec3(t.slices.center(i)), 1.0);
+        const double reach = std::sqrt(2.0) * t.slices.records[2 * i + 1].w + t.slices.records[2 * i].w;
+        if (clip.w <= reach) continue; // near the eye's plane: neither
+        const double rx = reach * camera.projection[0][0] / clip.w, ry = reach * camera.projection[1][1] / clip.w;
+        const double x = std::abs(clip.x / clip.w), y = std::abs(clip.y / clip.w), z = clip.z / clip.w;
+        if (x + rx < 0.95 && y + ry < 0.95 && z > -0.9 && z < 0.9) {
+            ++wellInside;
+            insideDropped += !isKept[i];
+        } else if (x - rx > 1.05 || y - ry > 1.05) {
+            ++wellOutside;
+            outsideKept += isKept[i];
+        }
+    }
+    INFO(wellInside << " slices well inside the picture, " << wellOutside << " well outside");
+    CHECK(wellInside > int(n / 10));
+    CHECK(wellOutside > int(n / 10));
+    CHECK(insideDropped == 0);
+    CHECK(outsideKept == 0);
+}

@@ -77,6 +77,7 @@ std::string pictureJson(const PictureRequest& p, const Drawn& d) {
         out.set("view", p.viewText)
             .set("renderer", rep.renderer)
             .set("slices", rep.slices)
+            .set("garment_slices", rep.garmentSlices)
             .set("frames", r.repeat)
             .set("sort_seconds_median", rep.sortSeconds)
             .set("sort_seconds_best", rep.bestSortSeconds)
@@ -157,8 +158,10 @@ std::string pictureText(const PictureRequest& p, const Drawn& d) {
     if (r.kind == RenderKind::Slices) {
         appendf(out, "%s: slices, %dx%d, on %s\n", p.output.c_str(), r.width, r.height, rep.renderer.c_str());
         for (const std::string& n : d.notes) appendf(out, "  %s\n", n.c_str());
-        appendf(out, "  %llu slices; back-to-front sort %.3f s (on the GPU), draw %.3f s%s (uploading %.3f s)\n",
-                static_cast<unsigned long long>(rep.slices), rep.sortSeconds, rep.frameSeconds,
+        appendf(out, "  %llu of %llu slices drawn (the others outside the view); back-to-front sort %.3f s (on the "
+                "GPU), draw %.3f s%s (uploading %.3f s)\n",
+                static_cast<unsigned long long>(rep.slices), static_cast<unsigned long long>(rep.garmentSlices),
+                rep.sortSeconds, rep.frameSeconds,
                 r.repeat > 1 ? " (medians)" : "", rep.loadSeconds);
         return out;
     }

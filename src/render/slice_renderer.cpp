@@ -8,6 +8,7 @@
 #include <glm/matrix.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstring>
 
@@ -37,6 +38,19 @@ const SliceInstances& fitting(const SliceInstances& s) {
         throw Error("--render slices: " + std::to_string(s.count()) + " slices exceed the driver's buffers (" +
                     std::to_string(fit) + " slices): draw a --region");
     return s;
+}
+
+/// The planes of `camera`'s frustum (a x + b y + c z + d >= 0 inside), unit normals.
+std::array<glm::vec4, 6> frustumPlanes(const Camera& camera) {
+    const glm::dmat4 m = camera.viewProjection();
+    const auto row = [&](int r) { return glm::dvec4(m[0][r], m[1][r], m[2][r], m[3][r]); };
+    std::array<glm::vec4, 6> planes;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            const glm::dvec4 p = row(3) + (side ? -1.0 : 1.0) * row(axis);
+            planes[2 * axis + side] = glm::vec4(p / glm::length(glm::dvec3(p)));
+        }
+    return planes;
 }
 
 GLuint maxComputeGroups() {
@@ -89,6 +103,9 @@ void SliceRenderer::prepare(const Camera& camera) {
     glUniform1ui(keys_.uniform("uSlices"), GLuint(n));
     const glm::vec3 eye(camera.eye); // as sortBackToFront rounds it
     glUniform3fv(keys_.uniform("uEye"), 1, glm::value_ptr(eye));
+    glUniform1i(keys_.uniform("uCull"), settings_.cull ? 1 : 0);
+    const std::array<glm::vec4, 6> planes = frustumPlanes(camera);
+    glUniform4fv(keys_.uniform("uPlanes"), 6, glm::value_ptr(planes[0]));
     glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
     sort_->keys().bindStorage(kSortKeysInBinding);
     sort_->values().bindStorage(kSortValuesInBinding);

@@ -2,11 +2,12 @@
 // Lambertian shading from the fibre orientation (the paper's own view,
 // section 3.5), from the same camera as the volume renders. The slices stay
 // on the GPU (a buffer texture, two texels each). A frame's order is made
-// there too: a compute pass keys each slice by its distance from the eye
-// (inspect_slices_keys.comp), a radix sort (gpu/radix_sort.h) writes the
-// back-to-front order straight into the instance attribute's buffer, and
-// one instanced draw takes them all; the host neither sorts nor uploads.
-// (The context must be current.)
+// there too: a compute pass drops the slices outside the view frustum and
+// keys the others by their distance from the eye (inspect_slices_keys.comp),
+// a radix sort (gpu/radix_sort.h) writes the back-to-front order of those
+// kept straight into the instance attribute's buffer and their count into
+// an indirect draw's command, and one instanced draw takes them; the host
+// neither sorts nor uploads. (The context must be current.)
 #pragma once
 
 #include "gpu/gl_buffer.h"
@@ -22,11 +23,13 @@
 
 namespace yv {
 
-/// How the slices are ordered.
+/// How the slices are ordered and which are drawn.
 struct SliceSettings {
     /// The reference: sorted on every core of the host (sortBackToFront) and
-    /// uploaded each frame, as before the sort moved to the GPU.
+    /// uploaded each frame, every slice drawn, as before the sort moved to the GPU.
     bool sortOnHost = false;
+    /// Drop the slices outside the view frustum before the sort (the GPU's order only).
+    bool cull = true;
 };
 
 class SliceRenderer : public Renderer {
@@ -41,8 +44,11 @@ class SliceRenderer : public Renderer {
     void prepare(const Camera& camera) override;
     /// Draws the slices in the order prepare() made.
     void draw(const Frame& frame) override;
-    /// The slices drawn.
-    void describe(RenderReport& report) const override { report.slices = drawn_; }
+    /// The slices drawn in the last frame, of the garment's.
+    void describe(RenderReport& report) const override {
+        report.slices = drawn_;
+        report.garmentSlices = slices_.count();
+    }
 
     /// The slice indices the last prepare() put in the draw's order (read back; for tests).
     std::vector<std::uint32_t> drawOrder();
