@@ -108,6 +108,11 @@ void addViewCommand(CLI::App& app) {
     cmd->add_option("--quality", a->request.jpegQuality, "JPEG quality of the frames, 1 to 100")
         ->capture_default_str()
         ->check(wholeNumber(1, 100));
+    cmd->add_option("--slice-lod", a->request.sliceLodPixels,
+                    "The slices' level of detail, in pixels: where a yarn's slices lie closer on screen, one slab is "
+                    "drawn for 2, 4, ... 64 consecutive slices, none longer than this (0: every slice)")
+        ->capture_default_str()
+        ->check(finiteRange(0.0, 1e6));
     addVoxelizeOptions(cmd, a->request.voxelize);
     cmd->callback([a] { runViewCommand(*a); });
 }

@@ -14,6 +14,7 @@
 #include "gpu/gl_objects.h"
 #include "gpu/gl_program.h"
 #include "gpu/radix_sort.h"
+#include "inspect/render_request.h"
 #include "inspect/slice_instances.h"
 #include "render/renderer.h"
 
@@ -30,6 +31,12 @@ struct SliceSettings {
     bool sortOnHost = false;
     /// Drop the slices outside the view frustum before the sort (the GPU's order only).
     bool cull = true;
+    /// Level of detail (the GPU's order only): where a yarn's slices lie
+    /// closer on screen than this, draw one slab for each 2^L consecutive
+    /// slices of a segment (L up to 6), as long as they are together, so
+    /// that no such slab spans more pixels along the yarn than this. 0 draws
+    /// every slice.
+    double lodPixels = kDefaultSliceLodPixels;
 };
 
 class SliceRenderer : public Renderer {
@@ -52,13 +59,16 @@ class SliceRenderer : public Renderer {
 
     /// The slice indices the last prepare() put in the draw's order (read back; for tests).
     std::vector<std::uint32_t> drawOrder();
+    /// Per slice, the slices its slab stood for in the last prepare()
+    /// (meaningful for the slices in drawOrder(); read back; for tests).
+    std::vector<std::uint32_t> spans();
 
   private:
     const SliceInstances& slices_;
     SliceSettings settings_;
     GlProgram program_, keys_;
-    GlBuffer sliceBuffer_, orderBuffer_, drawCommand_;
-    GlTexture sliceTexture_;
+    GlBuffer sliceBuffer_, orderBuffer_, spanBuffer_, drawCommand_;
+    GlTexture sliceTexture_, spanTexture_;
     GlVertexArray orderArray_;
     std::optional<RadixSort> sort_; ///< unless sortOnHost
     ReadbackBuffer readback_;

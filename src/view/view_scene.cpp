@@ -24,8 +24,9 @@ const std::vector<RenderKind> kVolumeModes = {RenderKind::Raycast,       RenderK
 
 } // namespace
 
-ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes)
-    : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes) {
+ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, double sliceLodPixels)
+    : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes),
+      sliceLodPixels_(sliceLodPixels) {
     const GlContext& gl = context_.gl();
     rendererName_ = gl.info().renderer;
     if (const long long free = gl.queryFreeMemoryBytes(); free > 0) budget_ = std::min(budget_, std::uint64_t(free) / 2);
@@ -47,6 +48,7 @@ Renderer& ViewScene::rendererFor(const std::string& mode) {
     RenderInput input;
     if (request.kind == RenderKind::Slices) {
         request.slices = &*volume_.slices;
+        request.sliceLodPixels = sliceLodPixels_;
         input.slices = &*volume_.slices;
     } else {
         const bool orientation = request.kind == RenderKind::Orientation;
