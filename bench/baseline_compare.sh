@@ -8,6 +8,10 @@
 #
 #   bench/baseline_compare.sh GARMENT YARN_RADIUS "2048 4096"
 #     GARMENT: a .bcc file, or gen:PATTERN:SHAPE:CROSSINGS (generated first)
+#     YV_OPTIONS: more voxelize options (e.g. "--cross-section disk"); the
+#       baselines take none (they draw spheres along the curves either way)
+#     YV_BASELINES: "density orientation" (the default), "density", or "none"
+#       (a row whose garment and grid another row's baselines measured)
 set -euo pipefail
 garment=$1 radius=$2 resolutions=$3
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -43,28 +47,34 @@ for res in $resolutions; do
     runs=()
     for ((run = 0; run < repeat; ++run)); do
         start=$(date +%s.%N)
+        # shellcheck disable=SC2086 # YV_OPTIONS is a list of words
         "$build/yarnvox" voxelize "$input" -o "$scratch/yv-$res.vdb" --yarn-radius "$radius" --resolution "$res" --quiet \
-            --stats "$scratch/yv-stats-$run.json"
+            --stats "$scratch/yv-stats-$run.json" ${YV_OPTIONS:-}
         end=$(date +%s.%N)
         runs+=("$start" "$end")
         size=$(stat -c %s "$scratch/yv-$res.vdb")
         rm -f "$scratch/yv-$res.vdb"
     done
     python3 - "$garment" "$res" "$scratch/yv-stats" "$size" "${runs[@]}" <<'PY'
-import json, sys
+import json, os, sys
 garment, res, stats, size = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 times = [float(t) for t in sys.argv[5:]]
 walls = [round(end - start, 3) for start, end in zip(times[0::2], times[1::2])]
 median = sorted(range(len(walls)), key=lambda i: walls[i])[len(walls) // 2]
 s = json.load(open(f"{stats}-{median}.json"))
-print(json.dumps({"tool": "yarnvox", "garment": garment, "resolution": res, "wall_seconds": walls[median],
+print(json.dumps({"tool": "yarnvox", "garment": garment, "options": os.environ.get("YV_OPTIONS", ""),
+                  "resolution": res, "wall_seconds": walls[median],
                   "wall_seconds_runs": walls, "seconds": s["seconds"], "slices": s["slices"], "fragments": s["samples"],
                   "active_voxels": s["active_voxels"], "file_bytes": size, "peak_host_bytes": s["peak_host_bytes"],
                   "backend_stats": s["backend_stats"]}))
 PY
     # Each baseline line gains its process's wall time, measured as yarnvox's
     # is (its own "total" leaves out the process's start and exit).
+    baselines=${YV_BASELINES:-density orientation}
     for orientation in "" --orientation; do
+        kind=density
+        [ -n "$orientation" ] && kind=orientation
+        [[ " $baselines " == *" $kind "* ]] || continue
         start=$(date +%s.%N)
         line=$("$build/bench/yv_openvdb_baseline" --input "$input" --yarn-radius "$radius" --resolution "$res" $orientation \
             -o "$scratch/base-$res.vdb")

@@ -1,6 +1,7 @@
 // yv_view_bench: drives a running `yarnvox view` through its WebSocket
 // protocol along a scripted camera path (an orbit, a close-up pan, a zoom
-// out) and prints one JSON line a phase: input-to-picture latency (a camera
+// out, then stops that each voxelize what the camera sees, for a garment's
+// view) and prints one JSON line a phase: input-to-picture latency (a camera
 // message sent to its frame received, one at a time), the server's render
 // and encode times, frame intervals, and bytes a frame. The view and the
 // benchmark may run on different machines; the numbers include the network.
@@ -18,6 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -31,7 +33,7 @@ namespace {
 
 struct Options {
     std::string host = "127.0.0.1", mode = "raycast";
-    int port = 8080, width = 1280, height = 720, frames = 120;
+    int port = 8080, width = 1280, height = 720, frames = 120, stops = 5;
 };
 
 Json percentiles(std::vector<double> v) {
@@ -79,6 +81,31 @@ class Session {
             Json s = stats_;
             s["latencyMs"] = std::chrono::duration<double, std::milli>(Clock::now() - sent).count();
             s["receivedBytes"] = b.size();
+            return s;
+        }
+    }
+
+    /// Asks for what the camera sees to be voxelized and waits for the first
+    /// frame that shows a run newer than `previous`: that frame's stats, with
+    /// stopToDetailMs (request sent to its frame received) added.
+    Json voxelizeAndWait(std::uint64_t previous) {
+        const auto sent = Clock::now();
+        send(Json{{"type", "voxelize-view"}});
+        for (;;) {
+            beast::flat_buffer b;
+            ws_.read(b);
+            if (ws_.got_text()) {
+                const Json m = Json::parse(beast::buffers_to_string(b.data()));
+                if (m["type"] == "stats") stats_ = m;
+                else if (m["type"] == "notice") throw std::runtime_error("view: " + m["text"].get<std::string>());
+                else if (m["type"] == "voxelize" && (m["state"] == "failed" || m["state"] == "already"))
+                    throw std::runtime_error("view: voxelize " + m.dump());
+                continue;
+            }
+            const Json& d = stats_["detail"];
+            if (!d.is_object() || d["shown"] != true || d["id"].get<std::uint64_t>() <= previous) continue;
+            Json s = stats_;
+            s["stopToDetailMs"] = std::chrono::duration<double, std::milli>(Clock::now() - sent).count();
             return s;
         }
     }
@@ -137,8 +164,43 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
     std::fflush(stdout);
 }
 
+/// Stops at `stops` close-up cameras around the garment, each voxelized in view:
+/// from the request (the page sends it when the camera stops) to its picture.
+void runStopPhase(Session& s, int stops, const Options& o) {
+    std::vector<double> stopToDetail, runSeconds, active;
+    std::uint64_t last = 0;
+    Json runs = Json::array();
+    for (int i = 0; i < stops; ++i) {
+        s.frameOf(Camera{40.0 + 360.0 * i / stops, 15.0, 0.7, 0.0, 0.0});
+        const Json f = s.voxelizeAndWait(last);
+        const Json& d = f["detail"];
+        last = d["id"];
+        stopToDetail.push_back(f["stopToDetailMs"]);
+        runSeconds.push_back(d["seconds"]);
+        active.push_back(d["activeVoxels"]);
+        // Where the time went: the run (request to .vdb written), then the
+        // frame that opens it and loads its atlas (renderMs), then encoding and sending.
+        runs.push_back({{"voxelSize", d["voxelSize"]}, {"bboxWorld", d["bboxWorld"]}, {"activeVoxels", d["activeVoxels"]},
+                        {"stopToDetailMs", f["stopToDetailMs"]}, {"runSeconds", d["seconds"]},
+                        {"frameRenderMs", f["renderMs"]}, {"frameEncodeMs", f["encodeMs"]}});
+    }
+    const Json line = {{"phase", "stop-and-voxelize"},
+                       {"mode", o.mode},
+                       {"input", s.hello()["name"]},
+                       {"renderer", s.hello()["renderer"]},
+                       {"width", o.width},
+                       {"height", o.height},
+                       {"stops", stops},
+                       {"stopToDetailMs", percentiles(stopToDetail)},
+                       {"runSeconds", percentiles(runSeconds)},
+                       {"activeVoxels", percentiles(active)},
+                       {"runs", runs}};
+    std::printf("%s\n", line.dump().c_str());
+    std::fflush(stdout);
+}
+
 int usage(const char* why) {
-    std::fprintf(stderr, "yv_view_bench: %s\nusage: yv_view_bench [--host H] [--port P] [--size WxH] [--frames N] [--mode M]\n", why);
+    std::fprintf(stderr, "yv_view_bench: %s\nusage: yv_view_bench [--host H] [--port P] [--size WxH] [--frames N] [--mode M] [--stops K]\n", why);
     return 2;
 }
 
@@ -154,6 +216,7 @@ int main(int argc, char** argv) {
         else if (a == "--port") o.port = std::atoi(v.c_str());
         else if (a == "--frames") o.frames = std::atoi(v.c_str());
         else if (a == "--mode") o.mode = v;
+        else if (a == "--stops") o.stops = std::atoi(v.c_str());
         else if (a == "--size") {
             if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2) return usage("--size WIDTHxHEIGHT");
         } else return usage(("an unknown option " + a).c_str());
@@ -167,6 +230,8 @@ int main(int argc, char** argv) {
         runPhase(s, "close-up", o.frames, [](double t) { return Camera{60.0, 10.0, 0.6, -0.5 + t, 0.2 * std::sin(6.0 * t)}; }, o);
         // Zooming back out from the close-up.
         runPhase(s, "zoom-out", o.frames / 2, [](double t) { return Camera{60.0, 10.0 + 20.0 * t, 0.6 + 3.4 * t, 0.5 * (1.0 - t), 0.0}; }, o);
+        // A garment's view (its hello gives a voxel size): stop and voxelize what the camera sees.
+        if (s.hello()["voxelSize"].is_number()) runStopPhase(s, o.stops, o);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "yv_view_bench: %s\n", e.what());
         return 1;

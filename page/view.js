@@ -2,6 +2,8 @@
 // WebSocket, turns mouse, wheel and keys into camera messages (at most one
 // an animation frame; the server draws only the latest), and keeps the
 // camera and mode in the address (#az=..&el=..) so a link reopens the view.
+// For a garment, when the camera stops the page asks the server to voxelize
+// what it sees (finer voxels where zoomed in), which the frames then show.
 'use strict';
 (() => {
   const defaults = { az: 30, el: 20, d: 4, px: 0, py: 0 };
@@ -14,7 +16,10 @@
   const overlay = document.getElementById('overlay');
   const notice = document.getElementById('notice');
   // What tests (tests/browser) and the benchmark read.
-  const view = window.yvView = { frames: 0, stats: null, shownSeq: -1, latencyMs: null, notices: [] };
+  const view = window.yvView = { frames: 0, stats: null, shownSeq: -1, latencyMs: null, notices: [],
+                                 voxelize: [], autoVoxelize: true, stopToDetailMs: null };
+  const stopMs = 250; // no camera input for this long: the camera has stopped
+  let stopTimer = null, askedAt = null, lastDetailId = 0;
 
   const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
   const round = (v) => Math.round(v * 1000) / 1000;
@@ -51,6 +56,15 @@
     cam.px = clamp(cam.px, -50, 50);
     cam.py = clamp(cam.py, -50, 50);
     if (!dirty) { dirty = true; requestAnimationFrame(flush); }
+    clearTimeout(stopTimer);
+    if (view.autoVoxelize) stopTimer = setTimeout(voxelizeView, stopMs);
+  }
+
+  // Only a garment's view can voxelize (the hello gives its voxel size).
+  function voxelizeView() {
+    if (!hello || hello.voxelSize === null || hello.voxelSize === undefined) return;
+    askedAt = performance.now();
+    send({ type: 'voxelize-view' });
   }
 
   function flush() {
@@ -95,9 +109,13 @@
       (hello ? hello.name + '   ' : '') + which + '   ' + s.width + 'x' + s.height + '   frame ' + s.frame + '\n' +
       'render ' + s.renderMs.toFixed(1) + ' ms (draw ' + s.drawMs.toFixed(1) + ')   encode ' + s.encodeMs.toFixed(1) +
       ' ms' + net + '\n' +
-      s.activeVoxels.toLocaleString('en') + ' active voxels   level ' + s.level +
+      (s.detail && s.detail.shown
+        ? s.detail.activeVoxels.toLocaleString('en') + ' active voxels of the view, voxel ' + s.detail.voxelSize +
+          ' (voxelized in ' + s.detail.seconds.toFixed(2) + ' s)'
+        : s.activeVoxels.toLocaleString('en') + ' active voxels') + '   level ' + s.level +
       (s.slices ? '   ' + s.slices.toLocaleString('en') + ' slices' : '') + '   ' +
-      (s.bytes / 1024).toFixed(1) + ' KiB a frame' + (hello ? '\n' + hello.renderer : '') +
+      (s.bytes / 1024).toFixed(1) + ' KiB a frame   GPU ' + (s.gpuBytes / 1048576).toFixed(0) + ' MiB' +
+      (hello ? '\n' + hello.renderer : '') + (hello && hello.voxelSize ? '   voxel ' + hello.voxelSize.toPrecision(3) : '') +
       '\nmodes: ' + modes.map((m, i) => (i + 1) + ' ' + m).join('  ');
   }
 
@@ -116,6 +134,11 @@
       pendingStats = m;
     } else if (m.type === 'notice') {
       showNotice(m.text);
+    } else if (m.type === 'voxelize') {
+      view.voxelize.push(m);
+      if (m.state === 'running') showNotice('voxelizing what the camera sees: voxel ' + m.voxelSize + ', box ' + m.bboxWorld);
+      if (m.state === 'failed') showNotice('voxelizing the view failed: ' + m.text);
+      if (m.state === 'saved') showNotice('saved ' + (m.workDir ? m.workDir + ' and ' : '') + m.vdb + '; the same: ' + m.commandText);
     }
   }
 
@@ -133,6 +156,10 @@
         view.stats = s;
         view.shownSeq = s.seq;
         view.shownMode = s.mode;
+        if (s.detail && s.detail.shown && s.detail.id !== lastDetailId) {
+          lastDetailId = s.detail.id;
+          if (askedAt !== null) view.stopToDetailMs = performance.now() - askedAt;
+        }
         showOverlay(s);
       }
     };
@@ -198,7 +225,10 @@
     };
     if (keys[e.key]) { keys[e.key](); cameraChanged(); e.preventDefault(); return; }
     if (/^[1-9]$/.test(e.key) && modes[Number(e.key) - 1]) { setMode(modes[Number(e.key) - 1]); return; }
-    if (e.key === 'v') send({ type: 'voxelize-view' });
+    if (e.key === 'v') voxelizeView();
+    if (e.key === 'a') { view.autoVoxelize = !view.autoVoxelize; showNotice('voxelize on stop: ' + (view.autoVoxelize ? 'on' : 'off')); }
+    if (e.key === 's') send({ type: 'save-view', workDir: false });
+    if (e.key === 'W') send({ type: 'save-view', workDir: true });
     if (e.key === 'h') { const h = document.getElementById('help'); h.style.display = h.style.display === 'none' ? '' : 'none'; }
   });
   let resizeTimer = null;

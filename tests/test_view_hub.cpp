@@ -34,7 +34,8 @@ struct RecordingSource : yv::FrameSource {
         wake.notify_all();
         return yv::Outgoing{"stats", std::make_shared<const std::vector<std::uint8_t>>()};
     }
-    void voxelizeInView(const yv::ViewState&) override { throw yv::Error("not there yet"); }
+    yv::Outgoing voxelizeInView(const yv::ViewState&) override { throw yv::Error("nothing in view"); }
+    yv::Outgoing saveView(bool) override { throw yv::Error("nothing to save"); }
 
     bool waitFor(const std::function<bool()>& done) {
         std::unique_lock lock(mutex);

@@ -4,10 +4,7 @@
 // cameras; a garbage message is refused, logged, and the page and the server
 // go on. And the command's refusals before serving, and its stop on SIGTERM.
 #include "core/error.h"
-#include "run_cli.h"
-#include "test_helpers.h"
-#include "view/jpeg_frame.h"
-#include "view/view_run.h"
+#include "served_view.h"
 
 #include <boost/asio/connect.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -34,127 +31,8 @@ using Json = nlohmann::json;
 
 namespace {
 
-/// A view of a small garment served on a thread of the test, stopped and joined when it goes.
-struct ServedView {
-    yv::test::ScratchDir scratch{"yv_view"};
-    std::atomic<bool> stop{false};
-    std::mutex logMutex;
-    std::vector<std::string> log;
-    std::promise<int> port;
-    std::thread thread, watchdog;
-    std::exception_ptr failure;
-    std::mutex doneMutex;
-    std::condition_variable doneWake;
-    bool done = false;
-
-    /// `asVdb`: the garment voxelized by `yarnvox voxelize` first and the .vdb viewed; else the garment.
-    explicit ServedView(bool asVdb = false) {
-        const fs::path bcc = scratch.path / "plain.bcc";
-        REQUIRE(yv::test::runYarnvox("gen --pattern plain --crossings 16 --quiet -o " + bcc.string()).exitCode == 0);
-        const fs::path vdb = scratch.path / "plain.vdb";
-        if (asVdb)
-            REQUIRE(yv::test::runYarnvox("voxelize " + bcc.string() + " --resolution 48 --quiet -o " + vdb.string()).exitCode == 0);
-        yv::ViewRequest request;
-        request.input = asVdb ? vdb.string() : bcc.string();
-        request.server.port = 0;
-        request.initial.width = 192;
-        request.initial.height = 96;
-        request.voxelize.resolution = 48;
-        // A frame that never comes must fail the test, not hang it: after 300 s the
-        // server stops, which closes the pages and ends their blocking reads.
-        watchdog = std::thread([this] {
-            std::unique_lock lock(doneMutex);
-            if (!doneWake.wait_for(lock, std::chrono::seconds(300), [this] { return done; })) stop = true;
-        });
-        thread = std::thread([this, request] {
-            try {
-                yv::runView(
-                    request, [this](int p) { port.set_value(p); }, [this] { return stop.load(); },
-                    [this](const std::string& line) {
-                        const std::lock_guard lock(logMutex);
-                        log.push_back(line);
-                    });
-            } catch (...) {
-                failure = std::current_exception();
-                try {
-                    port.set_exception(std::current_exception());
-                } catch (...) {
-                }
-            }
-        });
-    }
-    ~ServedView() {
-        {
-            const std::lock_guard lock(doneMutex);
-            done = true;
-        }
-        doneWake.notify_all();
-        watchdog.join();
-        stop = true;
-        thread.join();
-    }
-    bool logged(const std::string& part) {
-        const std::lock_guard lock(logMutex);
-        for (const std::string& line : log)
-            if (line.find(part) != std::string::npos) return true;
-        return false;
-    }
-};
-
-/// A page's side of the protocol, synchronous (ServedView's watchdog ends a read that waits too long).
-struct Page {
-    net::io_context io;
-    beast::websocket::stream<tcp::socket> ws{io};
-    Json hello;
-    std::vector<std::string> notices;
-
-    explicit Page(int port) {
-        tcp::resolver resolver(io);
-        net::connect(ws.next_layer(), resolver.resolve("127.0.0.1", std::to_string(port)));
-        ws.next_layer().set_option(tcp::no_delay(true));
-        ws.handshake("127.0.0.1", "/ws");
-        hello = Json::parse(readText());
-    }
-    std::string readText() {
-        beast::flat_buffer b;
-        ws.read(b);
-        REQUIRE(ws.got_text());
-        return beast::buffers_to_string(b.data());
-    }
-    void send(const std::string& text) {
-        ws.text(true);
-        ws.write(net::buffer(text));
-    }
-    void sendCamera(double azimuth, std::uint64_t seq) {
-        send(Json{{"type", "camera"}, {"azimuth", azimuth}, {"elevation", 20}, {"distance", 3},
-                  {"panX", 0}, {"panY", 0}, {"seq", seq}}.dump());
-    }
-    /// The next frame: its stats and its picture (notices on the way are kept).
-    std::pair<Json, yv::RgbImage> readFrame() {
-        Json stats;
-        for (;;) {
-            beast::flat_buffer b;
-            ws.read(b);
-            if (ws.got_text()) {
-                const Json m = Json::parse(beast::buffers_to_string(b.data()));
-                if (m["type"] == "stats") stats = m;
-                if (m["type"] == "notice") notices.push_back(m["text"]);
-                continue;
-            }
-            const auto* p = static_cast<const std::uint8_t*>(b.data().data());
-            REQUIRE(stats.is_object());
-            CHECK(stats["bytes"] == b.size());
-            return {stats, yv::decodeJpeg(std::vector<std::uint8_t>(p, p + b.size()))};
-        }
-    }
-    /// Frames until the one showing camera `seq`.
-    std::pair<Json, yv::RgbImage> frameOf(std::uint64_t seq) {
-        for (;;) {
-            auto frame = readFrame();
-            if (frame.first["seq"] == seq) return frame;
-        }
-    }
-};
+using yv::test::Page;
+using yv::test::ServedView;
 
 /// The mean absolute difference of two pictures' bytes.
 double meanDifference(const yv::RgbImage& a, const yv::RgbImage& b) {
@@ -219,11 +97,11 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
     CHECK(view.logged("refused a message from 127.0.0.1:"));
     CHECK(view.logged("not JSON"));
 
-    // The voxelize-on-stop hook answers that it is not there yet, and changes nothing.
-    page.send(R"({"type":"voxelize-view"})");
+    // Saving before anything was voxelized in view is refused in one line, and changes nothing.
+    page.send(R"({"type":"save-view"})");
     page.sendCamera(60, 6);
     page.frameOf(6);
-    CHECK(page.notices.back().find("not there yet") != std::string::npos);
+    CHECK(page.notices.back().find("nothing to save yet") != std::string::npos);
 
     // A binary message and one over the size limit: the second closes that page, not the server.
     Page other(port);
@@ -265,6 +143,12 @@ TEST_CASE("View: a .vdb is ray cast full width, and every mode it offers draws a
         else CHECK(meanDifference(raycast, picture) > 0.5); // each mode is a picture of its own
     }
     CHECK(page.notices.empty());
+    // A .vdb does not say how its garment was voxelized: voxelizing in view needs the garment, and says so.
+    page.send(R"({"type":"voxelize-view"})");
+    page.sendCamera(30, ++seq);
+    page.frameOf(seq);
+    REQUIRE(page.notices.size() == 1);
+    CHECK(page.notices[0].find("needs the garment") != std::string::npos);
 }
 
 TEST_CASE("View: the page is served over HTTP on the same port", "[view][gl]") {

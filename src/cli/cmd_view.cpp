@@ -113,6 +113,13 @@ void addViewCommand(CLI::App& app) {
                     "drawn for 2, 4, ... 64 consecutive slices, none longer than this (0: every slice)")
         ->capture_default_str()
         ->check(finiteRange(0.0, 1e6));
+    cmd->add_option("--save-dir", a->request.saveDir,
+                    "A garment: where the s and W keys save the view's voxelization (a .vdb, a work directory)")
+        ->capture_default_str();
+    cmd->add_option("--view-voxels", a->request.maxSideVoxels,
+                    "A garment: the most voxels along the longest side of what the camera sees when it is voxelized")
+        ->capture_default_str()
+        ->check(wholeNumber(16, 8192));
     addVoxelizeOptions(cmd, a->request.voxelize);
     cmd->callback([a] { runViewCommand(*a); });
 }

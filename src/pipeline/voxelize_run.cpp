@@ -190,6 +190,7 @@ VoxelizeReport reportOf(const VoxelizeJob& job, Backend backend, const SlicedGar
     report.activeVoxels = totals.activeVoxels;
     report.bricks = totals.bricks;
     report.dims = grid.dims;
+    report.origin = grid.origin;
     report.voxelSize = grid.voxelSize;
     report.voxelizeSeconds = voxelizeSeconds;
     report.reduce = job.reduce;

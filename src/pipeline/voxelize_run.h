@@ -24,6 +24,7 @@ struct VoxelizeReport {
     std::string backend; ///< the backend "auto" resolved to
     std::uint64_t slices = 0, activeVoxels = 0, bricks = 0;
     glm::ivec3 dims{0};
+    glm::dvec3 origin{0.0}; ///< the grid's corner in world units (VoxelGrid::origin)
     double voxelSize = 0.0, voxelizeSeconds = 0.0;
     Reduce reduce = Reduce::Mean;
     Overlap overlap = Overlap::Clamp;

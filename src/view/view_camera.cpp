@@ -3,6 +3,7 @@
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/trigonometric.hpp>
 
 #include <algorithm>
@@ -30,6 +31,19 @@ Camera viewCamera(const VoxelBox& box, const ViewCamera& v, int width, int heigh
     const double toCentre = glm::length(centre - c.eye);
     const double nearPlane = std::max(toCentre - radius, 1e-3 * d), farPlane = toCentre + radius;
     c.projection = glm::perspective(glm::radians(kFieldOfViewDegrees), double(width) / double(height), nearPlane, farPlane);
+    return c;
+}
+
+Camera mapCamera(const Camera& camera, double scale, const glm::dvec3& offset) {
+    if (scale == 1.0 && offset == glm::dvec3(0.0)) return camera;
+    Camera c = camera;
+    c.eye = scale * camera.eye + offset;
+    // The rotation stays; eye space is `scale` times larger, so the near and
+    // far planes are too: of glm::perspective's terms only [3][2] scales.
+    const glm::dmat3 rotation(camera.view);
+    c.view = glm::dmat4(rotation);
+    c.view[3] = glm::dvec4(-(rotation * c.eye), 1.0);
+    c.projection[3][2] *= scale;
     return c;
 }
 

@@ -8,8 +8,8 @@
 
 namespace yv {
 
-ViewFrames::ViewFrames(ViewScene& scene, int jpegQuality, std::function<void(const std::string&)> log)
-    : scene_(scene), quality_(jpegQuality), log_(std::move(log)) {}
+ViewFrames::ViewFrames(ViewScene& scene, int jpegQuality, int maxSideVoxels, std::function<void(const std::string&)> log)
+    : scene_(scene), quality_(jpegQuality), maxSideVoxels_(maxSideVoxels), log_(std::move(log)) {}
 
 Outgoing ViewFrames::draw(const ViewState& state) {
     ViewFrame frame;
@@ -22,6 +22,15 @@ Outgoing ViewFrames::draw(const ViewState& state) {
     const auto start = std::chrono::steady_clock::now();
     auto jpeg = std::make_shared<std::vector<std::uint8_t>>(encoder_.encode(frame.image, quality_));
     const double encodeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    nlohmann::json detail = nullptr;
+    if (const DetailRun* run = scene_.detail())
+        detail = {{"id", run->id},
+                  {"voxelSize", run->plan.voxelSizeText},
+                  {"bboxWorld", run->plan.boxText},
+                  {"activeVoxels", run->activeVoxels},
+                  {"seconds", run->seconds},
+                  {"command", run->command},
+                  {"shown", frame.detail == run->id}};
     const nlohmann::json stats = {{"type", "stats"},
                                   {"frame", ++frames_},
                                   {"seq", state.camera.seq},
@@ -35,7 +44,8 @@ Outgoing ViewFrames::draw(const ViewState& state) {
                                   {"activeVoxels", scene_.volume().activeVoxels},
                                   {"level", frame.level},
                                   {"slices", frame.slices},
-                                  {"gpuBytes", frame.gpuBytes}};
+                                  {"gpuBytes", frame.gpuBytes},
+                                  {"detail", detail}};
     return Outgoing{stats.dump(), std::move(jpeg)};
 }
 
@@ -47,6 +57,7 @@ std::string helloText(const ViewScene& scene, const ViewState& initial) {
                           {"name", scene.volume().name},
                           {"renderer", scene.renderer()},
                           {"activeVoxels", scene.volume().activeVoxels},
+                          {"voxelSize", scene.volume().grid ? nlohmann::json(scene.volume().grid->voxelSize) : nlohmann::json()},
                           {"width", initial.width},
                           {"height", initial.height}}
         .dump();

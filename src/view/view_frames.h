@@ -1,10 +1,16 @@
 // The render thread's FrameSource: a view state drawn by the scene, encoded
 // as JPEG, and the stats text the page's overlay shows before it; the
 // server's first words to a page (hello). Text messages, server to page:
-//   {"type":"hello", "modes":[...], "mode", "sideBySide", "name", "renderer", "activeVoxels", "width", "height"}
+//   {"type":"hello", "modes":[...], "mode", "sideBySide", "name", "renderer", "activeVoxels",
+//    "voxelSize" (world units; null where the volume's place in the world is not known), "width", "height"}
 //   {"type":"stats", "frame", "seq", "mode", "width", "height", "renderMs", "drawMs", "encodeMs", "bytes",
-//    "activeVoxels", "level", "slices", "gpuBytes"}   (a binary JPEG message follows)
+//    "activeVoxels", "level", "slices", "gpuBytes", "detail"}   (a binary JPEG message follows)
 //   {"type":"notice", "text"}                         (a refusal, or what could not be drawn)
+//   {"type":"voxelize", "state", ...}                 (voxelize what the camera sees: asked,
+//                                                       already, running, failed, saving, saved)
+// A frame's "detail" is null, or the view voxelization taken last: "id",
+// "voxelSize", "bboxWorld", "activeVoxels", "seconds", "command", and
+// "shown" (this frame draws it).
 #pragma once
 
 #include "view/jpeg_frame.h"
@@ -19,14 +25,18 @@ namespace yv {
 class ViewFrames : public FrameSource {
   public:
     /// `log`: a line for each frame that could not be drawn.
-    ViewFrames(ViewScene& scene, int jpegQuality, std::function<void(const std::string&)> log);
+    /// `maxSideVoxels`: the largest view voxelization, voxels along its longest side.
+    ViewFrames(ViewScene& scene, int jpegQuality, int maxSideVoxels, std::function<void(const std::string&)> log);
     Outgoing draw(const ViewState& state) override;
-    void voxelizeInView(const ViewState& state) override { scene_.voxelizeInView(state); }
+    Outgoing voxelizeInView(const ViewState& state) override {
+        return Outgoing{scene_.voxelizeInView(state, maxSideVoxels_), nullptr};
+    }
+    Outgoing saveView(bool workDir) override { return Outgoing{scene_.saveView(workDir), nullptr}; }
 
   private:
     ViewScene& scene_;
     JpegEncoder encoder_;
-    int quality_;
+    int quality_, maxSideVoxels_;
     std::function<void(const std::string&)> log_;
     std::uint64_t frames_ = 0;
 };

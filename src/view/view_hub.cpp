@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <utility>
 
 namespace yv {
 
@@ -13,6 +15,7 @@ struct ViewHub::Client {
     /// A new page is drawn once it says what it wants (its size and camera follow the hello at once).
     std::uint64_t wantedVersion = 0, drawnVersion = 0;
     bool voxelizeAsked = false;
+    std::optional<bool> saveAsked; ///< a save asked: through a work directory or not
 };
 
 namespace {
@@ -52,6 +55,8 @@ void ViewHub::apply(Client& client, const ViewMessage& message) {
     } else if (const auto* s = std::get_if<SizeMessage>(&message)) {
         next.width = s->width;
         next.height = s->height;
+    } else if (const auto* save = std::get_if<SaveViewMessage>(&message)) {
+        client.saveAsked = save->workDir;
     } else {
         client.voxelizeAsked = true;
     }
@@ -67,7 +72,7 @@ std::shared_ptr<ViewHub::Client> ViewHub::nextDirty() {
     for (std::size_t i = 0; i < clients_.size(); ++i) {
         const std::size_t at = (turn_ + i) % clients_.size();
         const auto& c = clients_[at];
-        if (c->voxelizeAsked || c->wantedVersion != c->drawnVersion) {
+        if (c->voxelizeAsked || c->saveAsked || c->wantedVersion != c->drawnVersion) {
             turn_ = at + 1;
             return c;
         }
@@ -81,28 +86,49 @@ void ViewHub::run(FrameSource& source) {
         ViewState state;
         std::uint64_t version = 0;
         bool voxelize = false;
+        std::optional<bool> save;
         {
             std::unique_lock lock(mutex_);
             wake_.wait(lock, [&] { return stopped_ || (client = nextDirty()) != nullptr; });
             if (stopped_) return;
             state = client->wanted;
             version = client->wantedVersion;
+            // A request is answered before the frame: the page hears of it at once.
             voxelize = client->voxelizeAsked;
             client->voxelizeAsked = false;
+            if (!voxelize) save = std::exchange(client->saveAsked, std::nullopt);
         }
         Outgoing out;
+        const bool asked = voxelize || save;
         try {
-            if (voxelize) source.voxelizeInView(state);
+            if (voxelize) out = source.voxelizeInView(state);
+            else if (save) out = source.saveView(*save);
             else out = source.draw(state);
         } catch (const Error& e) {
             out = notice(e.what());
         }
-        if (!voxelize) {
+        if (!asked) {
             const std::lock_guard lock(mutex_);
             client->drawnVersion = version; // a state that failed is not retried until it changes
         }
         client->deliver(std::move(out));
     }
+}
+
+void ViewHub::redrawAll() {
+    const std::lock_guard lock(mutex_);
+    for (const auto& c : clients_)
+        if (c->drawnVersion != 0) ++c->wantedVersion;
+    wake_.notify_all();
+}
+
+void ViewHub::broadcast(const Outgoing& message) {
+    std::vector<std::shared_ptr<Client>> clients;
+    {
+        const std::lock_guard lock(mutex_);
+        clients = clients_;
+    }
+    for (const auto& c : clients) c->deliver(message);
 }
 
 void ViewHub::stop() {

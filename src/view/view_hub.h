@@ -31,8 +31,11 @@ class FrameSource {
     virtual ~FrameSource() = default;
     /// The stats text and the JPEG of `state`; throws yv::Error.
     virtual Outgoing draw(const ViewState& state) = 0;
-    /// The voxelize-on-stop hook (ViewScene::voxelizeInView); throws yv::Error.
-    virtual void voxelizeInView(const ViewState& state) = 0;
+    /// Voxelize what `state`'s camera sees (ViewScene::voxelizeInView): the
+    /// answer for the page that asked; throws yv::Error.
+    virtual Outgoing voxelizeInView(const ViewState& state) = 0;
+    /// Save the view voxelization shown (ViewScene::saveView): the answer; throws yv::Error.
+    virtual Outgoing saveView(bool workDir) = 0;
 };
 
 class ViewHub {
@@ -52,6 +55,10 @@ class ViewHub {
 
     /// Draws what pages want until stop(): each page's latest state, once.
     void run(FrameSource& source);
+    /// Every page's state drawn again (what the frames show has changed). Any thread.
+    void redrawAll();
+    /// `message` to every page. Any thread.
+    void broadcast(const Outgoing& message);
     void stop();
 
   private:

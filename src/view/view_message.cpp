@@ -103,7 +103,16 @@ ViewMessage parseViewMessage(std::string_view text) {
         requireOnlyFields(m, {"type"}, t);
         return VoxelizeViewMessage{};
     }
-    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, voxelize-view)");
+    if (t == "save-view") {
+        requireOnlyFields(m, {"type", "workDir"}, t);
+        SaveViewMessage save;
+        if (const auto it = m.find("workDir"); it != m.end()) {
+            if (!it->is_boolean()) throw Error("a 'save-view' message's 'workDir' must be true or false");
+            save.workDir = it->get<bool>();
+        }
+        return save;
+    }
+    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, voxelize-view, save-view)");
 }
 
 std::string formatViewMessage(const ViewMessage& message) {
@@ -120,6 +129,8 @@ std::string formatViewMessage(const ViewMessage& message) {
         j = {{"type", "mode"}, {"mode", m->mode}};
     } else if (const auto* s = std::get_if<SizeMessage>(&message)) {
         j = {{"type", "size"}, {"width", s->width}, {"height", s->height}};
+    } else if (const auto* save = std::get_if<SaveViewMessage>(&message)) {
+        j = {{"type", "save-view"}, {"workDir", save->workDir}};
     } else {
         j = {{"type", "voxelize-view"}};
     }

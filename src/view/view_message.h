@@ -43,11 +43,16 @@ struct ModeMessage {
 struct SizeMessage {
     int width = 0, height = 0;
 };
-/// {"type":"voxelize-view"}: voxelize what the camera sees (the place for
-/// voxelize-on-stop; the server answers that it is not there yet).
+/// {"type":"voxelize-view"}: voxelize what the camera of the page's latest
+/// state sees (the page sends it when the camera stops).
 struct VoxelizeViewMessage {};
+/// {"type":"save-view","workDir":false}: save the view's voxelization shown
+/// last, as its .vdb or (workDir) through a work directory.
+struct SaveViewMessage {
+    bool workDir = false;
+};
 
-using ViewMessage = std::variant<CameraMessage, ModeMessage, SizeMessage, VoxelizeViewMessage>;
+using ViewMessage = std::variant<CameraMessage, ModeMessage, SizeMessage, VoxelizeViewMessage, SaveViewMessage>;
 
 /// Parses one text message. Throws yv::Error with one line saying what is
 /// wrong (too long, not JSON, not an object, an unknown type or field, a

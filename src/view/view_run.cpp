@@ -17,6 +17,8 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
              const std::function<bool()>& stopWanted, const std::function<void(const std::string&)>& log) {
     std::error_code ec;
     if (!std::filesystem::exists(request.input, ec)) throw Error(request.input + ": no such file or directory");
+    if (!std::filesystem::is_directory(request.saveDir, ec))
+        throw Error("--save-dir " + request.saveDir + ": no such directory (the view's voxelizations are saved there)");
     // The hub outlives the server: a session closed as the server goes leaves it.
     std::optional<ViewHub> hub;
     ViewServer server(request.server, log);
@@ -30,10 +32,21 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
             // The scene and its GL context live and die on this thread.
             ViewScene scene(openViewVolume(request.input, request.voxelize, log), request.device, request.gpuBudgetBytes,
                             request.sliceLodPixels);
-            ViewFrames frames(scene, request.jpegQuality, log);
+            ViewFrames frames(scene, request.jpegQuality, request.maxSideVoxels, log);
             ViewState initial = request.initial;
             initial.mode = scene.modes().front();
             hub.emplace(scene.modes(), initial);
+            // Voxelize what the camera sees, where the garment is known; after
+            // the scene, so its runs stop before the scratch directory goes.
+            std::optional<ViewVoxelizer> voxelizer;
+            if (scene.volume().garment && scene.volume().grid) {
+                VoxelizeJob base = request.voxelize;
+                base.input = request.input;
+                ViewVoxelizer::Listener listener{[&] { hub->redrawAll(); },
+                                                 [&](const std::string& text) { hub->broadcast(Outgoing{text, nullptr}); }};
+                voxelizer.emplace(std::move(base), scene.volume().scratch, request.saveDir, std::move(listener));
+                scene.attachVoxelizer(&*voxelizer);
+            }
             opened.set_value(helloText(scene, initial));
             serving = true;
             hub->run(frames);

@@ -23,6 +23,8 @@ struct ViewRequest {
     std::uint64_t gpuBudgetBytes = 512ull << 20;
     double sliceLodPixels = kDefaultSliceLodPixels; ///< --slice-lod: the slices' level of detail
     int jpegQuality = 85;      ///< --quality
+    std::string saveDir = "."; ///< --save-dir: where the view's voxelizations are saved
+    int maxSideVoxels = 1024;  ///< --view-voxels: a view voxelization's longest side, in voxels
 };
 
 /// Runs the view. `ready(port)` is called once the page is served (the

@@ -5,9 +5,13 @@
 #include "render/render_volume.h"
 #include "view/view_camera.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 
 namespace yv {
 namespace {
@@ -22,7 +26,23 @@ const std::vector<RenderKind> kVolumeModes = {RenderKind::Raycast,       RenderK
                                               RenderKind::TextureSlicing, RenderKind::HalfAngle,
                                               RenderKind::Splatting};
 
+/// `box` (voxels of `grid`) in world units.
+RealBox worldOf(const RealBox& box, const VoxelGrid& grid) {
+    return {grid.origin + box.min * grid.voxelSize, grid.origin + box.max * grid.voxelSize};
+}
+
+/// The width of the ray cast's half of a frame.
+int volumeWidth(const ViewScene& scene, int width) { return scene.sideBySide() ? width - width / 2 : width; }
+
 } // namespace
+
+/// A view voxelization being drawn: its run, its volume and the atlases of its own.
+struct ViewScene::DetailLayer {
+    DetailRun run;
+    std::unique_ptr<VolumeSource> source;
+    BrickCache cache;
+    VolumeLayer layer; ///< last: its renderers go before the atlases they draw
+};
 
 ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, double sliceLodPixels)
     : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes),
@@ -39,10 +59,23 @@ ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes
         modes_.push_back(renderKindName(kind));
     }
     if (volume_.slices && !sideBySide()) modes_.push_back(renderKindName(RenderKind::Slices));
+    opened_.source = volume_.source.get();
+    opened_.cache = &context_.bricks();
+    opened_.box = box_;
 }
 
-Renderer& ViewScene::rendererFor(const std::string& mode) {
-    if (auto it = renderers_.find(mode); it != renderers_.end()) return *it->second;
+ViewScene::~ViewScene() {
+    context_.gl(); // the layers' textures go with the context current
+    if (detail_) {
+        const std::string path = detail_->run.vdbPath;
+        detail_.reset();
+        std::error_code ignored;
+        std::filesystem::remove(path, ignored);
+    }
+}
+
+Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode) {
+    if (auto it = layer.renderers.find(mode); it != layer.renderers.end()) return *it->second;
     RenderRequest request;
     request.kind = parseRenderKind(mode);
     RenderInput input;
@@ -53,29 +86,63 @@ Renderer& ViewScene::rendererFor(const std::string& mode) {
     } else {
         const bool orientation = request.kind == RenderKind::Orientation;
         // The cache keeps two atlases, plain and with orientation: the renderers' stay alive.
-        const AtlasLoad load = context_.bricks().load(context_.gl(), *volume_.source, box_, budget_, orientation);
-        atlases_[mode] = load;
+        const AtlasLoad load = layer.cache->load(context_.gl(), *layer.source, layer.box, budget_, orientation);
+        layer.atlases[mode] = load;
         input.atlas = load.atlas;
     }
     auto made = makeRenderer(request, input);
     Renderer& renderer = *made;
-    renderers_[mode] = std::move(made);
+    layer.renderers[mode] = std::move(made);
     return renderer;
+}
+
+ViewScene::VolumeLayer& ViewScene::layerFor(const std::string& mode, const ViewCamera& view, int width, int height) {
+    if (!detail_ || !volume_.grid || mode == renderKindName(RenderKind::Slices)) return opened_;
+    // The view voxelization, while the camera sees no more than its box (a
+    // camera that moved away sees the volume opened until it stops again).
+    const RealBox seen = seenBox(box_, viewCamera(box_, view, width, height));
+    if (seen.empty() || !detail_->run.plan.world.contains(worldOf(seen, *volume_.grid))) return opened_;
+    return detail_->layer;
 }
 
 void ViewScene::drawInto(const std::string& mode, const ViewCamera& view, int width, int height, RgbImage& out, int x0,
                          ViewFrame& frame) {
-    Renderer& renderer = rendererFor(mode);
+    VolumeLayer& layer = layerFor(mode, view, width, height);
+    Renderer& renderer = rendererFor(layer, mode);
     RenderReport report;
-    drawFrames(renderer, viewCamera(box_, view, width, height), 1, report);
+    drawFrames(renderer, mapCamera(viewCamera(box_, view, width, height), layer.scale, layer.offset), 1, report);
     frame.drawSeconds += report.frameSeconds + report.sortSeconds;
     frame.slices += report.slices;
-    if (const auto it = atlases_.find(mode); it != atlases_.end()) {
+    if (const auto it = layer.atlases.find(mode); it != layer.atlases.end()) {
         frame.level = it->second.level;
         frame.gpuBytes += it->second.gpuBytes;
     }
+    if (detail_ && &layer == &detail_->layer) frame.detail = detail_->run.id;
     for (int y = 0; y < height; ++y)
         std::memcpy(out.at(x0, y), report.image.at(0, y), std::size_t(width) * 3u);
+}
+
+void ViewScene::takeFinishedDetail() {
+    if (!voxelizer_) return;
+    std::optional<DetailRun> run = voxelizer_->takeFinished();
+    if (!run) return;
+    auto next = std::make_unique<DetailLayer>();
+    next->run = std::move(*run);
+    next->source = openVdbSource(next->run.vdbPath);
+    next->layer.source = next->source.get();
+    next->layer.cache = &next->cache;
+    next->layer.box = next->source->bounds();
+    // Both grids share the world: detail voxel = (origin + opened voxel * h - detail origin) / detail h.
+    const VoxelGrid& opened = *volume_.grid;
+    const VoxelGrid& fine = next->run.grid;
+    next->layer.scale = opened.voxelSize / fine.voxelSize;
+    next->layer.offset = (opened.origin - fine.origin) / fine.voxelSize;
+    std::string replaced = detail_ ? detail_->run.vdbPath : std::string();
+    detail_ = std::move(next);
+    if (!replaced.empty()) {
+        std::error_code ignored;
+        std::filesystem::remove(replaced, ignored);
+    }
 }
 
 ViewFrame ViewScene::render(const ViewState& state) {
@@ -83,6 +150,7 @@ ViewFrame ViewScene::render(const ViewState& state) {
         throw Error("no mode '" + state.mode + "' in this view");
     const auto start = std::chrono::steady_clock::now();
     context_.gl(); // current on this thread
+    takeFinishedDetail();
     ViewFrame frame;
     frame.image = RgbImage(state.width, state.height);
     if (sideBySide()) {
@@ -97,8 +165,31 @@ ViewFrame ViewScene::render(const ViewState& state) {
     return frame;
 }
 
-void ViewScene::voxelizeInView(const ViewState&) {
-    throw Error("voxelizing what the camera sees is not there yet (issue 30): the view shows the volume it opened");
+std::string ViewScene::voxelizeInView(const ViewState& state, int maxSideVoxels) {
+    if (!voxelizer_ || !volume_.grid)
+        throw Error("voxelizing what the camera sees needs the garment: view the .bcc (yarnvox view GARMENT.bcc "
+                    "[voxelize options]) rather than a volume made from it");
+    const int width = volumeWidth(*this, state.width);
+    std::string why;
+    const std::optional<ViewVoxelization> plan =
+        planViewVoxelization(box_, *volume_.grid, viewCamera(box_, state.camera, width, state.height), maxSideVoxels,
+                             kMaxViewResolution, why);
+    if (!plan) throw Error(why);
+    const bool started = voxelizer_->request(*plan);
+    return nlohmann::json{{"type", "voxelize"},
+                          {"state", started ? "asked" : "already"},
+                          {"voxelSize", plan->voxelSizeText},
+                          {"bboxWorld", plan->boxText}}
+        .dump();
 }
+
+std::string ViewScene::saveView(bool workDir) {
+    if (!voxelizer_ || !detail_)
+        throw Error("nothing to save yet: stop the camera on a close view (or press v) to voxelize what it sees");
+    voxelizer_->save(detail_->run, workDir);
+    return nlohmann::json{{"type", "voxelize"}, {"state", "saving"}, {"id", detail_->run.id}, {"workDir", workDir}}.dump();
+}
+
+const DetailRun* ViewScene::detail() const { return detail_ ? &detail_->run : nullptr; }
 
 } // namespace yv

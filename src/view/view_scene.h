@@ -10,7 +10,11 @@
 #include "render/render_context.h"
 #include "render/renderer.h"
 #include "view/view_message.h"
+#include "view/view_region.h"
 #include "view/view_volume.h"
+#include "view/view_voxelizer.h"
+
+#include <glm/vec3.hpp>
 
 #include <cstdint>
 #include <map>
@@ -35,6 +39,7 @@ struct ViewFrame {
     double drawSeconds = 0.0;   ///< the renderers' draw calls to glFinish (the slices' also their sort)
     int level = 0;              ///< the level of detail drawn
     std::uint64_t slices = 0, gpuBytes = 0;
+    std::uint64_t detail = 0;   ///< the view voxelization drawn (its id; 0: the volume opened)
 };
 
 class ViewScene {
@@ -46,6 +51,7 @@ class ViewScene {
     /// that holds no level).
     ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes,
               double sliceLodPixels = kDefaultSliceLodPixels);
+    ~ViewScene();
 
     /// The modes one key away, in key order ("raycast" first).
     const std::vector<std::string>& modes() const { return modes_; }
@@ -57,15 +63,41 @@ class ViewScene {
     /// Draws `state` (its mode one of modes()). Throws yv::Error on a GL error.
     ViewFrame render(const ViewState& state);
 
-    /// Where voxelize-what-the-camera-sees goes (issue 30): the region in view
-    /// voxelized at the view's resolution and swapped into the ray cast. Not
-    /// there yet: says so, as a yv::Error, and changes nothing.
-    void voxelizeInView(const ViewState& state);
+    /// Voxelize what the camera sees: runs go to `voxelizer` (owned by the
+    /// caller, outliving the scene's use of it). Without one, or without the
+    /// volume's place in the world, the view cannot (voxelizeInView says so).
+    void attachVoxelizer(ViewVoxelizer* voxelizer) { voxelizer_ = voxelizer; }
+    /// Asks for what `state`'s camera sees (the ray cast's half of a
+    /// side-by-side view), at about a voxel a pixel within `maxSideVoxels` a
+    /// side; once run, it is drawn in place of the volume opened whenever
+    /// the camera sees no more than its box. The JSON text for the page.
+    /// Throws yv::Error when the view cannot or nothing is in view.
+    std::string voxelizeInView(const ViewState& state, int maxSideVoxels);
+    /// Saves the view voxelization taken last (a .vdb, or a work directory).
+    /// Throws yv::Error when there is none.
+    std::string saveView(bool workDir);
+    /// The view voxelization taken last, if any.
+    const DetailRun* detail() const;
 
   private:
-    Renderer& rendererFor(const std::string& mode);
+    /// The renderers of one volume drawn in the ray-cast half, and where its
+    /// voxels lie against the volume opened: detail = scale * opened + offset.
+    struct VolumeLayer {
+        const VolumeSource* source = nullptr;
+        BrickCache* cache = nullptr;
+        VoxelBox box;
+        double scale = 1.0;
+        glm::dvec3 offset{0.0};
+        std::map<std::string, std::unique_ptr<Renderer>> renderers;
+        std::map<std::string, AtlasLoad> atlases; ///< by mode: the one its renderer draws
+    };
+    struct DetailLayer;
+
+    Renderer& rendererFor(VolumeLayer& layer, const std::string& mode);
+    VolumeLayer& layerFor(const std::string& mode, const ViewCamera& view, int width, int height);
     void drawInto(const std::string& mode, const ViewCamera& camera, int width, int height, RgbImage& out, int x0,
                   ViewFrame& frame);
+    void takeFinishedDetail();
 
     ViewVolume volume_;
     VoxelBox box_;
@@ -74,8 +106,9 @@ class ViewScene {
     double sliceLodPixels_;
     std::string rendererName_;
     std::vector<std::string> modes_;
-    std::map<std::string, std::unique_ptr<Renderer>> renderers_;
-    std::map<std::string, AtlasLoad> atlases_; ///< by mode: the one its renderer draws
+    VolumeLayer opened_;
+    ViewVoxelizer* voxelizer_ = nullptr;
+    std::unique_ptr<DetailLayer> detail_; ///< after the context: its textures go first
 };
 
 } // namespace yv

@@ -6,6 +6,7 @@
 
 #include "inspect/slice_instances.h"
 #include "inspect/volume_source.h"
+#include "core/voxel_grid.h"
 #include "pipeline/voxelize_job.h"
 
 #include <cstdint>
@@ -22,6 +23,9 @@ struct ViewVolume {
     /// A garment was given: its slices are drawn beside the ray cast of its voxelization.
     bool garment = false;
     std::uint64_t activeVoxels = 0;
+    /// Where the volume's voxels lie in the world, where known (a garment's
+    /// run): what voxelizing the view at a finer voxel size needs.
+    std::optional<VoxelGrid> grid;
     std::string name; ///< the input's file name, for the page's title
     std::filesystem::path scratch; ///< where a garment's voxelization lies while the view runs ("" when none)
 

@@ -4,11 +4,14 @@
 // page is opened, the camera dragged, and the test checks that frames arrive
 // and change with the camera, that the address reopens the same view (the
 // same picture), that a mode key switches the render, and that a screenshot
-// shows the garment in the middle and background at the corners. No frame
-// rate is asserted. Fails (never skips) when chromium or node_modules is missing.
+// shows the garment in the middle and background at the corners; then the
+// camera zooms in and stops, what it sees is voxelized finer and shown, and,
+// saved with the s key, equals `yarnvox voxelize` with the command the view
+// gives for that box, value for value (both exported to Mitsuba .vol and
+// compared byte for byte). No frame rate is asserted. Fails (never skips) when chromium or node_modules is missing.
 //   node tests/browser/view_test.mjs --yarnvox build/yarnvox --scratch DIR
 import { spawn, execFileSync } from 'node:child_process';
-import { existsSync, mkdirSync, rmSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync, rmSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -42,7 +45,8 @@ const bcc = join(scratch, 'plain.bcc');
 execFileSync(yarnvox, ['gen', '--pattern', 'plain', '--crossings', '16', '--quiet', '-o', bcc]);
 
 // The view, on any free port; its address is the line with http://.
-const server = spawn(yarnvox, ['view', bcc, '--port', '0', '--resolution', '48', '--size', '320x180'],
+const server = spawn(yarnvox, ['view', bcc, '--port', '0', '--resolution', '48', '--size', '320x180', '--save-dir', scratch,
+                              '--view-voxels', '96'],
                      { stdio: ['ignore', 'pipe', 'pipe'] });
 let serverOut = '';
 server.stderr.on('data', (d) => { serverOut += d; });
@@ -86,6 +90,9 @@ try {
   check('the frame has the page\'s size', first.stats.width === 640 && first.stats.height === 360, JSON.stringify(first.stats));
   check('the address holds the camera and mode', /az=30/.test(first.hash) && /mode=raycast/.test(first.hash), first.hash);
   const before = await picture();
+  // Voxelize-on-stop off until its own part below: the pictures compared here are of the volume opened.
+  await page.keyboard.press('a');
+  check('the a key turns voxelize-on-stop off', await page.evaluate(() => window.yvView.autoVoxelize === false));
 
   // Drag the camera across the middle.
   await page.mouse.move(320, 180);
@@ -148,6 +155,36 @@ try {
   check('the screenshot shows the ray cast near the centre of the right half', regions.rightCentre > 0.2, JSON.stringify(regions));
   check('the corners are background', regions.topRight === 0 && regions.bottomRight === 0 && regions.bottomLeft === 0,
         JSON.stringify(regions));
+
+  // Voxelize what the camera sees: on again, zoom in with the wheel and stop; the view's run is shown.
+  await page.keyboard.press('a');
+  await page.mouse.move(480, 180);
+  await page.mouse.wheel(0, -1200);
+  await page.waitForFunction(() => window.yvView.stats && window.yvView.stats.detail && window.yvView.stats.detail.shown &&
+                                   window.yvView.settled(), null, { timeout: 300000 });
+  const shown = await page.evaluate(() => ({ stats: window.yvView.stats, voxelize: window.yvView.voxelize,
+                                             hello: null, ms: window.yvView.stopToDetailMs }));
+  const detail = shown.stats.detail;
+  check('the camera stopping asked for its view to be voxelized',
+        shown.voxelize.some((m) => m.state === 'asked') && shown.voxelize.some((m) => m.state === 'running'),
+        JSON.stringify(shown.voxelize));
+  check('the view\'s run is shown, and timed from the stop', detail.activeVoxels > 0 && shown.ms > 0, JSON.stringify(detail));
+  await page.keyboard.press('s');
+  await page.waitForFunction(() => window.yvView.voxelize.some((m) => m.state === 'saved' || m.state === 'failed'),
+                             null, { timeout: 180000 });
+  const saved = await page.evaluate(() => window.yvView.voxelize.find((m) => m.state === 'saved' || m.state === 'failed'));
+  check('the s key saves the view\'s run as a .vdb', saved.state === 'saved' && existsSync(saved.vdb), JSON.stringify(saved));
+  if (saved.state === 'saved') {
+    const cli = join(scratch, 'cli.vdb');
+    execFileSync(yarnvox, [...detail.command, '--quiet', '-o', cli]);
+    for (const [vdb, vol] of [[saved.vdb, join(scratch, 'view.vol')], [cli, join(scratch, 'cli.vol')]])
+      execFileSync(yarnvox, ['export', vdb, '-o', vol, '--quiet']);
+    const same = (a, b) => existsSync(a) && existsSync(b) && readFileSync(a).equals(readFileSync(b));
+    check('the saved run equals yarnvox voxelize of the same box, density value for value',
+          same(join(scratch, 'view.vol'), join(scratch, 'cli.vol')), detail.command.join(' '));
+    check('and fibre orientation value for value',
+          same(join(scratch, 'view.orientation.vol'), join(scratch, 'cli.orientation.vol')), detail.command.join(' '));
+  }
 } catch (e) {
   check('the browser session', false, e.stack);
 } finally {

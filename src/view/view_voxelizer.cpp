@@ -1,0 +1,218 @@
+#include "view/view_voxelizer.h"
+
+#include "core/error.h"
+#include "core/interrupt.h"
+#include "pipeline/voxelize_run.h"
+
+#include <nlohmann/json.hpp>
+
+#include <charconv>
+#include <chrono>
+#include <cstdio>
+#include <system_error>
+
+namespace yv {
+namespace {
+
+namespace fs = std::filesystem;
+
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+/// The shortest text that reads back to `v`.
+std::string exactText(double v) {
+    char text[64];
+    const auto end = std::to_chars(text, text + sizeof text, v).ptr;
+    return std::string(text, end);
+}
+
+std::string commandText(const std::vector<std::string>& words) {
+    std::string text = "yarnvox";
+    for (const std::string& w : words) text += " " + w;
+    return text;
+}
+
+/// Where run `id` of `input` is saved: GARMENT-view-ID in `dir`.
+fs::path savedName(const fs::path& dir, const std::string& input, std::uint64_t id) {
+    return dir / (fs::path(input).stem().string() + "-view-" + std::to_string(id));
+}
+
+} // namespace
+
+std::vector<std::string> voxelizeArguments(const VoxelizeJob& job) {
+    const VoxelizeJob defaults;
+    std::vector<std::string> words = {"voxelize", job.input};
+    const auto add = [&](const char* option, std::string value) {
+        words.emplace_back(option);
+        words.push_back(std::move(value));
+    };
+    if (job.resolution > 0) add("--resolution", std::to_string(job.resolution));
+    if (job.voxelSize > 0.0) add("--voxel-size", exactText(job.voxelSize));
+    if (job.box) add(job.box->world ? "--bbox-world" : "--bbox", job.box->text);
+    if (job.yarnRadius != defaults.yarnRadius) add("--yarn-radius", exactText(job.yarnRadius));
+    if (job.slicesPerSegment != defaults.slicesPerSegment) add("--slices-per-segment", std::to_string(job.slicesPerSegment));
+    if (job.spacing != defaults.spacing) add("--slice-spacing", exactText(job.spacing));
+    if (job.twist != defaults.twist) add("--twist", exactText(job.twist));
+    if (job.crossSection != defaults.crossSection) add("--cross-section", job.crossSection);
+    if (job.backend != defaults.backend) add("--backend", toString(job.backend));
+    if (job.supersample != defaults.supersample) add("--supersample", std::to_string(job.supersample));
+    return words;
+}
+
+ViewVoxelizer::ViewVoxelizer(VoxelizeJob base, fs::path scratch, fs::path saveDir, Listener listener)
+    : base_(std::move(base)), scratch_(std::move(scratch)), saveDir_(std::move(saveDir)), listener_(std::move(listener)),
+      worker_([this] { work(); }) {}
+
+ViewVoxelizer::~ViewVoxelizer() {
+    {
+        const std::lock_guard lock(mutex_);
+        stopping_ = true;
+        waiting_.clear();
+    }
+    wake_.notify_all();
+    worker_.join();
+}
+
+VoxelizeJob ViewVoxelizer::jobFor(const ViewVoxelization& plan) const {
+    VoxelizeJob job = base_;
+    job.resolution = 0;
+    job.voxelSize = plan.voxelSize;
+    job.box = parseBoxRequest(true, plan.boxText);
+    job.quiet = true;
+    job.verbose = false;
+    job.statsPath.clear();
+    job.workDir.clear();
+    job.keepWorkDir = job.resume = false;
+    return job;
+}
+
+bool ViewVoxelizer::request(const ViewVoxelization& plan) {
+    {
+        const std::lock_guard lock(mutex_);
+        if (running_ == plan || last_ == plan) return false;
+        for (const Task& t : waiting_)
+            if (t.kind == Task::Kind::Voxelize && t.plan == plan) return false;
+        // The newest view wins over one not yet started.
+        std::erase_if(waiting_, [](const Task& t) { return t.kind == Task::Kind::Voxelize; });
+        Task task;
+        task.plan = plan;
+        task.id = nextId_++;
+        task.askedAt = now();
+        waiting_.push_back(std::move(task));
+    }
+    wake_.notify_all();
+    return true;
+}
+
+std::optional<DetailRun> ViewVoxelizer::takeFinished() {
+    const std::lock_guard lock(mutex_);
+    return std::exchange(finished_, std::nullopt);
+}
+
+void ViewVoxelizer::save(const DetailRun& run, bool workDir) {
+    {
+        const std::lock_guard lock(mutex_);
+        Task task;
+        task.kind = workDir ? Task::Kind::SaveWorkDir : Task::Kind::SaveVdb;
+        task.run = run;
+        task.id = run.id;
+        task.askedAt = now();
+        waiting_.push_back(std::move(task));
+    }
+    wake_.notify_all();
+}
+
+bool ViewVoxelizer::busy() const {
+    const std::lock_guard lock(mutex_);
+    return running_.has_value() || !waiting_.empty();
+}
+
+void ViewVoxelizer::work() {
+    for (;;) {
+        Task task;
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [&] { return stopping_ || !waiting_.empty(); });
+            if (stopping_) return;
+            task = std::move(waiting_.front());
+            waiting_.erase(waiting_.begin());
+            if (task.kind == Task::Kind::Voxelize) running_ = task.plan;
+        }
+        try {
+            if (task.kind == Task::Kind::Voxelize) voxelize(task);
+            else saveRun(task);
+        } catch (const Error& e) {
+            listener_.tell(nlohmann::json{{"type", "voxelize"}, {"state", "failed"}, {"id", task.id}, {"text", e.what()}}.dump());
+        }
+        const std::lock_guard lock(mutex_);
+        running_.reset();
+        if (interruptSignal() != 0) return; // Ctrl-C: the view is stopping
+    }
+}
+
+void ViewVoxelizer::voxelize(const Task& task) {
+    listener_.tell(nlohmann::json{{"type", "voxelize"},
+                                  {"state", "running"},
+                                  {"id", task.id},
+                                  {"voxelSize", task.plan.voxelSizeText},
+                                  {"bboxWorld", task.plan.boxText}}
+                       .dump());
+    VoxelizeJob job = jobFor(task.plan);
+    job.output = (scratch_ / ("view-" + std::to_string(task.id) + ".vdb")).string();
+    const VoxelizeReport report = runVoxelize(job, [](const std::string&) {});
+    DetailRun run;
+    run.id = task.id;
+    run.plan = task.plan;
+    run.vdbPath = job.output;
+    run.grid.origin = report.origin;
+    run.grid.voxelSize = report.voxelSize;
+    run.grid.dims = report.dims;
+    run.activeVoxels = report.activeVoxels;
+    run.seconds = now() - task.askedAt;
+    run.command = voxelizeArguments(job);
+    {
+        const std::lock_guard lock(mutex_);
+        // The file of a run replaced before it was taken is not needed (one taken stays while shown).
+        if (finished_) {
+            std::error_code ignored;
+            fs::remove(finished_->vdbPath, ignored);
+        }
+        finished_ = run;
+        last_ = task.plan;
+    }
+    listener_.finished();
+}
+
+void ViewVoxelizer::saveRun(const Task& task) {
+    const fs::path name = savedName(saveDir_, base_.input, task.id);
+    nlohmann::json said = {{"type", "voxelize"}, {"state", "saved"}, {"id", task.id}};
+    std::vector<std::string> command = task.run.command;
+    if (task.kind == Task::Kind::SaveVdb) {
+        const fs::path target = name.string() + ".vdb";
+        // Copied under a temporary name and renamed: no half-copied file that looks complete.
+        const fs::path partial = target.string() + ".partial";
+        std::error_code ec;
+        fs::copy_file(task.run.vdbPath, partial, fs::copy_options::overwrite_existing, ec);
+        if (!ec) fs::rename(partial, target, ec);
+        if (ec) {
+            fs::remove(partial, ec);
+            throw Error("cannot save the view's voxels to " + target.string() + ": " + ec.message());
+        }
+        said["vdb"] = target.string();
+        command.insert(command.end(), {"-o", target.string()});
+    } else {
+        VoxelizeJob job = jobFor(task.run.plan);
+        job.output = name.string() + ".vdb";
+        job.workDir = name.string() + ".work";
+        runVoxelize(job, [](const std::string&) {});
+        said["vdb"] = job.output;
+        said["workDir"] = job.workDir;
+        command = voxelizeArguments(job);
+        command.insert(command.end(), {"--work-dir", job.workDir, "-o", job.output});
+    }
+    said["command"] = command;
+    said["commandText"] = commandText(command);
+    said["seconds"] = now() - task.askedAt;
+    listener_.tell(said.dump());
+}
+
+} // namespace yv

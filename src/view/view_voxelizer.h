@@ -1,0 +1,99 @@
+// Voxelize what the camera sees, off the render thread: the live view asks
+// for a box and voxel size (view_region.h) when the camera stops, and a
+// worker runs the same passes as `yarnvox voxelize --voxel-size V
+// --bbox-world BOX` into the view's scratch directory (with a GL context of
+// its own) while frames go on being drawn; the render thread takes the
+// finished run and swaps it into the ray cast. The worker also saves a run
+// where the user asks: the .vdb as shown, or a work directory that `merge`
+// and `inspect` read. A request made while a run is under way waits (the
+// newest replaces an older one waiting); a run is never stopped half-way
+// but by Ctrl-C, which stops the whole view.
+#pragma once
+
+#include "core/voxel_grid.h"
+#include "pipeline/voxelize_job.h"
+#include "view/view_region.h"
+
+#include <condition_variable>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace yv {
+
+/// A finished view voxelization.
+struct DetailRun {
+    std::uint64_t id = 0; ///< 1, 2, ... in the order asked
+    ViewVoxelization plan;
+    std::string vdbPath;  ///< in the view's scratch directory
+    VoxelGrid grid;       ///< the run's whole grid (its box is part of it)
+    std::uint64_t activeVoxels = 0;
+    double seconds = 0.0; ///< from the request to the .vdb written
+    /// The same run from the command line, without -o: yarnvox voxelize GARMENT ...
+    std::vector<std::string> command;
+};
+
+/// `job`'s options as `yarnvox voxelize` arguments: the input, then every
+/// option the view passes on that differs from voxelize's default, numbers
+/// in the shortest text that reads back to the same double.
+std::vector<std::string> voxelizeArguments(const VoxelizeJob& job);
+
+class ViewVoxelizer {
+  public:
+    /// Events for the pages, from the worker thread.
+    struct Listener {
+        std::function<void()> finished;                     ///< a run is ready to be taken
+        std::function<void(const std::string& json)> tell;  ///< a message for every page
+    };
+
+    /// `base`: how the view voxelized its garment (input set); runs go to
+    /// `scratch`, saves to `saveDir`. Starts the worker.
+    ViewVoxelizer(VoxelizeJob base, std::filesystem::path scratch, std::filesystem::path saveDir, Listener listener);
+    /// Waits for the run under way (Ctrl-C stops it at once).
+    ~ViewVoxelizer();
+    ViewVoxelizer(const ViewVoxelizer&) = delete;
+    ViewVoxelizer& operator=(const ViewVoxelizer&) = delete;
+
+    /// Asks for `plan`; false (nothing done) when it is the run under way,
+    /// waiting or last finished.
+    bool request(const ViewVoxelization& plan);
+    /// The newest run finished since the last call, if any.
+    std::optional<DetailRun> takeFinished();
+    /// Saves finished run `run` to the save directory: its .vdb as it is, or
+    /// (`workDir`) voxelized again through a work directory kept there.
+    void save(const DetailRun& run, bool workDir);
+    /// A run under way or waiting.
+    bool busy() const;
+
+  private:
+    struct Task {
+        enum class Kind { Voxelize, SaveVdb, SaveWorkDir } kind = Kind::Voxelize;
+        ViewVoxelization plan;
+        DetailRun run; ///< what a save saves
+        std::uint64_t id = 0;
+        double askedAt = 0.0;
+    };
+    void work();
+    void voxelize(const Task& task);
+    void saveRun(const Task& task);
+    VoxelizeJob jobFor(const ViewVoxelization& plan) const;
+
+    VoxelizeJob base_;
+    std::filesystem::path scratch_, saveDir_;
+    Listener listener_;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::vector<Task> waiting_;
+    std::optional<ViewVoxelization> running_, last_;
+    std::optional<DetailRun> finished_;
+    std::uint64_t nextId_ = 1;
+    bool stopping_ = false;
+    std::thread worker_; ///< last: started once the rest is there
+};
+
+} // namespace yv
