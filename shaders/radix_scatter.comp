@@ -29,26 +29,40 @@ const uint kDropped = 0xffffffffu;
 const uint kPerThread = RADIX_PER_THREAD;
 const uint kTile = 256u * kPerThread;
 shared uint tileKeys[kTile], tileValues[kTile];
-shared uint partial[256];
+shared uint partial[256], rowSums[16], groupTotal;
 shared uint digitStart[256]; // per digit: its pairs in the tile, then where they start in the sorted tile
+shared bool oneDigit;        // the tile's kept pairs all have one digit (already in order by it)
 
-// Exclusive scan of `partial` across the work group (Hillis-Steele); returns the group total.
-uint groupScan(uint value) {
+// The sum of `value` over the threads before this one; `total` over all of
+// them. Three barriers (16 rows of 16 summed in turn, then the rows), where
+// a Hillis-Steele scan takes 16: a tile's sort runs 8 or 9 of these.
+uint groupScan(uint value, out uint total) {
     uint lid = gl_LocalInvocationID.x;
     partial[lid] = value;
     barrier();
-    for (uint offset = 1u; offset < 256u; offset <<= 1) {
-        uint add = lid >= offset ? partial[lid - offset] : 0u;
-        barrier();
-        partial[lid] += add;
-        barrier();
+    if (lid < 16u) {
+        uint sum = 0u;
+        for (uint k = 0u; k < 16u; ++k) {
+            uint v = partial[16u * lid + k];
+            partial[16u * lid + k] = sum;
+            sum += v;
+        }
+        rowSums[lid] = sum;
     }
-    uint total = partial[255];
-    uint exclusive = partial[lid] - value;
     barrier();
-    partial[lid] = exclusive;
+    if (lid == 0u) {
+        uint sum = 0u;
+        for (uint k = 0u; k < 16u; ++k) {
+            uint v = rowSums[k];
+            rowSums[k] = sum;
+            sum += v;
+        }
+        groupTotal = sum;
+    }
     barrier();
-    return total;
+    // (What is read here is written again only after the next call's first barrier.)
+    total = groupTotal;
+    return partial[lid] + rowSums[lid >> 4];
 }
 
 // The bit a split sorts by: bits 0 to 7 of the digit, then 8: dropped.
@@ -62,6 +76,7 @@ void main() {
     for (uint tile = gl_WorkGroupID.x; tile < uTiles; tile += gl_NumWorkGroups.x) {
         uint first = tile * kTile;
         digitStart[lid] = 0u;
+        if (lid == 0u) oneDigit = false;
         barrier();
         // The tile, read coalesced; a place past the end is a dropped pair.
         for (uint j = 0u; j < kPerThread; ++j) {
@@ -76,8 +91,11 @@ void main() {
             if (value != kDropped) atomicAdd(digitStart[(key >> uShift) & 255u], 1u);
         }
         barrier();
-        uint keptInTile = groupScan(digitStart[lid]);
-        digitStart[lid] = partial[lid];
+        uint keptInTile;
+        uint count = digitStart[lid];
+        uint start = groupScan(count, keptInTile); // (each thread reads and writes its own digit)
+        digitStart[lid] = start;
+        if (count == keptInTile && count != 0u) oneDigit = true;
         barrier();
         if (keptInTile == 0u) continue; // the same for the whole work group
 
@@ -87,12 +105,14 @@ void main() {
             keys[j] = tileKeys[lid * kPerThread + j];
             values[j] = tileValues[lid * kPerThread + j];
         }
+        // A tile whose pairs share the digit (often so for the distances'
+        // exponent bits) needs at most the split of the dropped ones.
         uint splits = keptInTile < kTile ? 9u : 8u;
-        for (uint bit = 0u; bit < splits; ++bit) {
+        for (uint bit = oneDigit ? 8u : 0u; bit < splits; ++bit) {
             uint ones = 0u;
             for (uint j = 0u; j < kPerThread; ++j) ones += splitBit(keys[j], values[j], bit);
-            uint allOnes = groupScan(ones);
-            uint onesBefore = partial[lid];
+            uint allOnes;
+            uint onesBefore = groupScan(ones, allOnes);
             uint zero = lid * kPerThread - onesBefore, one = kTile - allOnes + onesBefore;
             // (groupScan's barriers: every thread has read its pairs before they move.)
             for (uint j = 0u; j < kPerThread; ++j) {

@@ -73,14 +73,17 @@ TEST_CASE("radix sort on the GPU: stable by key, the dropped pairs left out, as 
     context.gl();
     GLint groups = 0;
     glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
-    // Several tiles and scan blocks; keys from a narrow range (many equal)
-    // and from the whole range (every byte a digit); one in 7 dropped.
+    // Several tiles and scan blocks; keys from a narrow range (many equal),
+    // from the whole range (every byte a digit), and with all bytes but the
+    // second the same for all (tiles of one digit); one in 7 dropped.
     const std::uint32_t n = 20000;
-    for (const std::uint32_t range : {97u, 0xffffffffu}) {
+    for (const std::uint32_t range : {97u, 0xffffffffu, 0x100u}) {
         std::mt19937 rng(range);
         std::vector<std::uint32_t> keys(n), values(n);
         for (std::uint32_t i = 0; i < n; ++i) {
-            keys[i] = range == 0xffffffffu ? std::uint32_t(rng()) : std::uint32_t(rng() % range) * 0x01010101u;
+            keys[i] = range == 0xffffffffu ? std::uint32_t(rng())
+                      : range == 0x100u    ? 0xbe7f003cu | std::uint32_t(rng() % range) << 8
+                                           : std::uint32_t(rng() % range) * 0x01010101u;
             values[i] = rng() % 7 == 0 ? RadixSort::kDropped : i;
         }
         RadixSort sort(n, GLuint(std::max(groups, 1)));
