@@ -161,7 +161,8 @@ std::string pictureText(const PictureRequest& p, const Drawn& d) {
         appendf(out, "%s: slices, %dx%d, on %s\n", p.output.c_str(), r.width, r.height, rep.renderer.c_str());
         for (const std::string& n : d.notes) appendf(out, "  %s\n", n.c_str());
         const std::string joined = r.sliceLodPixels > 0.0 ? ", or joined where they lie under " +
-                                                                 numberText(r.sliceLodPixels) + " pixels apart"
+                                                                 numberText(r.sliceLodPixels) +
+                                                                 (r.sliceLodPixels == 1.0 ? " pixel apart" : " pixels apart")
                                                            : std::string();
         appendf(out, "  %llu of %llu slices drawn (the others outside the view%s); back-to-front sort %.3f s (on the "
                 "GPU), draw %.3f s%s (uploading %.3f s)\n",
