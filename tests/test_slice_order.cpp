@@ -254,7 +254,7 @@ TEST_CASE("slices on the GPU: slices far below a pixel apart are drawn a few as 
     YV_REQUIRE_GL();
     RenderContext context;
     context.gl();
-    // 40 slices a segment on a grid of 48, the cylinder 70 pixels tall: a
+    // 40 slices a segment on a grid of 48, seen whole in 96x72 pixels: a
     // fraction of a pixel between slices.
     GenerateOptions g;
     g.pattern = WeavePattern::Knit;
