@@ -114,7 +114,8 @@
           ' (voxelized in ' + s.detail.seconds.toFixed(2) + ' s)'
         : s.activeVoxels.toLocaleString('en') + ' active voxels') + '   level ' + s.level +
       (s.slices ? '   ' + s.slices.toLocaleString('en') + ' slices' : '') + '   ' +
-      (s.bytes / 1024).toFixed(1) + ' KiB a frame   GPU ' + (s.gpuBytes / 1048576).toFixed(0) + ' MiB' +
+      (s.bytes / 1024).toFixed(1) + ' KiB a frame   GPU: ' + (s.gpuBytes / 1048576).toFixed(0) + ' MiB of bricks' +
+      (s.gpuFreeBytes >= 0 ? ', ' + (s.gpuFreeBytes / 1073741824).toFixed(1) + ' GiB free' : '') +
       (hello ? '\n' + hello.renderer : '') + (hello && hello.voxelSize ? '   voxel ' + hello.voxelSize.toPrecision(3) : '') +
       '\nmodes: ' + modes.map((m, i) => (i + 1) + ' ' + m).join('  ');
   }

@@ -49,17 +49,15 @@ so). Cases marked "mpi" run `MPIRUN -np 2 yarnvox` (a yarnvox built with
 --compare GOLDEN compares the lines with GOLDEN and exits 1 with a unified
 diff when any differs (0 when all agree).
 
-The golden file, tests/golden/output-digests-8061731.txt, was made with the
-yarnvox of commit 8061731 (built Release, -DYARNVOX_MPI=ON), with GL and MPI:
+The golden file, tests/golden/output-digests-b42c5f0.txt, was made with the
+yarnvox of commit b42c5f0 (built Release, -DYARNVOX_MPI=ON), with GL and MPI:
 
     tests/output_digests.py --yarnvox build/yarnvox \
         --scratch /tmp/yv-digests --mpiexec "$(command -v mpirun)" \
-        > tests/golden/output-digests-8061731.txt
+        > tests/golden/output-digests-b42c5f0.txt
 
-Its lines are those of the golden file the yarnvox of 8d8d9c1 gave, but for
-the --stats JSON files: 8061731 added the key regions_missing_recomputed,
-and a resume's regions_damaged_recomputed no longer counts the missing
-region files (docs/same-bytes.md).
+How its lines differ from those of the earlier golden files (8d8d9c1,
+8061731, ec8a3f0, 6d7a37d), and why: docs/same-bytes.md.
 
 Regenerate it the same way (with the new binary, and a new file name saying
 its commit, named in tests/CMakeLists.txt) only when a change of the output

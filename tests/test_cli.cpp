@@ -178,8 +178,10 @@ TEST_CASE("CLI: --overlap clamp keeps voxels at 1, sum keeps the sums, --stats s
     const char* modes[2] = {"clamp", "sum"};
     for (int i = 0; i < 2; ++i) {
         const fs::path vdb = scratch(std::string("twill-") + modes[i] + ".vdb"), json = scratch("twill.json");
+        // Float values: the stats' fibre volume (of the floats) is compared with the file's below.
         const RunResult r = run("voxelize " + bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution 96 " +
-                                "--cross-section disk --overlap " + modes[i] + " --stats " + json.string());
+                                "--cross-section disk --precision float --overlap " + modes[i] + " --stats " +
+                                json.string());
         INFO(r.output);
         REQUIRE(r.exitCode == 0);
         // More than a trace of the fibre overlaps: the summary line says so.

@@ -165,7 +165,8 @@ TEST_CASE("bad input: a run whose expected output does not fit the disk is refus
     };
     const fs::path work = dir.path / "work";
     const auto start = std::chrono::steady_clock::now();
-    yv::test::RunResult r = voxelize(0.8 * need, "--work-dir " + work.string());
+    // A float run (the estimate above is float's; the default, half, needs about half of it).
+    yv::test::RunResult r = voxelize(0.8 * need, "--precision float --work-dir " + work.string());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     INFO(r.output);
     CHECK(r.exitCode == 1);
@@ -179,14 +180,14 @@ TEST_CASE("bad input: a run whose expected output does not fit the disk is refus
 
     // Without the work dir's full-precision regions: what it offers works on
     // the same disk, half precision or the grid it names.
-    r = voxelize(0.8 * need, "--quiet");
+    r = voxelize(0.8 * need, "--precision float --quiet");
     CHECK(r.exitCode == 1);
     CHECK_THAT(r.output, Contains("--precision half (16-bit values) fits"));
     const std::size_t at = r.output.find("; or --resolution ");
     REQUIRE(at != std::string::npos);
     const std::string offered = std::to_string(std::atoi(r.output.c_str() + at + 18));
     r = yv::test::runShell("YARNVOX_TEST_FREE_BYTES=" + std::to_string(0.8 * need) + " " + YV_BINARY_DIR + "/yarnvox voxelize " +
-                           bcc + " -o " + vdb + " --backend cpu --quiet --resolution " + offered);
+                           bcc + " -o " + vdb + " --backend cpu --precision float --quiet --resolution " + offered);
     INFO("--resolution " << offered << "\n" << r.output);
     CHECK(r.exitCode == 0);
     fs::remove(vdb);
@@ -194,10 +195,14 @@ TEST_CASE("bad input: a run whose expected output does not fit the disk is refus
     CHECK(r.exitCode == 0);
     CHECK(fs::exists(vdb));
     fs::remove(vdb);
+    r = voxelize(0.8 * need, "--quiet"); // the default is half
+    CHECK(r.exitCode == 0);
+    CHECK(fs::exists(vdb));
+    fs::remove(vdb);
 
     // Room for it: written, and the .vdb is no larger than expected (the
     // estimate errs high where yarns touch, never far low).
-    r = voxelize(1.2 * need, "--quiet");
+    r = voxelize(1.2 * need, "--precision float --quiet");
     CHECK(r.exitCode == 0);
     REQUIRE(fs::exists(vdb));
     CHECK(double(fs::file_size(vdb)) <= 1.05 * need / 2.0);

@@ -349,7 +349,9 @@ TEST_CASE("CLI: voxelize --format vol and nvdb convert the same voxels as the .v
     for (const fs::path& p : {vdb, vol, nvdb, scratch("knit.orientation.vol", "format")}) fs::remove(p);
     REQUIRE(test::runYarnvox("gen --pattern knit --crossings 20 --shape cylinder --seed 3 -o " + bcc.string()).exitCode == 0);
     const std::string options = " --backend cpu --resolution 48 --twist 1";
-    REQUIRE(test::runYarnvox("voxelize " + bcc.string() + " -o " + vdb.string() + options).exitCode == 0);
+    // A .vol or .nvdb output is converted from a float .vdb (without --precision).
+    REQUIRE(test::runYarnvox("voxelize " + bcc.string() + " -o " + vdb.string() + options + " --precision float")
+                .exitCode == 0);
     const test::RunResult v = test::runYarnvox("voxelize " + bcc.string() + " -o " + vol.string() + options);
     INFO(v.output);
     REQUIRE(v.exitCode == 0);

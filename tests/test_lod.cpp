@@ -321,12 +321,13 @@ TEST_CASE("CLI: voxelize --lod writes the pyramid, and refuses levels the grid c
     const fs::path bcc = scratch("knit.bcc"), vdb = scratch("knit.vdb"), plain = scratch("plain.vdb");
     fs::remove(vdb);
     REQUIRE(test::runYarnvox("gen --pattern knit --crossings 40 --shape cylinder --seed 2 -o " + bcc.string()).exitCode == 0);
+    // Float values: each level keeps level 0's fibre volume to float rounding.
     const test::RunResult lod = test::runYarnvox("voxelize " + bcc.string() + " -o " + vdb.string() +
-                                                 " --backend cpu --resolution 64 --lod 3 --quiet");
+                                                 " --backend cpu --resolution 64 --lod 3 --precision float --quiet");
     INFO(lod.output);
     REQUIRE(lod.exitCode == 0);
     const test::RunResult none = test::runYarnvox("voxelize " + bcc.string() + " -o " + plain.string() +
-                                                  " --backend cpu --resolution 64 --quiet");
+                                                  " --backend cpu --resolution 64 --precision float --quiet");
     REQUIRE(none.exitCode == 0);
     openvdb::io::File file(vdb.string());
     file.open();

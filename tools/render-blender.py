@@ -42,6 +42,12 @@ def parse_args():
     p.add_argument("--size", default="480x360", help="image width x height in pixels (default 480x360)")
     p.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel (default 16)")
     p.add_argument("--threads", type=int, default=0, help="render threads (default 0: all cores)")
+    p.add_argument("--seed", type=int, default=0,
+                   help="Cycles' sampling seed (default 0): the same seed and settings give the same picture, another "
+                        "seed the same picture with other noise")
+    p.add_argument("--volume-precision", choices=("full", "half", "variable"), default="half",
+                   help="how Cycles holds the grid while it renders (Blender's Volume setting, default half: "
+                        "16 bits a value; full keeps the file's values as they are)")
     p.add_argument("--view", default="1.0,-1.4,0.7",
                    help="direction from the volume's centre to the camera, x,y,z (default 1.0,-1.4,0.7)")
     a = p.parse_args(argv)
@@ -172,6 +178,7 @@ def main():
     density = a.sigma if a.sigma > 0 else a.optical_depth / h
     volume.render.space = "WORLD"       # Density and step size in world units, whatever the object's scale
     volume.render.step_size = 0.0       # automatic: from the voxel size
+    volume.render.precision = a.volume_precision.upper()
     if a.color == "albedo" and "albedo" not in [g.name for g in volume.grids]:
         raise SystemExit(f"render-blender: {a.input} has no 'albedo' grid (voxelize it with --albedo)")
     color = "albedo" if a.color == "albedo" else floats(a.color, 3, "--color")
@@ -215,6 +222,8 @@ def main():
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
     scene.cycles.samples = a.samples
+    scene.cycles.seed = a.seed
+    scene.cycles.use_animated_seed = False
     scene.cycles.use_adaptive_sampling = False
     # Few samples: denoise where this Blender has OpenImageDenoise.
     import _cycles
@@ -236,7 +245,7 @@ def main():
     scene.render.filepath = os.path.abspath(a.output)
     print(f"render-blender: {a.input}: grid {a.grid}, voxel size {h:.6g}, Density {density:.6g} per unit, "
           f"bounds {tuple(round(v, 4) for v in lo)} to {tuple(round(v, 4) for v in hi)}, {width}x{height}, "
-          f"{a.samples} samples")
+          f"{a.samples} samples, seed {a.seed}, volume precision {a.volume_precision}")
     bpy.ops.render.render(write_still=True)
     print(f"render-blender: wrote {a.output}")
 

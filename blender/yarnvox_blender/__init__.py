@@ -52,7 +52,9 @@ class IMPORT_SCENE_OT_yarnvox_bcc(bpy.types.Operator, ImportHelper):
                                                              ("PNG", "PNG file", "")])
     cross_section_png: StringProperty(name="PNG", subtype="FILE_PATH")
     albedo: BoolProperty(name="Albedo from the PNG", default=False)
-    precision: EnumProperty(name="Precision", items=[("float", "Float", ""), ("half", "Half", "")])
+    precision: EnumProperty(name="Precision", default="half",
+                            items=[("half", "Half", "16-bit values: about half the bytes, the same picture"),
+                                   ("float", "Float", "32-bit values")])
     lod: EnumProperty(name="Levels of detail", items=[("preview", "Preview pyramid", ""), ("0", "None", ""),
                                                       ("2", "Levels 1-2", ""), ("3", "Levels 1-3", "")])
     backend: EnumProperty(name="Backend", items=[("auto", "Auto", ""), ("gl", "GPU (OpenGL)", ""), ("cpu", "CPU", "")])

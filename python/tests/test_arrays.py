@@ -69,9 +69,19 @@ def test_a_coarse_level_keeps_the_fibre_volume(volume):
         yarnvox.read_volume(volume, level=2)
 
 
-def test_voxelize_arrays_equal_the_written_file(knit, volume):
-    arrays = yarnvox.voxelize_arrays(knit, resolution=64, backend="cpu", twist=2)
+def test_voxelize_arrays_equal_the_written_file(knit, volume, cli):
+    # The file's default precision is half; the arrays' float, unless asked for half.
+    halves = yarnvox.voxelize_arrays(knit, resolution=64, backend="cpu", twist=2, precision="half")
     from_file = yarnvox.read_volume(volume)
-    np.testing.assert_array_equal(arrays["density"], from_file["density"])
-    np.testing.assert_array_equal(arrays["orientation"], from_file["orientation"])
-    assert arrays["origin"] == from_file["origin"]
+    np.testing.assert_array_equal(halves["density"], from_file["density"])
+    np.testing.assert_array_equal(halves["orientation"], from_file["orientation"])
+    assert halves["origin"] == from_file["origin"]
+    floats = yarnvox.voxelize_arrays(knit, resolution=64, backend="cpu", twist=2)
+    cli.run("voxelize", knit, "-o", "float.vdb", "--resolution", 64, "--backend", "cpu", "--twist", 2,
+            "--precision", "float")
+    from_float_file = yarnvox.read_volume("float.vdb")
+    np.testing.assert_array_equal(floats["density"], from_float_file["density"])
+    np.testing.assert_array_equal(floats["orientation"], from_float_file["orientation"])
+    # The halves are the floats rounded (numpy's float16 rounds as OpenVDB's half does: to nearest, ties to even).
+    np.testing.assert_array_equal(floats["density"].astype(np.float16).astype(np.float32), halves["density"])
+    assert np.count_nonzero(floats["density"] != halves["density"]) > 0

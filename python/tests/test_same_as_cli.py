@@ -23,10 +23,10 @@ def test_generate_writes_the_command_lines_garment(scratch, cli):
 # Each case: the module's keyword arguments and the command line's words for them.
 CASES = {
     "cpu-defaults": (dict(resolution=64, backend="cpu"), ["--resolution", "64", "--backend", "cpu"]),
-    "gl-half-lod-disk": (
-        dict(resolution=72, backend="gl", twist=-1.5, cross_section="disk", precision="half", lod=1),
+    "gl-float-lod-disk": (
+        dict(resolution=72, backend="gl", twist=-1.5, cross_section="disk", precision="float", lod=1),
         ["--resolution", "72", "--backend", "gl", "--twist", "-1.5", "--cross-section", "disk",
-         "--precision", "half", "--lod", "1"],
+         "--precision", "float", "--lod", "1"],
     ),
     "cpu-voxel-size-radius": (
         dict(voxel_size=0.25, yarn_radius=0.2, slices_per_segment=8, reduce="max", backend="cpu"),

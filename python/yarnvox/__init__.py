@@ -255,9 +255,12 @@ def read_metadata(path):
 
 def voxelize_arrays(garment, *, dense=True, level=0, box=None, progress=None, **options):
     """voxelize() into a temporary .vdb, read back as read_volume() returns
-    it; no file is kept. For volumes that fit in memory."""
+    it; no file is kept. For volumes that fit in memory. The values are
+    float unless precision="half" is given (the file's default, half, saves
+    bytes on disk, and no file is kept here)."""
     if "lod" not in options and level == 0:
         options["lod"] = 0  # no pyramid to write when level 0 is all that is read
+    options.setdefault("precision", "float")
     scratch = tempfile.mkdtemp(prefix="yarnvox-")
     try:
         path = os.path.join(scratch, "volume.vdb")

@@ -23,7 +23,7 @@ namespace {
 struct MergeArgs {
     std::string workDir, output;
     VdbCompression compression = VdbCompression::ActiveMask;
-    VdbPrecision precision = VdbPrecision::Float;
+    VdbPrecision precision = kDefaultVdbPrecision;
     LodRequest lod;
     bool quiet = false;
 };
@@ -60,8 +60,8 @@ void addMergeCommand(CLI::App& app) {
     cmd->add_option("--vdb-compression", args->compression, "mask, blosc, zip or none (as voxelize's option)")
         ->default_str("mask")
         ->transform(oneOf(kCompressionWords));
-    cmd->add_option("--precision", args->precision, "float or half: how the grids' values are stored (as voxelize's option)")
-        ->default_str("float")
+    cmd->add_option("--precision", args->precision, "half or float: how the grids' values are stored (as voxelize's option)")
+        ->default_str(toString(kDefaultVdbPrecision))
         ->transform(oneOf(kPrecisionWords));
     cmd->add_option_function<std::string>(
            "--lod", [args](const std::string& text) { args->lod = parseLodRequest(text); },

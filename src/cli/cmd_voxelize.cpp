@@ -126,9 +126,10 @@ void addVolumeOptions(CLI::App* cmd, VoxelizeJob& a) {
         ->default_str("mask")
         ->transform(oneOf(kCompressionWords));
     cmd->add_option("--precision", a.precision,
-                    "How the .vdb's values are stored: float, or half (16-bit: about half the bytes; density "
-                    "within 2^-11 relative)")
-        ->default_str("float")
+                    "How the .vdb's values are stored: half (16-bit: about half the bytes of float; density within "
+                    "2^-11 relative, and renders that match float's within the sampling noise) or float. A .vol or "
+                    ".nvdb output is converted from a float .vdb unless --precision is given")
+        ->default_str(toString(kDefaultVdbPrecision))
         ->transform(oneOf(kPrecisionWords));
     cmd->add_option_function<std::string>(
            "--lod", [&a](const std::string& text) { a.lod = parseLodRequest(text); },
@@ -195,8 +196,9 @@ void handOutWholeGarments(Cluster& group, const std::vector<GarmentJob>& jobs, b
 }
 
 /// Voxelizes each garment asked for into its output, in its format.
+/// `precisionGiven`: --precision was on the command line.
 void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std::vector<std::string>& inputs,
-                      const std::string& list) {
+                      const std::string& list, bool precisionGiven) {
     const std::vector<std::string> garments = garmentsAsked(inputs, list);
     std::vector<GarmentJob> jobs;
     if (garments.size() == 1 && list.empty()) {
@@ -211,8 +213,10 @@ void voxelizeGarments(const VoxelizeJob& a, const std::string& format, const std
         const bool vdbOutput = resolveOutputFormat(format, job.output, true) == OutputFormat::Vdb;
         voxelizeInFormat(format, job.output, job.input, a.quiet, [&](const std::string& vdbPath) {
             VoxelizeJob run = a;
-            // A .vdb converted to .vol or .nvdb and removed: the conversion reads level 0 only.
+            // A .vdb converted to .vol or .nvdb and removed: the conversion reads level 0 only,
+            // and writes float32 (halves would only round the values it converts).
             if (!vdbOutput && run.lod.kind == LodRequest::Kind::Preview) run.lod = LodRequest::none();
+            if (!vdbOutput && !precisionGiven) run.precision = VdbPrecision::Float;
             run.input = job.input;
             run.output = vdbPath;
             run.workDir = job.workDir;
@@ -279,9 +283,11 @@ void addVoxelizeCommand(CLI::App& app) {
                       "file system they all see (--work-dir, default OUT.vdb.work); rank 0 merges. See README, "
                       "\"Scale-out with MPI\"."
                     : "");
-    cmd->callback([a, format, inputs, list, progressLines] {
+    cmd->callback([cmd, a, format, inputs, list, progressLines] {
         const ProgressLines lines(*progressLines);
-        runInterruptible("every output is whole", [&] { voxelizeGarments(*a, *format, *inputs, *list); });
+        const bool precisionGiven = cmd->get_option("--precision")->count() > 0;
+        runInterruptible("every output is whole",
+                         [&] { voxelizeGarments(*a, *format, *inputs, *list, precisionGiven); });
     });
 }
 

@@ -32,7 +32,7 @@ struct VoxelizeJob {
     Reduce reduce = Reduce::Mean;                       ///< --reduce
     Overlap overlap = Overlap::Clamp;                   ///< --overlap
     VdbCompression compression = VdbCompression::ActiveMask; ///< --vdb-compression
-    VdbPrecision precision = VdbPrecision::Float;       ///< --precision
+    VdbPrecision precision = kDefaultVdbPrecision;      ///< --precision
     std::string statsPath, workDir;                     ///< --stats, --work-dir
     int resolution = 0;                                 ///< --resolution (0: --voxel-size)
     double voxelSize = 0.0;                             ///< --voxel-size

@@ -36,6 +36,11 @@ enum class VdbPrecision { Float, Half };
 const char* toString(VdbPrecision p);
 /// "float" or "half"; throws yv::Error otherwise.
 VdbPrecision parseVdbPrecision(const std::string& name);
+/// What `voxelize` and `merge` write without --precision: half, whose
+/// renders in Cycles match float's within the sampling noise
+/// (bench/half_vs_float.sh) for about half the bytes. VdbWriteOptions keeps
+/// float: a caller of the writer asks for the rounding.
+inline constexpr VdbPrecision kDefaultVdbPrecision = VdbPrecision::Half;
 
 /// Where the time of a write went.
 struct VdbWriteTimings {

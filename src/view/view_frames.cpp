@@ -45,6 +45,7 @@ Outgoing ViewFrames::draw(const ViewState& state) {
                                   {"level", frame.level},
                                   {"slices", frame.slices},
                                   {"gpuBytes", frame.gpuBytes},
+                                  {"gpuFreeBytes", frame.gpuFreeBytes},
                                   {"detail", detail}};
     return Outgoing{stats.dump(), std::move(jpeg)};
 }

@@ -162,6 +162,7 @@ ViewFrame ViewScene::render(const ViewState& state) {
         drawInto(state.mode, state.camera, state.width, state.height, frame.image, 0, frame);
     }
     frame.renderSeconds = secondsSince(start);
+    frame.gpuFreeBytes = context_.gl().queryFreeMemoryBytes();
     return frame;
 }
 

@@ -40,6 +40,7 @@ struct ViewFrame {
     int level = 0;              ///< the level of detail drawn
     std::uint64_t slices = 0, gpuBytes = 0;
     std::uint64_t detail = 0;   ///< the view voxelization drawn (its id; 0: the volume opened)
+    long long gpuFreeBytes = -1; ///< the GPU's free memory after the frame (-1: the driver does not say)
 };
 
 class ViewScene {
