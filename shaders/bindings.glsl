@@ -62,5 +62,17 @@ const int kDensityAtlasUnit = 2;      // the bricks' density, packed
 const int kOrientationAtlasUnit = 3;  // the bricks' orientation, packed
 const int kTransferFunctionUnit = 4;  // density -> colour and opacity
 const int kLightBufferUnit = 5;       // the slicing renderer's light buffer
-const int kSliceTableUnit = 0;        // the slices drawn: (centre, thickness), (tangent, radius)
+const int kSliceTableUnit = 0;        // the slices drawn: (centre, thickness), (tangent, place in its run)
+const int kSliceSpansUnit = 1;        // per slice drawn: the slices of its run its slab stands for
 const int kBrickOrderBinding = 0;     // the splats' bricks, back to front
+
+// --- The GPU radix sort (radix_*.comp, gpu/radix_sort.h) and the slices'
+// keys it sorts (inspect_slice_keys.comp).
+const int kSortKeysInBinding = 0;     // the pairs a pass reads: keys,
+const int kSortValuesInBinding = 1;   // and values (kDropped: left out)
+const int kSortKeysOutBinding = 2;    // the pairs a pass writes
+const int kSortValuesOutBinding = 3;
+const int kSortHistogramBinding = 4;  // per digit and tile: its pairs, then (scanned) where they go
+const int kSortBlockSumsBinding = 5;  // the histogram scan's sum per block of 1024 counts
+const int kSortKeptBinding = 6;       // the pairs kept (not dropped) by the first pass
+const int kSliceSpansBinding = 2;     // inspect_slices_keys.comp writes kSliceSpansUnit's buffer

@@ -271,6 +271,12 @@ TEST_CASE("inspect slices: the command line finds the run's garment from a work 
         CHECK(drawn > 64 * 48 / 20);
         fs::remove(png);
     }
+    // The level of detail goes with the slices only.
+    const auto lodElsewhere = test::runYarnvox("inspect " + vdb + " --render mip --slice-lod 2 -o " + png);
+    INFO(lodElsewhere.output);
+    CHECK(lodElsewhere.exitCode != 0);
+    CHECK(lodElsewhere.output.find("--slice-lod goes with --render slices") != std::string::npos);
+    CHECK(!fs::exists(png));
     const auto outlines = test::runYarnvox("inspect " + work + " --render mip --regions --size 64x48 --json -o " + png);
     INFO(outlines.output);
     CHECK(outlines.exitCode == 0);

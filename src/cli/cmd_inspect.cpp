@@ -9,6 +9,7 @@
 #include "cli/option_checks.h"
 #include "core/error.h"
 #include "core/output_path.h"
+#include "core/world_units.h"
 #include "inspect/mesh_report.h"
 #include "inspect/render_request.h"
 #include "inspect/store_report.h"
@@ -47,6 +48,7 @@ struct InspectArgs {
     bool noSkip = false, showSamples = false, regions = false;
     int device = -1, repeat = 1;
     double yarnRadius = 0.0;
+    double sliceLod = -1.0; ///< --slice-lod; below 0: not given
     std::string html;            ///< --html DIR
     std::size_t htmlRenders = 8; ///< --html-renders N
 };
@@ -140,6 +142,8 @@ PictureRequest pictureRequest(const InspectArgs& a) {
     r.repeat = a.repeat;
     if (a.output.empty()) throw Error("--render needs -o FILE.png");
     if (r.kind != RenderKind::Slices && !a.garment.empty()) throw Error("--garment goes with --render slices");
+    if (r.kind != RenderKind::Slices && a.sliceLod >= 0.0) throw Error("--slice-lod goes with --render slices");
+    if (a.sliceLod >= 0.0) r.sliceLodPixels = a.sliceLod;
     if (r.kind != RenderKind::Slices && r.kind != RenderKind::VolumetricTriangles && a.yarnRadius > 0.0)
         throw Error("--yarn-radius goes with --render slices or volumetric-triangles");
     if (a.regions && r.kind == RenderKind::VolumetricTriangles)
@@ -251,7 +255,7 @@ void addPictureOptions(CLI::App* cmd, InspectArgs& a) {
                     "Draw a picture to -o instead of printing numbers: raycast (transfer function), mip (maximum "
                     "density along each ray), cut (one plane of voxels, --cut), orientation (|axis| as RGB), slices "
                     "(the run's garment as alpha-blended slices shaded by fibre orientation, sorted back to front on "
-                    "every core; the garment and slice options the run recorded, or --garment), texture-slicing "
+                    "the GPU; the garment and slice options the run recorded, or --garment), texture-slicing "
                     "(view-aligned planes blended back to front, --slices), half-angle (planes lit by a directional "
                     "light, --light, with shadows), splatting (each voxel a Gaussian splat, for comparing coarse "
                     "levels with raycast), isosurface (the surface at density --iso, shaded by the density gradient) "
@@ -276,6 +280,11 @@ void addPictureOptions(CLI::App* cmd, InspectArgs& a) {
                     "--render slices: the garment (.bcc) to draw, instead of the one the run recorded (needed for a "
                     ".vdb not made by yarnvox or a garment that moved)")
         ->check(CLI::ExistingFile);
+    cmd->add_option("--slice-lod", a.sliceLod,
+                    "--render slices: level of detail, in pixels: where a yarn's slices lie closer on screen, one "
+                    "slab is drawn for 2, 4, ... 64 consecutive slices, none longer than this (0: every slice; "
+                    "default " + numberText(kDefaultSliceLodPixels) + ")")
+        ->check(finiteRange(0.0, 1e6));
     cmd->add_option("--yarn-radius", a.yarnRadius,
                     "--render slices|volumetric-triangles: yarn radius in world units, instead of the one the run "
                     "recorded (a bare garment: the garment file's, else estimated)")

@@ -108,6 +108,11 @@ void addViewCommand(CLI::App& app) {
     cmd->add_option("--quality", a->request.jpegQuality, "JPEG quality of the frames, 1 to 100")
         ->capture_default_str()
         ->check(wholeNumber(1, 100));
+    cmd->add_option("--slice-lod", a->request.sliceLodPixels,
+                    "The slices' level of detail, in pixels: where a yarn's slices lie closer on screen, one slab is "
+                    "drawn for 2, 4, ... 64 consecutive slices, none longer than this (0: every slice)")
+        ->capture_default_str()
+        ->check(finiteRange(0.0, 1e6));
     cmd->add_option("--save-dir", a->request.saveDir,
                     "A garment: where the s and W keys save the view's voxelization (a .vdb, a work directory)")
         ->capture_default_str();

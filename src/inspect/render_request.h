@@ -38,6 +38,10 @@ bool marchesRays(RenderKind kind);
 /// The modes that draw planes through the volume (texture-slicing, half-angle).
 bool drawsPlanes(RenderKind kind);
 
+/// --slice-lod's default: where a yarn's slices lie closer on screen, the
+/// slices render draws one slab for several, none longer than a pixel.
+constexpr double kDefaultSliceLodPixels = 1.0;
+
 struct RenderRequest {
     RenderKind kind = RenderKind::Raycast;
     ViewAngles view;
@@ -51,6 +55,7 @@ struct RenderRequest {
     std::uint64_t gpuBudgetBytes = 512ull << 20; ///< capped at half the free GPU memory where the driver tells
     int repeat = 1; ///< frames drawn (the same picture), for timing
     const SliceInstances* slices = nullptr; ///< Slices: the run's slices (in the source's voxel coordinates)
+    double sliceLodPixels = kDefaultSliceLodPixels; ///< Slices: the level of detail (SliceSettings::lodPixels; 0: every slice)
     std::vector<RegionHeat> outlines;       ///< region boxes drawn over the picture (not over a cut)
     int slicePlanes = 0; ///< texture-slicing, half-angle: 0 is one per level voxel along the slicing direction
     LightAngles light;   ///< half-angle

@@ -28,19 +28,29 @@ SliceInstances sliceInstances(const SlicePlan& plan, const VoxelGrid& grid) {
             const glm::dvec3 c = (slice.center - grid.origin) / h;
             const std::size_t i = std::size_t(seg.firstSlice + k) * 2u;
             out.records[i] = glm::vec4(glm::vec3(c), float(slice.thickness / h));
-            out.records[i + 1] = glm::vec4(glm::vec3(slice.tangent), radius);
+            out.records[i + 1] = glm::vec4(glm::vec3(slice.tangent), float(k % kRunPlaces));
         }
     });
+    out.radius = radius;
     return out;
 }
 
 void keepSlicesWithin(SliceInstances& slices, glm::dvec3 lo, glm::dvec3 hi) {
     std::size_t kept = 0;
+    std::uint64_t previous = std::numeric_limits<std::uint64_t>::max(); // the last slice kept, before renumbering
+    std::uint32_t previousPlace = 0;
     for (std::uint64_t i = 0; i < slices.count(); ++i) {
         const glm::dvec3 c(slices.center(i));
         if (glm::any(glm::lessThan(c, lo)) || glm::any(glm::greaterThanEqual(c, hi))) continue;
+        // A slice continues the run of the one kept before it only where it
+        // followed that one in the same run before the cut.
+        const std::uint32_t place = slices.place(i);
+        const bool continues = kept > 0 && previous + 1 == i && place == previousPlace + 1;
+        const std::uint32_t newPlace = continues ? slices.place(kept - 1) + 1 : 0;
+        previous = i;
+        previousPlace = place;
         slices.records[2 * kept] = slices.records[2 * i];
-        slices.records[2 * kept + 1] = slices.records[2 * i + 1];
+        slices.records[2 * kept + 1] = glm::vec4(glm::vec3(slices.records[2 * i + 1]), float(newPlace % kRunPlaces));
         ++kept;
     }
     slices.records.resize(2 * kept);

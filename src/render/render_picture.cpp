@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/stats.h"
+#include "core/world_units.h"
 #include "inspect/region_heat.h"
 #include "inspect/report_text.h"
 #include "render/render_volume.h"
@@ -77,6 +78,8 @@ std::string pictureJson(const PictureRequest& p, const Drawn& d) {
         out.set("view", p.viewText)
             .set("renderer", rep.renderer)
             .set("slices", rep.slices)
+            .set("garment_slices", rep.garmentSlices)
+            .set("slice_lod_pixels", r.sliceLodPixels)
             .set("frames", r.repeat)
             .set("sort_seconds_median", rep.sortSeconds)
             .set("sort_seconds_best", rep.bestSortSeconds)
@@ -157,8 +160,14 @@ std::string pictureText(const PictureRequest& p, const Drawn& d) {
     if (r.kind == RenderKind::Slices) {
         appendf(out, "%s: slices, %dx%d, on %s\n", p.output.c_str(), r.width, r.height, rep.renderer.c_str());
         for (const std::string& n : d.notes) appendf(out, "  %s\n", n.c_str());
-        appendf(out, "  %llu slices; back-to-front sort %.3f s (on %s), draw %.3f s%s (uploading %.3f s)\n",
-                static_cast<unsigned long long>(rep.slices), rep.sortSeconds, "every core", rep.frameSeconds,
+        const std::string joined = r.sliceLodPixels > 0.0 ? ", or joined where they lie under " +
+                                                                 numberText(r.sliceLodPixels) +
+                                                                 (r.sliceLodPixels == 1.0 ? " pixel apart" : " pixels apart")
+                                                           : std::string();
+        appendf(out, "  %llu of %llu slices drawn (the others outside the view%s); back-to-front sort %.3f s (on the "
+                "GPU), draw %.3f s%s (uploading %.3f s)\n",
+                static_cast<unsigned long long>(rep.slices), static_cast<unsigned long long>(rep.garmentSlices),
+                joined.c_str(), rep.sortSeconds, rep.frameSeconds,
                 r.repeat > 1 ? " (medians)" : "", rep.loadSeconds);
         return out;
     }

@@ -26,14 +26,16 @@ struct RenderReport {
     int level = 0;               ///< 0: full resolution; L: means of 2^L voxels a side
     bool storedLevel = false;    ///< a coarse level read from the file's density_lodL grids, not reduced from level 0
     std::uint64_t fineBricks = 0, levelBricks = 0, gpuBytes = 0, proxyTriangles = 0;
-    /// Slices drawn (slices: the garment's; texture-slicing and half-angle:
-    /// planes) and splats drawn (splatting).
+    /// Slices drawn (slices: the garment's, those in view; texture-slicing
+    /// and half-angle: planes) and splats drawn (splatting).
     std::uint64_t slices = 0, splats = 0;
+    std::uint64_t garmentSlices = 0; ///< slices: all the garment's, drawn or not
     std::uint64_t budgetBytes = 0; ///< the budget the level was chosen for
     double meanSamples = 0.0, loadSeconds = 0.0;
     double frameSeconds = 0.0, bestFrameSeconds = 0.0; ///< median and fastest of the repeated frames
-    /// The host work before each frame's draw (Renderer::prepare): for
-    /// slices, the back-to-front sort (their frame time is the draw alone).
+    /// The work before each frame's draw (Renderer::prepare): for slices,
+    /// the back-to-front sort, on the GPU, to its end (their frame time is
+    /// the draw alone).
     double sortSeconds = 0.0, bestSortSeconds = 0.0;
 };
 

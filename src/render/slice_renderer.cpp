@@ -1,12 +1,16 @@
 #include "render/slice_renderer.h"
 
 #include "core/error.h"
+#include "gpu/gl_bindings.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstring>
 
 namespace yv {
 namespace {
@@ -14,43 +18,131 @@ namespace {
 /// Extinction times the yarn's radius: a ray through the axis keeps e^-4 (2 %).
 constexpr float kOpacityTimesRadius = 2.0f;
 const glm::vec3 kAlbedo(0.92f, 0.78f, 0.58f);
+constexpr GLuint kBoxVertices = 14;   // one slab: a triangle strip (inspect_slices.vert)
+constexpr std::uint64_t kKeyGroup = 256; // inspect_slices_keys.comp's local_size_x
+/// The coarsest level of detail: a slab for 64 slices of a run.
+constexpr int kLodLevels = 6;
 
-/// Refuses more slices than the driver's buffer textures hold (two texels each).
+/// glDrawArraysIndirect's command.
+struct DrawCommand {
+    GLuint count, instanceCount, first, baseInstance;
+};
+
+/// Refuses more slices than the driver's buffer textures (two texels each)
+/// or storage blocks (the sort's, a word each) hold.
 const SliceInstances& fitting(const SliceInstances& s) {
     GLint maxTexels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-    if (s.records.size() > std::size_t(maxTexels))
-        throw Error("--render slices: " + std::to_string(s.count()) + " slices exceed the driver's buffer textures (" +
-                    std::to_string(maxTexels / 2) + " slices): draw a --region");
+    GLint64 maxBlock = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+    const std::uint64_t fit = std::min<std::uint64_t>(std::uint64_t(maxTexels) / 2, std::uint64_t(maxBlock) / 4);
+    if (s.count() > fit)
+        throw Error("--render slices: " + std::to_string(s.count()) + " slices exceed the driver's buffers (" +
+                    std::to_string(fit) + " slices): draw a --region");
     return s;
+}
+
+/// The planes of `camera`'s frustum (a x + b y + c z + d >= 0 inside), unit normals.
+std::array<glm::vec4, 6> frustumPlanes(const Camera& camera) {
+    const glm::dmat4 m = camera.viewProjection();
+    const auto row = [&](int r) { return glm::dvec4(m[0][r], m[1][r], m[2][r], m[3][r]); };
+    std::array<glm::vec4, 6> planes;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            const glm::dvec4 p = row(3) + (side ? -1.0 : 1.0) * row(axis);
+            planes[2 * axis + side] = glm::vec4(p / glm::length(glm::dvec3(p)));
+        }
+    return planes;
+}
+
+GLuint maxComputeGroups() {
+    GLint groups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
+    return GLuint(std::max(groups, 1));
 }
 
 } // namespace
 
-SliceRenderer::SliceRenderer(const SliceInstances& slices)
-    : slices_(fitting(slices)), program_(GlProgram::graphics("inspect_slices.vert", "inspect_slices.frag")),
-      sliceTexture_(createTexture(GL_TEXTURE_BUFFER)), orderArray_(createVertexArray()) {
+SliceRenderer::SliceRenderer(const SliceInstances& slices, const SliceSettings& settings)
+    : slices_(fitting(slices)), settings_(settings),
+      program_(GlProgram::graphics("inspect_slices.vert", "inspect_slices.frag")),
+      sliceTexture_(createTexture(GL_TEXTURE_BUFFER)), spanTexture_(createTexture(GL_TEXTURE_BUFFER)),
+      orderArray_(createVertexArray()) {
+    if (!(settings.lodPixels >= 0.0)) throw Error("slices: the level of detail's pixels must be 0 or more");
     const std::size_t records = std::max<std::size_t>(slices.records.size(), 2);
     sliceBuffer_.reserve(records * sizeof(glm::vec4), nullptr);
     if (!slices.records.empty())
         glNamedBufferSubData(sliceBuffer_.id(), 0, GLsizeiptr(slices.records.size() * sizeof(glm::vec4)), slices.records.data());
     glTextureBuffer(sliceTexture_.id(), GL_RGBA32F, sliceBuffer_.id());
     orderBuffer_.reserve(std::max<std::size_t>(slices.count(), 1) * sizeof(std::uint32_t), nullptr);
+    // Every slab stands for its own slice until the level of detail says otherwise.
+    spanBuffer_.reserve(std::max<std::size_t>(slices.count(), 1) * sizeof(std::uint32_t), nullptr);
+    const GLuint one = 1;
+    glClearNamedBufferData(spanBuffer_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &one);
+    glTextureBuffer(spanTexture_.id(), GL_R32UI, spanBuffer_.id());
     const GLuint vao = orderArray_.id();
     glVertexArrayVertexBuffer(vao, 0, orderBuffer_.id(), 0, sizeof(std::uint32_t));
     glVertexArrayBindingDivisor(vao, 0, 1);
     glEnableVertexArrayAttrib(vao, 0);
     glVertexArrayAttribIFormat(vao, 0, 1, GL_UNSIGNED_INT, 0);
     glVertexArrayAttribBinding(vao, 0, 0);
+    // The host's order draws every slice; the GPU's, the count its sort kept.
+    const DrawCommand command{kBoxVertices, GLuint(settings.sortOnHost ? slices.count() : 0), 0, 0};
+    drawCommand_.reserve(sizeof(command), nullptr);
+    glNamedBufferSubData(drawCommand_.id(), 0, sizeof(command), &command);
+    if (!settings.sortOnHost) {
+        maxGroups_ = maxComputeGroups();
+        keys_ = GlProgram::compute("inspect_slices_keys.comp");
+        sort_.emplace(slices.count(), maxGroups_);
+    }
     checkGlError("uploading the slices");
 }
 
-void SliceRenderer::prepare(const Camera& camera) { sortBackToFront(slices_, camera.eye, order_); }
+void SliceRenderer::prepare(const Camera& camera) {
+    const std::uint64_t n = slices_.count();
+    if (settings_.sortOnHost) {
+        sortBackToFront(slices_, camera.eye, hostOrder_);
+        if (n) glNamedBufferSubData(orderBuffer_.id(), 0, GLsizeiptr(n * sizeof(std::uint32_t)), hostOrder_.data());
+        drawn_ = n;
+        return;
+    }
+    drawn_ = 0;
+    if (n == 0) return;
+    keys_.use();
+    glUniform1ui(keys_.uniform("uSlices"), GLuint(n));
+    const glm::vec3 eye(camera.eye); // as sortBackToFront rounds it
+    glUniform3fv(keys_.uniform("uEye"), 1, glm::value_ptr(eye));
+    glUniform1f(keys_.uniform("uRadius"), slices_.radius);
+    glUniform1i(keys_.uniform("uCull"), settings_.cull ? 1 : 0);
+    const std::array<glm::vec4, 6> planes = frustumPlanes(camera);
+    glUniform4fv(keys_.uniform("uPlanes"), 6, glm::value_ptr(planes[0]));
+    // A length l at depth z spans l * focal / z pixels (projection[1][1] = 1 / tan(half the field of view)).
+    glUniform1i(keys_.uniform("uLodLevels"), settings_.lodPixels > 0.0 ? kLodLevels : 0);
+    glUniform1f(keys_.uniform("uLodPixels"), float(settings_.lodPixels));
+    glUniform1f(keys_.uniform("uFocalPixels"), float(camera.projection[1][1] * 0.5 * camera.height));
+    const glm::dmat4 inverseView = glm::inverse(camera.view);
+    const glm::vec3 forward(-glm::normalize(glm::dvec3(inverseView[2])));
+    glUniform3fv(keys_.uniform("uForward"), 1, glm::value_ptr(forward));
+    glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
+    sort_->keys().bindStorage(kSortKeysInBinding);
+    sort_->values().bindStorage(kSortValuesInBinding);
+    spanBuffer_.bindStorage(kSliceSpansBinding);
+    glDispatchCompute(GLuint(std::min<std::uint64_t>((n + kKeyGroup - 1) / kKeyGroup, maxGroups_)), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    sort_->sort(GLuint(n), orderBuffer_);
+    // The kept count becomes the draw's instances, on the GPU; the host reads
+    // it only for the report (and that read waits for the sort).
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glCopyNamedBufferSubData(sort_->kept().id(), drawCommand_.id(), 0, offsetof(DrawCommand, instanceCount), 4);
+    glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    GLuint kept = 0;
+    std::memcpy(&kept, readback_.read(sort_->kept().id(), 4, nullptr), 4);
+    drawn_ = kept;
+    checkGlError("sorting the slices");
+}
 
 void SliceRenderer::draw(const Frame& frame) {
     const Camera& camera = frame.camera;
-    if (!order_.empty())
-        glNamedBufferSubData(orderBuffer_.id(), 0, GLsizeiptr(order_.size() * sizeof(std::uint32_t)), order_.data());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glEnable(GL_BLEND);
@@ -66,13 +158,29 @@ void SliceRenderer::draw(const Frame& frame) {
     const glm::vec3 light(glm::normalize(glm::dvec3(inverseView[2]) + 0.5 * glm::dvec3(inverseView[1])));
     glUniform3fv(program_.uniform("lightDirection"), 1, glm::value_ptr(light));
     glUniform3fv(program_.uniform("albedo"), 1, glm::value_ptr(kAlbedo));
-    const float radius = slices_.count() ? slices_.records[1].w : 1.0f;
-    glUniform1f(program_.uniform("opacityPerVoxel"), kOpacityTimesRadius / std::max(radius, 1e-6f));
-    glBindTextureUnit(0, sliceTexture_.id());
+    glUniform1f(program_.uniform("radius"), slices_.radius);
+    glUniform1f(program_.uniform("opacityPerVoxel"), kOpacityTimesRadius / std::max(slices_.radius, 1e-6f));
+    glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
+    glBindTextureUnit(kSliceSpansUnit, spanTexture_.id());
     glBindVertexArray(orderArray_.id());
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 14, GLsizei(order_.size()));
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, drawCommand_.id());
+    glDrawArraysIndirect(GL_TRIANGLE_STRIP, nullptr);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glDisable(GL_BLEND);
     checkGlError("drawing the slices");
+}
+
+std::vector<std::uint32_t> SliceRenderer::drawOrder() {
+    std::vector<std::uint32_t> order(drawn_);
+    if (drawn_) std::memcpy(order.data(), readback_.read(orderBuffer_.id(), drawn_ * 4, nullptr), drawn_ * 4);
+    return order;
+}
+
+std::vector<std::uint32_t> SliceRenderer::spans() {
+    const std::uint64_t n = slices_.count();
+    std::vector<std::uint32_t> spans(n);
+    if (n) std::memcpy(spans.data(), readback_.read(spanBuffer_.id(), n * 4, nullptr), n * 4);
+    return spans;
 }
 
 } // namespace yv

@@ -1,42 +1,80 @@
 // `--render slices`: the garment's slices drawn as alpha-blended slabs with
 // Lambertian shading from the fibre orientation (the paper's own view,
 // section 3.5), from the same camera as the volume renders. The slices stay
-// on the GPU (a buffer texture, two texels each); a frame sorts them back to
-// front on every core, uploads the order as an instance attribute and draws
-// them all in one instanced call (the context must be current).
+// on the GPU (a buffer texture, two texels each). A frame's order is made
+// there too: a compute pass drops the slices outside the view frustum and
+// keys the others by their distance from the eye (inspect_slices_keys.comp),
+// a radix sort (gpu/radix_sort.h) writes the back-to-front order of those
+// kept straight into the instance attribute's buffer and their count into
+// an indirect draw's command, and one instanced draw takes them; the host
+// neither sorts nor uploads. (The context must be current.)
 #pragma once
 
 #include "gpu/gl_buffer.h"
 #include "gpu/gl_objects.h"
 #include "gpu/gl_program.h"
+#include "gpu/radix_sort.h"
+#include "inspect/render_request.h"
 #include "inspect/slice_instances.h"
 #include "render/renderer.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace yv {
 
+/// How the slices are ordered and which are drawn.
+struct SliceSettings {
+    /// The reference: sorted on every core of the host (sortBackToFront) and
+    /// uploaded each frame, every slice drawn, as before the sort moved to the GPU.
+    bool sortOnHost = false;
+    /// Drop the slices outside the view frustum before the sort (the GPU's order only).
+    bool cull = true;
+    /// Level of detail (the GPU's order only): where a yarn's slices lie
+    /// closer on screen than this, draw one slab for each 2^L consecutive
+    /// slices of a segment (L up to 6), as long as they are together, so
+    /// that no such slab spans more pixels along the yarn than this. 0 draws
+    /// every slice.
+    double lodPixels = kDefaultSliceLodPixels;
+};
+
 class SliceRenderer : public Renderer {
   public:
-    /// Uploads `slices`; throws yv::Error when the driver's buffer textures cannot hold them.
-    explicit SliceRenderer(const SliceInstances& slices);
+    /// Uploads `slices`; throws yv::Error when the driver's buffer textures
+    /// or storage blocks cannot hold them.
+    explicit SliceRenderer(const SliceInstances& slices, const SliceSettings& settings = {});
 
     std::vector<GLenum> targetFormats() const override { return {GL_RGBA8}; }
-    /// The back-to-front sort, on every core (timed apart from the draw).
+    /// The back-to-front order, on the GPU (or the host, sortOnHost); waits
+    /// for it, so its time is the sort's (reported apart from the draw).
     void prepare(const Camera& camera) override;
-    /// Uploads the order and draws every slice.
+    /// Draws the slices in the order prepare() made.
     void draw(const Frame& frame) override;
-    /// The slices drawn.
-    void describe(RenderReport& report) const override { report.slices = slices_.count(); }
+    /// The slices drawn in the last frame, of the garment's.
+    void describe(RenderReport& report) const override {
+        report.slices = drawn_;
+        report.garmentSlices = slices_.count();
+    }
+
+    /// The slice indices the last prepare() put in the draw's order (read back; for tests).
+    std::vector<std::uint32_t> drawOrder();
+    /// Per slice, the slices its slab stood for in the last prepare()
+    /// (meaningful for the slices in drawOrder(); read back; for tests).
+    std::vector<std::uint32_t> spans();
 
   private:
     const SliceInstances& slices_;
-    GlProgram program_;
-    GlBuffer sliceBuffer_, orderBuffer_;
-    GlTexture sliceTexture_;
+    SliceSettings settings_;
+    GlProgram program_, keys_;
+    GlBuffer sliceBuffer_, orderBuffer_, spanBuffer_, drawCommand_;
+    GlTexture sliceTexture_, spanTexture_;
     GlVertexArray orderArray_;
-    std::vector<std::uint32_t> order_;
+    std::optional<RadixSort> sort_; ///< unless sortOnHost
+    ReadbackBuffer readback_;
+    std::vector<std::uint32_t> hostOrder_;
+    GLuint maxGroups_ = 1;
+    std::uint64_t drawn_ = 0;
 };
 
 } // namespace yv

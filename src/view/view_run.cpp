@@ -30,7 +30,8 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
         bool serving = false;
         try {
             // The scene and its GL context live and die on this thread.
-            ViewScene scene(openViewVolume(request.input, request.voxelize, log), request.device, request.gpuBudgetBytes);
+            ViewScene scene(openViewVolume(request.input, request.voxelize, log), request.device, request.gpuBudgetBytes,
+                            request.sliceLodPixels);
             ViewFrames frames(scene, request.jpegQuality, request.maxSideVoxels, log);
             ViewState initial = request.initial;
             initial.mode = scene.modes().front();

@@ -44,8 +44,9 @@ struct ViewScene::DetailLayer {
     VolumeLayer layer; ///< last: its renderers go before the atlases they draw
 };
 
-ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes)
-    : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes) {
+ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, double sliceLodPixels)
+    : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes),
+      sliceLodPixels_(sliceLodPixels) {
     const GlContext& gl = context_.gl();
     rendererName_ = gl.info().renderer;
     if (const long long free = gl.queryFreeMemoryBytes(); free > 0) budget_ = std::min(budget_, std::uint64_t(free) / 2);
@@ -80,6 +81,7 @@ Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode) {
     RenderInput input;
     if (request.kind == RenderKind::Slices) {
         request.slices = &*volume_.slices;
+        request.sliceLodPixels = sliceLodPixels_;
         input.slices = &*volume_.slices;
     } else {
         const bool orientation = request.kind == RenderKind::Orientation;

@@ -6,6 +6,7 @@
 // one render thread that made the scene (the GL context is current there).
 #pragma once
 
+#include "inspect/render_request.h"
 #include "render/render_context.h"
 #include "render/renderer.h"
 #include "view/view_message.h"
@@ -46,8 +47,11 @@ class ViewScene {
   public:
     /// Takes the opened volume; makes the GL context on `device` on the
     /// calling thread and loads the atlas (the level `gpuBudgetBytes` holds).
-    /// Throws yv::Error (no GL context, a budget that holds no level).
-    ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes);
+    /// The slices are drawn at the level of detail `sliceLodPixels`
+    /// (SliceSettings::lodPixels). Throws yv::Error (no GL context, a budget
+    /// that holds no level).
+    ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes,
+              double sliceLodPixels = kDefaultSliceLodPixels);
     ~ViewScene();
 
     /// The modes one key away, in key order ("raycast" first).
@@ -100,6 +104,7 @@ class ViewScene {
     VoxelBox box_;
     RenderContext context_;
     std::uint64_t budget_;
+    double sliceLodPixels_;
     std::string rendererName_;
     std::vector<std::string> modes_;
     VolumeLayer opened_;
