@@ -40,19 +40,6 @@ BrickAtlas::BrickAtlas(const LevelPlan& plan, bool withOrientation, int max3dTex
         glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
     checkGlError("allocating the brick atlas (lower --gpu-budget?)");
-    rowDensity_.assign(std::size_t(slots_.x) * 512u, 0.0f);
-    if (withOrientation) rowOrientation_.assign(std::size_t(slots_.x) * 512u * 4u, 0u);
-}
-
-void BrickAtlas::uploadRow() {
-    if (!rowStaged_) return;
-    const int width = slots_.x * kBrickSize;
-    const int y = int(row_ % std::uint64_t(slots_.y)) * kBrickSize, z = int(row_ / std::uint64_t(slots_.y)) * kBrickSize;
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage3D(density_.id(), 0, 0, y, z, width, 8, 8, GL_RED, GL_FLOAT, rowDensity_.data());
-    if (withOrientation_)
-        glTextureSubImage3D(orientation_.id(), 0, 0, y, z, width, 8, 8, GL_RGBA, GL_UNSIGNED_BYTE, rowOrientation_.data());
-    rowStaged_ = false;
 }
 
 void BrickAtlas::upload(const LevelBrick& brick) {
@@ -65,33 +52,24 @@ void BrickAtlas::upload(const LevelBrick& brick) {
         throw Error("brick atlas: more bricks than the level plan counted");
     const std::uint64_t s = used_++;
     slot = std::uint32_t(s + 1);
-    // Slots fill in order, so a row is whole once the next one begins.
-    if (s / std::uint64_t(slots_.x) != row_) {
-        uploadRow();
-        row_ = s / std::uint64_t(slots_.x);
-    }
-    rowStaged_ = true;
-    // Voxel (x, y, z) of the brick lies at texel (8 i + x, y, z) of the row, x fastest.
-    const std::size_t i = std::size_t(s % std::uint64_t(slots_.x)), width = std::size_t(slots_.x) * 8u;
-    for (std::size_t z = 0; z < 8; ++z)
-        for (std::size_t y = 0; y < 8; ++y) {
-            const std::size_t from = 8 * (y + 8 * z), to = 8 * i + width * (y + 8 * z);
-            std::copy_n(brick.density.data() + from, 8, rowDensity_.data() + to);
-            if (!withOrientation_) continue;
-            for (std::size_t x = 0; x < 8; ++x) {
-                const glm::vec3 a = glm::clamp(brick.axisColour[from + x], 0.0f, 1.0f);
-                std::uint8_t* rgba = rowOrientation_.data() + 4 * (to + x);
-                rgba[0] = std::uint8_t(std::lround(255.0f * a.x));
-                rgba[1] = std::uint8_t(std::lround(255.0f * a.y));
-                rgba[2] = std::uint8_t(std::lround(255.0f * a.z));
-                rgba[3] = 255;
-            }
-        }
+    const glm::ivec3 at = glm::ivec3(int(s % std::uint64_t(slots_.x)), int((s / std::uint64_t(slots_.x)) % std::uint64_t(slots_.y)),
+                                     int(s / (std::uint64_t(slots_.x) * std::uint64_t(slots_.y)))) * kBrickSize;
+    glTextureSubImage3D(density_.id(), 0, at.x, at.y, at.z, 8, 8, 8, GL_RED, GL_FLOAT, brick.density.data());
     for (const float d : brick.density) densityMax_ = std::max(densityMax_, d);
+    if (withOrientation_) {
+        std::array<std::uint8_t, 4 * 512> rgba;
+        for (std::size_t v = 0; v < 512; ++v) {
+            const glm::vec3 a = glm::clamp(brick.axisColour[v], 0.0f, 1.0f);
+            rgba[4 * v + 0] = std::uint8_t(std::lround(255.0f * a.x));
+            rgba[4 * v + 1] = std::uint8_t(std::lround(255.0f * a.y));
+            rgba[4 * v + 2] = std::uint8_t(std::lround(255.0f * a.z));
+            rgba[4 * v + 3] = 255;
+        }
+        glTextureSubImage3D(orientation_.id(), 0, at.x, at.y, at.z, 8, 8, 8, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    }
 }
 
 void BrickAtlas::finish() {
-    uploadRow();
     const glm::ivec3 d = plan_.brickDims;
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage3D(indirection_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED_INTEGER, GL_UNSIGNED_INT, slotOf_.data());

@@ -1,9 +1,7 @@
 // The GPU side of a render's volume: a brick atlas (a 3D texture of 8^3
 // bricks: density as 16-bit floats, and |axis| as RGBA8 when orientation is
 // drawn) and an indirection texture from level brick to atlas slot. Bricks
-// arrive one at a time (streamLevelBricks), fill the slots in order and go
-// to the GPU a row of slots at a time: one upload call per brick cost more
-// than the reading on a GPU driver (tens of thousands of small calls).
+// arrive one at a time (streamLevelBricks) and go straight to the GPU.
 #pragma once
 
 #include "gpu/gl_objects.h"
@@ -24,10 +22,9 @@ class BrickAtlas {
     /// context. Throws yv::Error when the driver refuses the textures.
     BrickAtlas(const LevelPlan& plan, bool withOrientation, int max3dTextureSize);
 
-    /// Puts one brick in the next free slot (throws when the atlas is full);
-    /// it reaches the GPU with its row of slots, or at finish().
+    /// Puts one brick in the next free slot (throws when the atlas is full).
     void upload(const LevelBrick& brick);
-    /// Uploads the last row of bricks and the indirection texture; call once every brick is in.
+    /// Uploads the indirection texture; call once every brick is in.
     void finish();
 
     const LevelPlan& plan() const { return plan_; }
@@ -43,19 +40,12 @@ class BrickAtlas {
     GLuint indirectionTexture() const { return indirection_.id(); }
 
   private:
-    void uploadRow(); ///< the staged row of slots, to the GPU
-
     LevelPlan plan_;
     bool withOrientation_;
     glm::ivec3 slots_{1};
     std::uint64_t used_ = 0;
     float densityMax_ = 0.0f;
     std::vector<std::uint32_t> slotOf_; ///< the indirection grid on the host, uploaded by finish()
-    /// The row of slots being filled (slots_.x bricks, 8 texels high and deep), x fastest.
-    std::vector<float> rowDensity_;
-    std::vector<std::uint8_t> rowOrientation_;
-    std::uint64_t row_ = 0;       ///< its index: slot / slots_.x
-    bool rowStaged_ = false;      ///< it holds bricks not yet uploaded
     GlTexture density_, orientation_, indirection_;
 };
 
