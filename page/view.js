@@ -120,6 +120,24 @@
       '\nmodes: ' + modes.map((m, i) => (i + 1) + ' ' + m).join('  ');
   }
 
+  // A scale bar at the point looked at: a round length (1, 2 or 5 times a
+  // power of ten) of 60 to 150 screen pixels, in the garment's units (or voxels).
+  function showRuler(s) {
+    const ruler = document.getElementById('ruler');
+    if (!(s.pixelSize > 0)) { ruler.style.display = 'none'; return; }
+    // The frame's pixels are shown at the stage's CSS size (the image is scaled to fit).
+    const cssPerPixel = Math.min(stage.clientWidth / s.width, stage.clientHeight / s.height);
+    const perCss = s.pixelSize / cssPerPixel;
+    const want = 100 * perCss;
+    const p = Math.pow(10, Math.floor(Math.log10(want)));
+    const length = [1, 2, 5, 10].map((k) => k * p).find((l) => l / perCss >= 60) || 10 * p;
+    document.getElementById('ruler-bar').style.width = (length / perCss).toFixed(0) + 'px';
+    document.getElementById('ruler-label').textContent =
+      Number(length.toPrecision(3)).toString() + (s.pixelUnits === 'world' ? ' (garment units)' : ' voxels');
+    ruler.style.display = 'block';
+    view.ruler = { length, pixels: length / perCss, units: s.pixelUnits };
+  }
+
   function onText(data) {
     let m;
     try { m = JSON.parse(data); } catch (e) { return; }
@@ -162,6 +180,7 @@
           if (askedAt !== null) view.stopToDetailMs = performance.now() - askedAt;
         }
         showOverlay(s);
+        showRuler(s);
       }
     };
     img.src = url;

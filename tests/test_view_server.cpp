@@ -72,6 +72,15 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
     CHECK(litPixels(first, 0, 96) > 100);
     CHECK(litPixels(first, 96, 192) > 100);
 
+    // The ruler's measure: a pixel's width at the point looked at, in the
+    // garment's units, and half as wide from half as far.
+    CHECK(firstStats["pixelUnits"] == "world");
+    const double pixel = firstStats["pixelSize"].get<double>();
+    CHECK(pixel > 0.0);
+    CHECK(pixel < page.hello["voxelSize"].get<double>() * 2.0);
+    page.sendCamera(30, 20, 1.5, 100);
+    CHECK(page.frameOf(100).first["pixelSize"].get<double>() == Approx(pixel / 2.0).epsilon(1e-9));
+
     const yv::RgbImage& a = first;
     page.sendCamera(120, 2);
     const yv::RgbImage b = page.frameOf(2).second;
@@ -143,6 +152,9 @@ TEST_CASE("View: a .vdb is ray cast full width, and every mode it offers draws a
         else CHECK(meanDifference(raycast, picture) > 0.5); // each mode is a picture of its own
     }
     CHECK(page.notices.empty());
+    // Its place in the world is not known here: the ruler measures in voxels.
+    page.sendCamera(30, ++seq);
+    CHECK(page.frameOf(seq).first["pixelUnits"] == "voxels");
     // A .vdb does not say how its garment was voxelized: voxelizing in view needs the garment, and says so.
     page.send(R"({"type":"voxelize-view"})");
     page.sendCamera(30, ++seq);

@@ -31,6 +31,8 @@ Outgoing ViewFrames::draw(const ViewState& state) {
                   {"seconds", run->seconds},
                   {"command", run->command},
                   {"shown", frame.detail == run->id}};
+    bool world = false;
+    const double pixel = scene_.pixelSize(state, world);
     const nlohmann::json stats = {{"type", "stats"},
                                   {"frame", ++frames_},
                                   {"seq", state.camera.seq},
@@ -46,7 +48,9 @@ Outgoing ViewFrames::draw(const ViewState& state) {
                                   {"slices", frame.slices},
                                   {"gpuBytes", frame.gpuBytes},
                                   {"gpuFreeBytes", frame.gpuFreeBytes},
-                                  {"detail", detail}};
+                                  {"detail", detail},
+                                  {"pixelSize", pixel},
+                                  {"pixelUnits", world ? "world" : "voxels"}};
     return Outgoing{stats.dump(), std::move(jpeg)};
 }
 

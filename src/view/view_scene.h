@@ -79,6 +79,10 @@ class ViewScene {
     std::string saveView(bool workDir);
     /// The view voxelization taken last, if any.
     const DetailRun* detail() const;
+    /// The width of a pixel at the point `state`'s camera looks at: world
+    /// units where the volume's place in the world is known (`world` true),
+    /// else voxels. What the page's ruler measures with.
+    double pixelSize(const ViewState& state, bool& world) const;
 
   private:
     /// The renderers of one volume drawn in the ray-cast half, and where its

@@ -89,6 +89,9 @@ try {
         JSON.stringify(first));
   check('the frame has the page\'s size', first.stats.width === 640 && first.stats.height === 360, JSON.stringify(first.stats));
   check('the address holds the camera and mode', /az=30/.test(first.hash) && /mode=raycast/.test(first.hash), first.hash);
+  const ruler = await page.evaluate(() => window.yvView.ruler);
+  check('a ruler in the garment\'s units, 60 to 150 pixels long',
+        ruler && ruler.units === 'world' && ruler.pixels >= 60 && ruler.pixels <= 150 && ruler.length > 0, JSON.stringify(ruler));
   const before = await picture();
   // Voxelize-on-stop off until its own part below: the pictures compared here are of the volume opened.
   await page.keyboard.press('a');
