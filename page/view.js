@@ -9,7 +9,7 @@
   const defaults = { az: 30, el: 20, d: 4, px: 0, py: 0 };
   const cam = Object.assign({}, defaults);
   let mode = null, modes = [], hello = null, seq = 0;
-  let socket = null, dirty = false, pendingStats = null, lastUrl = null;
+  let socket = null, dirty = false, pendingStats = null, lastUrl = null, pendingShot = null;
   const sentAt = new Map(); // seq -> when sent, for input-to-picture time
   const img = document.getElementById('frame');
   const stage = document.getElementById('stage');
@@ -151,6 +151,8 @@
       flush();
     } else if (m.type === 'stats') {
       pendingStats = m;
+    } else if (m.type === 'screenshot') {
+      pendingShot = m;
     } else if (m.type === 'notice') {
       showNotice(m.text);
     } else if (m.type === 'voxelize') {
@@ -161,7 +163,29 @@
     }
   }
 
+  // A screenshot: saved by the browser as a download, never shown in place of the view.
+  function onScreenshot(blob, m) {
+    const url = URL.createObjectURL(new Blob([blob], { type: 'image/jpeg' }));
+    const a = document.createElement('a');
+    a.href = url;
+    a.download = 'yarnvox-view-' + m.width + 'x' + m.height + '.jpg';
+    document.body.appendChild(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(url), 60000);
+    view.screenshot = { width: m.width, height: m.height, bytes: blob.byteLength };
+    showNotice('screenshot ' + m.width + 'x' + m.height + ' saved by the browser');
+  }
+
+  // Twice the frame's size, at most 4096 a side, the same shape.
+  function takeScreenshot() {
+    if (!view.size) return;
+    const k = Math.min(2, 4096 / view.size[0], 4096 / view.size[1]);
+    send({ type: 'screenshot', width: Math.max(16, Math.floor(view.size[0] * k)), height: Math.max(16, Math.floor(view.size[1] * k)) });
+  }
+
   function onFrame(blob) {
+    if (pendingShot) { const m = pendingShot; pendingShot = null; onScreenshot(blob, m); return; }
     const s = pendingStats;
     pendingStats = null;
     const url = URL.createObjectURL(new Blob([blob], { type: 'image/jpeg' }));
@@ -248,6 +272,7 @@
     if (e.key === 'v') voxelizeView();
     if (e.key === 'a') { view.autoVoxelize = !view.autoVoxelize; showNotice('voxelize on stop: ' + (view.autoVoxelize ? 'on' : 'off')); }
     if (e.key === 's') send({ type: 'save-view', workDir: false });
+    if (e.key === 'p') takeScreenshot();
     if (e.key === 'W') send({ type: 'save-view', workDir: true });
     if (e.key === 'h') { const h = document.getElementById('help'); h.style.display = h.style.display === 'none' ? '' : 'none'; }
   });

@@ -36,6 +36,7 @@ struct RecordingSource : yv::FrameSource {
     }
     yv::Outgoing voxelizeInView(const yv::ViewState&) override { throw yv::Error("nothing in view"); }
     yv::Outgoing saveView(bool) override { throw yv::Error("nothing to save"); }
+    yv::Outgoing screenshot(const yv::ViewState&) override { throw yv::Error("no screenshots here"); }
 
     bool waitFor(const std::function<bool()>& done) {
         std::unique_lock lock(mutex);

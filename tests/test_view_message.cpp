@@ -41,12 +41,16 @@ TEST_CASE("View messages: mode, size and voxelize-view are read, and every kind 
     CHECK(std::get<yv::SizeMessage>(size).width == 1280);
     CHECK(std::get<yv::SizeMessage>(size).height == 720);
     CHECK(std::holds_alternative<yv::VoxelizeViewMessage>(parseViewMessage(R"({"type":"voxelize-view"})")));
+    const yv::ViewMessage shot = parseViewMessage(R"({"type":"screenshot","width":4096,"height":2304})");
+    REQUIRE(std::get_if<yv::ScreenshotMessage>(&shot));
+    CHECK(std::get<yv::ScreenshotMessage>(shot).width == 4096);
+    CHECK(std::get<yv::ScreenshotMessage>(shot).height == 2304);
     const yv::ViewMessage save = parseViewMessage(R"({"type":"save-view","workDir":true})");
     REQUIRE(std::get_if<yv::SaveViewMessage>(&save));
     CHECK(std::get<yv::SaveViewMessage>(save).workDir);
     CHECK(!std::get<yv::SaveViewMessage>(parseViewMessage(R"({"type":"save-view"})")).workDir);
     for (const yv::ViewMessage& m :
-         {parseViewMessage(camera("12.25")), mode, size, parseViewMessage(R"({"type":"voxelize-view"})"), save}) {
+         {parseViewMessage(camera("12.25")), mode, size, parseViewMessage(R"({"type":"voxelize-view"})"), save, shot}) {
         const std::string text = yv::formatViewMessage(m);
         CHECK(yv::formatViewMessage(parseViewMessage(text)) == text);
     }
@@ -89,6 +93,8 @@ TEST_CASE("View messages: malformed or hostile messages are refused with what is
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"voxelize-view","box":[0,0,0]})"), Contains("no field 'box'"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"save-view","workDir":"yes"})"), Contains("'workDir' must be true or false"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"save-view","path":"/etc/passwd"})"), Contains("no field 'path'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"screenshot","width":8192,"height":4096})"),
+                      Contains("screenshot") && Contains("'width'") && Contains("[16, 4096]"));
     // Deep nesting within the size cap is refused as not an object, not a crash.
     CHECK_THROWS_WITH(parseViewMessage(std::string(500, '[') + std::string(500, ']')), Contains("not a JSON object"));
 }

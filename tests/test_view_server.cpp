@@ -106,6 +106,29 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
     CHECK(view.logged("refused a message from 127.0.0.1:"));
     CHECK(view.logged("not JSON"));
 
+    // A screenshot larger than the frames: its own message and picture, at the size asked, of the same view.
+    page.send(R"({"type":"screenshot","width":1536,"height":768})");
+    page.sendCamera(60, 50);
+    bool shot = false;
+    for (int i = 0; i < 4 && !shot; ++i) {
+        beast::flat_buffer b;
+        page.ws.read(b);
+        if (!page.ws.got_text()) continue;
+        const Json m = Json::parse(beast::buffers_to_string(b.data()));
+        if (m["type"] != "screenshot") continue;
+        beast::flat_buffer picture;
+        page.ws.read(picture);
+        REQUIRE(!page.ws.got_text());
+        const auto* p = static_cast<const std::uint8_t*>(picture.data().data());
+        const yv::RgbImage big = yv::decodeJpeg(std::vector<std::uint8_t>(p, p + picture.size()));
+        CHECK(big.width == 1536);
+        CHECK(big.height == 768);
+        CHECK(litPixels(big, 0, 768) > 100 * 64);
+        shot = true;
+    }
+    CHECK(shot);
+    page.frameOf(50);
+
     // Saving before anything was voxelized in view is refused in one line, and changes nothing.
     page.send(R"({"type":"save-view"})");
     page.sendCamera(60, 6);

@@ -11,7 +11,13 @@ namespace yv {
 ViewFrames::ViewFrames(ViewScene& scene, int jpegQuality, int maxSideVoxels, std::function<void(const std::string&)> log)
     : scene_(scene), quality_(jpegQuality), maxSideVoxels_(maxSideVoxels), log_(std::move(log)) {}
 
-Outgoing ViewFrames::draw(const ViewState& state) {
+Outgoing ViewFrames::screenshot(const ViewState& state) {
+    Outgoing out = drawAt(state, 95, "screenshot");
+    out.keep = true;
+    return out;
+}
+
+Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* type) {
     ViewFrame frame;
     try {
         frame = scene_.render(state);
@@ -20,7 +26,7 @@ Outgoing ViewFrames::draw(const ViewState& state) {
         throw;
     }
     const auto start = std::chrono::steady_clock::now();
-    auto jpeg = std::make_shared<std::vector<std::uint8_t>>(encoder_.encode(frame.image, quality_));
+    auto jpeg = std::make_shared<std::vector<std::uint8_t>>(encoder_.encode(frame.image, quality));
     const double encodeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     nlohmann::json detail = nullptr;
     if (const DetailRun* run = scene_.detail())
@@ -33,7 +39,7 @@ Outgoing ViewFrames::draw(const ViewState& state) {
                   {"shown", frame.detail == run->id}};
     bool world = false;
     const double pixel = scene_.pixelSize(state, world);
-    const nlohmann::json stats = {{"type", "stats"},
+    const nlohmann::json stats = {{"type", type},
                                   {"frame", ++frames_},
                                   {"seq", state.camera.seq},
                                   {"mode", state.mode},

@@ -7,6 +7,7 @@
 //    "activeVoxels", "level", "slices", "gpuBytes", "gpuFreeBytes" (-1: unknown), "detail",
 //    "pixelSize" (a pixel's width at the point looked at), "pixelUnits" ("world" or "voxels")}   (a binary JPEG message follows)
 //   {"type":"notice", "text"}                         (a refusal, or what could not be drawn)
+//   {"type":"screenshot", ...the stats' fields}       (a binary JPEG message follows)
 //   {"type":"voxelize", "state", ...}                 (voxelize what the camera sees: asked,
 //                                                       already, running, failed, saving, saved)
 // A frame's "detail" is null, or the view voxelization taken last: "id",
@@ -28,13 +29,17 @@ class ViewFrames : public FrameSource {
     /// `log`: a line for each frame that could not be drawn.
     /// `maxSideVoxels`: the largest view voxelization, voxels along its longest side.
     ViewFrames(ViewScene& scene, int jpegQuality, int maxSideVoxels, std::function<void(const std::string&)> log);
-    Outgoing draw(const ViewState& state) override;
+    Outgoing draw(const ViewState& state) override { return drawAt(state, quality_, "stats"); }
     Outgoing voxelizeInView(const ViewState& state) override {
         return Outgoing{scene_.voxelizeInView(state, maxSideVoxels_), nullptr};
     }
     Outgoing saveView(bool workDir) override { return Outgoing{scene_.saveView(workDir), nullptr}; }
+    /// The frame's stats as {"type":"screenshot", ...}, at JPEG quality 95, kept until sent.
+    Outgoing screenshot(const ViewState& state) override;
 
   private:
+    Outgoing drawAt(const ViewState& state, int quality, const char* type);
+
     ViewScene& scene_;
     JpegEncoder encoder_;
     int quality_, maxSideVoxels_;

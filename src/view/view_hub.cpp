@@ -16,6 +16,7 @@ struct ViewHub::Client {
     std::uint64_t wantedVersion = 0, drawnVersion = 0;
     bool voxelizeAsked = false;
     std::optional<bool> saveAsked; ///< a save asked: through a work directory or not
+    std::optional<ScreenshotMessage> screenshotAsked;
 };
 
 namespace {
@@ -57,6 +58,8 @@ void ViewHub::apply(Client& client, const ViewMessage& message) {
         next.height = s->height;
     } else if (const auto* save = std::get_if<SaveViewMessage>(&message)) {
         client.saveAsked = save->workDir;
+    } else if (const auto* shot = std::get_if<ScreenshotMessage>(&message)) {
+        client.screenshotAsked = *shot;
     } else {
         client.voxelizeAsked = true;
     }
@@ -72,7 +75,7 @@ std::shared_ptr<ViewHub::Client> ViewHub::nextDirty() {
     for (std::size_t i = 0; i < clients_.size(); ++i) {
         const std::size_t at = (turn_ + i) % clients_.size();
         const auto& c = clients_[at];
-        if (c->voxelizeAsked || c->saveAsked || c->wantedVersion != c->drawnVersion) {
+        if (c->voxelizeAsked || c->saveAsked || c->screenshotAsked || c->wantedVersion != c->drawnVersion) {
             turn_ = at + 1;
             return c;
         }
@@ -87,6 +90,7 @@ void ViewHub::run(FrameSource& source) {
         std::uint64_t version = 0;
         bool voxelize = false;
         std::optional<bool> save;
+        std::optional<ScreenshotMessage> shot;
         {
             std::unique_lock lock(mutex_);
             wake_.wait(lock, [&] { return stopped_ || (client = nextDirty()) != nullptr; });
@@ -97,12 +101,19 @@ void ViewHub::run(FrameSource& source) {
             voxelize = client->voxelizeAsked;
             client->voxelizeAsked = false;
             if (!voxelize) save = std::exchange(client->saveAsked, std::nullopt);
+            if (!voxelize && !save) shot = std::exchange(client->screenshotAsked, std::nullopt);
         }
         Outgoing out;
-        const bool asked = voxelize || save;
+        const bool asked = voxelize || save || shot;
         try {
             if (voxelize) out = source.voxelizeInView(state);
             else if (save) out = source.saveView(*save);
+            else if (shot) {
+                ViewState large = state;
+                large.width = shot->width;
+                large.height = shot->height;
+                out = source.screenshot(large);
+            }
             else out = source.draw(state);
         } catch (const Error& e) {
             out = notice(e.what());

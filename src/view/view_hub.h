@@ -23,6 +23,7 @@ namespace yv {
 struct Outgoing {
     std::string text;
     std::shared_ptr<const std::vector<std::uint8_t>> jpeg; ///< null for a text message alone
+    bool keep = false; ///< a picture asked for once (a screenshot): never replaced by a newer frame
 };
 
 /// Draws frames for the loop (the render thread's side).
@@ -36,6 +37,8 @@ class FrameSource {
     virtual Outgoing voxelizeInView(const ViewState& state) = 0;
     /// Save the view voxelization shown (ViewScene::saveView): the answer; throws yv::Error.
     virtual Outgoing saveView(bool workDir) = 0;
+    /// One picture of `state` (its size the screenshot's), kept until sent; throws yv::Error.
+    virtual Outgoing screenshot(const ViewState& state) = 0;
 };
 
 class ViewHub {

@@ -75,11 +75,11 @@ ModeMessage parseMode(const Json& m) {
     return ModeMessage{mode};
 }
 
-SizeMessage parseSize(const Json& m) {
-    requireOnlyFields(m, {"type", "width", "height"}, "size");
+SizeMessage parseSize(const Json& m, const std::string& type) {
+    requireOnlyFields(m, {"type", "width", "height"}, type);
     SizeMessage s;
-    s.width = int(integer(m, "width", kMinViewSide, kMaxViewSide, "size"));
-    s.height = int(integer(m, "height", kMinViewSide, kMaxViewSide, "size"));
+    s.width = int(integer(m, "width", kMinViewSide, kMaxViewSide, type));
+    s.height = int(integer(m, "height", kMinViewSide, kMaxViewSide, type));
     return s;
 }
 
@@ -98,7 +98,11 @@ ViewMessage parseViewMessage(std::string_view text) {
     const std::string& t = type->get_ref<const std::string&>();
     if (t == "camera") return parseCamera(m);
     if (t == "mode") return parseMode(m);
-    if (t == "size") return parseSize(m);
+    if (t == "size") return parseSize(m, t);
+    if (t == "screenshot") {
+        const SizeMessage s = parseSize(m, t);
+        return ScreenshotMessage{s.width, s.height};
+    }
     if (t == "voxelize-view") {
         requireOnlyFields(m, {"type"}, t);
         return VoxelizeViewMessage{};
@@ -112,7 +116,7 @@ ViewMessage parseViewMessage(std::string_view text) {
         }
         return save;
     }
-    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, voxelize-view, save-view)");
+    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, voxelize-view, save-view, screenshot)");
 }
 
 std::string formatViewMessage(const ViewMessage& message) {
@@ -129,6 +133,8 @@ std::string formatViewMessage(const ViewMessage& message) {
         j = {{"type", "mode"}, {"mode", m->mode}};
     } else if (const auto* s = std::get_if<SizeMessage>(&message)) {
         j = {{"type", "size"}, {"width", s->width}, {"height", s->height}};
+    } else if (const auto* shot = std::get_if<ScreenshotMessage>(&message)) {
+        j = {{"type", "screenshot"}, {"width", shot->width}, {"height", shot->height}};
     } else if (const auto* save = std::get_if<SaveViewMessage>(&message)) {
         j = {{"type", "save-view"}, {"workDir", save->workDir}};
     } else {

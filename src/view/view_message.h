@@ -52,7 +52,14 @@ struct SaveViewMessage {
     bool workDir = false;
 };
 
-using ViewMessage = std::variant<CameraMessage, ModeMessage, SizeMessage, VoxelizeViewMessage, SaveViewMessage>;
+/// {"type":"screenshot","width":W,"height":H}: one picture of the page's
+/// view at this size (up to 4096 a side, larger than any window), sent once.
+struct ScreenshotMessage {
+    int width = 0, height = 0;
+};
+
+using ViewMessage =
+    std::variant<CameraMessage, ModeMessage, SizeMessage, VoxelizeViewMessage, SaveViewMessage, ScreenshotMessage>;
 
 /// Parses one text message. Throws yv::Error with one line saying what is
 /// wrong (too long, not JSON, not an object, an unknown type or field, a

@@ -35,10 +35,13 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
         ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) { self->onAccept(ec); });
     }
 
-    /// Queues `out` (on the io thread): a frame replaces the frame waiting, a text alone joins the notices.
+    /// Queues `out` (on the io thread): a frame replaces the frame waiting, a
+    /// picture to keep (a screenshot) waits in a short queue of its own, a text alone joins the notices.
     void send(Outgoing out) {
         if (closed_) return;
-        if (out.jpeg) frame_ = std::move(out);
+        if (out.jpeg && out.keep) {
+            if (kept_.size() < 4) kept_.push_back(std::move(out));
+        } else if (out.jpeg) frame_ = std::move(out);
         else if (notices_.size() < 16) notices_.push_back(std::move(out.text));
         writeNext();
     }
@@ -121,6 +124,12 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
             notices_.pop_front();
             return writeText(nullptr);
         }
+        if (!kept_.empty()) {
+            current_ = std::move(kept_.front().text);
+            auto jpeg = std::move(kept_.front().jpeg);
+            kept_.pop_front();
+            return writeText(std::move(jpeg));
+        }
         if (!frame_) return;
         current_ = std::move(frame_->text);
         auto jpeg = std::move(frame_->jpeg);
@@ -163,6 +172,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     std::string current_;
     std::optional<Outgoing> frame_;
     std::deque<std::string> notices_;
+    std::deque<Outgoing> kept_;
     bool writing_ = false, closed_ = false;
     int refused_ = 0;
 };

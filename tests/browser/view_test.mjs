@@ -131,6 +131,18 @@ try {
   await page.keyboard.press('h'); // the help panel off the bottom-left corner
   await page.waitForFunction(() => window.yvView.stats.mode === 'raycast' && window.yvView.settled(), null, { timeout: 180000 });
 
+  // p: a screenshot at twice the frame's size, sent once and saved by the browser, never shown in the view.
+  const download = page.waitForEvent('download', { timeout: 180000 }).catch(() => null);
+  await page.keyboard.press('p');
+  await page.waitForFunction(() => window.yvView.screenshot, null, { timeout: 180000 });
+  const shot = await page.evaluate(() => ({ shot: window.yvView.screenshot, size: window.yvView.size }));
+  check('p takes a screenshot at twice the frame\'s size', shot.shot.width === 2 * shot.size[0] &&
+        shot.shot.height === 2 * shot.size[1] && shot.shot.bytes > 1000, JSON.stringify(shot));
+  const downloaded = await download;
+  check('the browser is handed it as a download', downloaded !== null && /yarnvox-view-\d+x\d+\.jpg/.test(downloaded.suggestedFilename()),
+        downloaded ? downloaded.suggestedFilename() : 'no download');
+  await page.waitForFunction(() => window.yvView.settled(), null, { timeout: 180000 });
+
   // A screenshot of the page: the garment near the centre of each half (slices left, ray cast right),
   // background at the corners the overlay does not cover.
   const png = await page.screenshot();
