@@ -8,7 +8,7 @@
 (() => {
   const defaults = { az: 30, el: 20, d: 4, px: 0, py: 0 };
   const cam = Object.assign({}, defaults);
-  let mode = null, modes = [], hello = null, seq = 0;
+  let mode = null, modes = [], hello = null, seq = 0, blend = false;
   let socket = null, dirty = false, pendingStats = null, lastUrl = null, pendingShot = null;
   const sentAt = new Map(); // seq -> when sent, for input-to-picture time
   const img = document.getElementById('frame');
@@ -35,6 +35,7 @@
     cam.px = clamp(cam.px, -50, 50);
     cam.py = clamp(cam.py, -50, 50);
     cam.az = ((cam.az % 360) + 360) % 360;
+    blend = h.get('blend') === '1';
     return h.get('mode');
   }
 
@@ -42,6 +43,7 @@
     const h = new URLSearchParams();
     for (const k of Object.keys(defaults)) h.set(k, String(round(cam[k])));
     if (mode) h.set('mode', mode);
+    if (blend) h.set('blend', '1');
     history.replaceState(null, '', '#' + h.toString());
   }
 
@@ -104,7 +106,7 @@
   function showOverlay(s) {
     const net = view.latencyMs === null ? '' : '   input to picture ' + view.latencyMs.toFixed(1) + ' ms' +
       ' (network and waiting ' + Math.max(0, view.latencyMs - s.renderMs - s.encodeMs).toFixed(1) + ' ms)';
-    const which = hello && hello.sideBySide ? 'left: slices, right: ' + s.mode : s.mode;
+    const which = hello && hello.sideBySide ? (s.blend ? 'slices and ' + s.mode + ' blended' : 'left: slices, right: ' + s.mode) : s.mode;
     overlay.textContent =
       (hello ? hello.name + '   ' : '') + which + '   ' + s.width + 'x' + s.height + '   frame ' + s.frame + '\n' +
       'render ' + s.renderMs.toFixed(1) + ' ms (draw ' + s.drawMs.toFixed(1) + ')   encode ' + s.encodeMs.toFixed(1) +
@@ -148,6 +150,7 @@
       mode = modes.includes(wanted) ? wanted : m.mode;
       sendSize();
       send({ type: 'mode', mode });
+      if (hello.sideBySide) send({ type: 'layout', blend });
       flush();
     } else if (m.type === 'stats') {
       pendingStats = m;
@@ -219,6 +222,7 @@
 
   // True once the picture shown is of the latest camera, mode and size asked for (tests wait on it).
   view.settled = () => view.stats !== null && view.shownSeq === seq && view.shownMode === mode &&
+    (!hello || !hello.sideBySide || view.stats.blend === blend) &&
     view.size && view.stats.width === view.size[0] && view.stats.height === view.size[1];
 
   let drag = null;
@@ -273,6 +277,7 @@
     if (e.key === 'a') { view.autoVoxelize = !view.autoVoxelize; showNotice('voxelize on stop: ' + (view.autoVoxelize ? 'on' : 'off')); }
     if (e.key === 's') send({ type: 'save-view', workDir: false });
     if (e.key === 'p') takeScreenshot();
+    if (e.key === 'b' && hello && hello.sideBySide) { blend = !blend; send({ type: 'layout', blend }); writeHash(); }
     if (e.key === 'W') send({ type: 'save-view', workDir: true });
     if (e.key === 'h') { const h = document.getElementById('help'); h.style.display = h.style.display === 'none' ? '' : 'none'; }
   });

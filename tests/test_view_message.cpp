@@ -41,6 +41,9 @@ TEST_CASE("View messages: mode, size and voxelize-view are read, and every kind 
     CHECK(std::get<yv::SizeMessage>(size).width == 1280);
     CHECK(std::get<yv::SizeMessage>(size).height == 720);
     CHECK(std::holds_alternative<yv::VoxelizeViewMessage>(parseViewMessage(R"({"type":"voxelize-view"})")));
+    const yv::ViewMessage layout = parseViewMessage(R"({"type":"layout","blend":true})");
+    REQUIRE(std::get_if<yv::LayoutMessage>(&layout));
+    CHECK(std::get<yv::LayoutMessage>(layout).blend);
     const yv::ViewMessage shot = parseViewMessage(R"({"type":"screenshot","width":4096,"height":2304})");
     REQUIRE(std::get_if<yv::ScreenshotMessage>(&shot));
     CHECK(std::get<yv::ScreenshotMessage>(shot).width == 4096);
@@ -50,7 +53,7 @@ TEST_CASE("View messages: mode, size and voxelize-view are read, and every kind 
     CHECK(std::get<yv::SaveViewMessage>(save).workDir);
     CHECK(!std::get<yv::SaveViewMessage>(parseViewMessage(R"({"type":"save-view"})")).workDir);
     for (const yv::ViewMessage& m :
-         {parseViewMessage(camera("12.25")), mode, size, parseViewMessage(R"({"type":"voxelize-view"})"), save, shot}) {
+         {parseViewMessage(camera("12.25")), mode, size, parseViewMessage(R"({"type":"voxelize-view"})"), save, shot, layout}) {
         const std::string text = yv::formatViewMessage(m);
         CHECK(yv::formatViewMessage(parseViewMessage(text)) == text);
     }
@@ -93,6 +96,7 @@ TEST_CASE("View messages: malformed or hostile messages are refused with what is
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"voxelize-view","box":[0,0,0]})"), Contains("no field 'box'"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"save-view","workDir":"yes"})"), Contains("'workDir' must be true or false"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"save-view","path":"/etc/passwd"})"), Contains("no field 'path'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"layout","blend":"yes"})"), Contains("'blend', true or false"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"screenshot","width":8192,"height":4096})"),
                       Contains("screenshot") && Contains("'width'") && Contains("[16, 4096]"));
     // Deep nesting within the size cap is refused as not an object, not a crash.

@@ -106,6 +106,20 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
     CHECK(view.logged("refused a message from 127.0.0.1:"));
     CHECK(view.logged("not JSON"));
 
+    // Blended (the paper's Figure 3): one picture over the whole width, unlike the halves side by side.
+    page.sendCamera(60, 40);
+    const yv::RgbImage sideBySide = page.frameOf(40).second;
+    page.send(R"({"type":"layout","blend":true})");
+    page.sendCamera(60, 41);
+    const auto [blendStats, blended] = page.frameOf(41);
+    CHECK(blendStats["blend"] == true);
+    CHECK(meanDifference(sideBySide, blended) > 2.0);
+    // The garment in the middle of the one picture, where side by side the halves meet.
+    CHECK(litPixels(blended, 54, 74) > 4 * litPixels(sideBySide, 54, 74) / 3);
+    page.send(R"({"type":"layout","blend":false})");
+    page.sendCamera(60, 42);
+    CHECK(meanDifference(sideBySide, page.frameOf(42).second) < 0.5);
+
     // A screenshot larger than the frames: its own message and picture, at the size asked, of the same view.
     page.send(R"({"type":"screenshot","width":1536,"height":768})");
     page.sendCamera(60, 50);

@@ -43,6 +43,7 @@ Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* typ
                                   {"frame", ++frames_},
                                   {"seq", state.camera.seq},
                                   {"mode", state.mode},
+                                  {"blend", state.blend && scene_.sideBySide()},
                                   {"width", state.width},
                                   {"height", state.height},
                                   {"renderMs", 1e3 * frame.renderSeconds},

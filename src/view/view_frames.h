@@ -3,7 +3,7 @@
 // server's first words to a page (hello). Text messages, server to page:
 //   {"type":"hello", "modes":[...], "mode", "sideBySide", "name", "renderer", "activeVoxels",
 //    "voxelSize" (world units; null where the volume's place in the world is not known), "width", "height"}
-//   {"type":"stats", "frame", "seq", "mode", "width", "height", "renderMs", "drawMs", "encodeMs", "bytes",
+//   {"type":"stats", "frame", "seq", "mode", "blend", "width", "height", "renderMs", "drawMs", "encodeMs", "bytes",
 //    "activeVoxels", "level", "slices", "gpuBytes", "gpuFreeBytes" (-1: unknown), "detail",
 //    "pixelSize" (a pixel's width at the point looked at), "pixelUnits" ("world" or "voxels")}   (a binary JPEG message follows)
 //   {"type":"notice", "text"}                         (a refusal, or what could not be drawn)

@@ -56,6 +56,8 @@ void ViewHub::apply(Client& client, const ViewMessage& message) {
     } else if (const auto* s = std::get_if<SizeMessage>(&message)) {
         next.width = s->width;
         next.height = s->height;
+    } else if (const auto* layout = std::get_if<LayoutMessage>(&message)) {
+        next.blend = layout->blend;
     } else if (const auto* save = std::get_if<SaveViewMessage>(&message)) {
         client.saveAsked = save->workDir;
     } else if (const auto* shot = std::get_if<ScreenshotMessage>(&message)) {

@@ -107,6 +107,12 @@ ViewMessage parseViewMessage(std::string_view text) {
         requireOnlyFields(m, {"type"}, t);
         return VoxelizeViewMessage{};
     }
+    if (t == "layout") {
+        requireOnlyFields(m, {"type", "blend"}, t);
+        const auto it = m.find("blend");
+        if (it == m.end() || !it->is_boolean()) throw Error("a 'layout' message needs 'blend', true or false");
+        return LayoutMessage{it->get<bool>()};
+    }
     if (t == "save-view") {
         requireOnlyFields(m, {"type", "workDir"}, t);
         SaveViewMessage save;
@@ -116,7 +122,7 @@ ViewMessage parseViewMessage(std::string_view text) {
         }
         return save;
     }
-    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, voxelize-view, save-view, screenshot)");
+    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, layout, voxelize-view, save-view, screenshot)");
 }
 
 std::string formatViewMessage(const ViewMessage& message) {
@@ -133,6 +139,8 @@ std::string formatViewMessage(const ViewMessage& message) {
         j = {{"type", "mode"}, {"mode", m->mode}};
     } else if (const auto* s = std::get_if<SizeMessage>(&message)) {
         j = {{"type", "size"}, {"width", s->width}, {"height", s->height}};
+    } else if (const auto* layout = std::get_if<LayoutMessage>(&message)) {
+        j = {{"type", "layout"}, {"blend", layout->blend}};
     } else if (const auto* shot = std::get_if<ScreenshotMessage>(&message)) {
         j = {{"type", "screenshot"}, {"width", shot->width}, {"height", shot->height}};
     } else if (const auto* save = std::get_if<SaveViewMessage>(&message)) {

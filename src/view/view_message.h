@@ -52,6 +52,11 @@ struct SaveViewMessage {
     bool workDir = false;
 };
 
+/// {"type":"layout","blend":true}: a garment's view as one picture, the ray
+/// cast blended over the slices (the paper's Figure 3), or (false) beside them.
+struct LayoutMessage {
+    bool blend = false;
+};
 /// {"type":"screenshot","width":W,"height":H}: one picture of the page's
 /// view at this size (up to 4096 a side, larger than any window), sent once.
 struct ScreenshotMessage {
@@ -59,7 +64,8 @@ struct ScreenshotMessage {
 };
 
 using ViewMessage =
-    std::variant<CameraMessage, ModeMessage, SizeMessage, VoxelizeViewMessage, SaveViewMessage, ScreenshotMessage>;
+    std::variant<CameraMessage, ModeMessage, SizeMessage, VoxelizeViewMessage, SaveViewMessage, ScreenshotMessage,
+                 LayoutMessage>;
 
 /// Parses one text message. Throws yv::Error with one line saying what is
 /// wrong (too long, not JSON, not an object, an unknown type or field, a

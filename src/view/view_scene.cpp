@@ -35,8 +35,10 @@ RealBox worldOf(const RealBox& box, const VoxelGrid& grid) {
     return {grid.origin + box.min * grid.voxelSize, grid.origin + box.max * grid.voxelSize};
 }
 
-/// The width of the ray cast's half of a frame.
-int volumeWidth(const ViewScene& scene, int width) { return scene.sideBySide() ? width - width / 2 : width; }
+/// The width of the ray cast's part of a frame: its right half beside the slices, else all of it.
+int volumeWidth(const ViewScene& scene, const ViewState& state) {
+    return scene.sideBySide() && !state.blend ? state.width - state.width / 2 : state.width;
+}
 
 } // namespace
 
@@ -157,7 +159,14 @@ ViewFrame ViewScene::render(const ViewState& state) {
     takeFinishedDetail();
     ViewFrame frame;
     frame.image = RgbImage(state.width, state.height);
-    if (sideBySide()) {
+    if (sideBySide() && state.blend) {
+        // One picture: both drawn whole, the voxels' over the slices at half weight.
+        RgbImage slices(state.width, state.height);
+        drawInto(renderKindName(RenderKind::Slices), state.camera, state.width, state.height, slices, 0, frame);
+        drawInto(state.mode, state.camera, state.width, state.height, frame.image, 0, frame);
+        for (std::size_t i = 0; i < frame.image.pixels.size(); ++i)
+            frame.image.pixels[i] = std::uint8_t((unsigned(frame.image.pixels[i]) + unsigned(slices.pixels[i]) + 1u) / 2u);
+    } else if (sideBySide()) {
         // One camera for both halves: the same view of the same voxel box.
         const int left = state.width / 2;
         drawInto(renderKindName(RenderKind::Slices), state.camera, left, state.height, frame.image, 0, frame);
@@ -174,7 +183,7 @@ std::string ViewScene::voxelizeInView(const ViewState& state, int maxSideVoxels)
     if (!voxelizer_ || !volume_.grid)
         throw Error("voxelizing what the camera sees needs the garment: view the .bcc (yarnvox view GARMENT.bcc "
                     "[voxelize options]) rather than a volume made from it");
-    const int width = volumeWidth(*this, state.width);
+    const int width = volumeWidth(*this, state);
     std::string why;
     const std::optional<ViewVoxelization> plan =
         planViewVoxelization(box_, *volume_.grid, viewCamera(box_, state.camera, width, state.height), maxSideVoxels,

@@ -29,6 +29,9 @@ struct ViewState {
     ViewCamera camera;
     std::string mode = "raycast";
     int width = 960, height = 540;
+    /// A garment's view: the ray cast blended over the slices in one picture
+    /// (the paper's Figure 3) rather than beside them.
+    bool blend = false;
     bool operator==(const ViewState&) const = default;
 };
 

@@ -131,6 +131,17 @@ try {
   await page.keyboard.press('h'); // the help panel off the bottom-left corner
   await page.waitForFunction(() => window.yvView.stats.mode === 'raycast' && window.yvView.settled(), null, { timeout: 180000 });
 
+  // b: the ray cast blended over the slices in one picture (the paper's Figure 3), and back.
+  const halves = await picture();
+  await page.keyboard.press('b');
+  await page.waitForFunction(() => window.yvView.stats.blend === true && window.yvView.settled(), null, { timeout: 180000 });
+  const blended = await picture();
+  const blendHash = await page.evaluate(() => location.hash);
+  check('b blends the ray cast over the slices, and the address keeps it',
+        difference(halves, blended) > 2 && /blend=1/.test(blendHash), 'mean difference ' + difference(halves, blended) + ' ' + blendHash);
+  await page.keyboard.press('b');
+  await page.waitForFunction(() => window.yvView.stats.blend === false && window.yvView.settled(), null, { timeout: 180000 });
+
   // p: a screenshot at twice the frame's size, sent once and saved by the browser, never shown in the view.
   const download = page.waitForEvent('download', { timeout: 180000 }).catch(() => null);
   await page.keyboard.press('p');
