@@ -62,6 +62,22 @@ class Session {
     }
     const Json& hello() const { return hello_; }
 
+    /// The next message: a text one parsed (the stats of the frame to come
+    /// kept), or a frame's JPEG (`frame` true, its size in `bytes`).
+    struct Message {
+        Json text;
+        bool frame = false;
+        std::size_t bytes = 0;
+    };
+    Message next() {
+        beast::flat_buffer b;
+        ws_.read(b);
+        if (!ws_.got_text()) return {nullptr, true, b.size()};
+        Message m{Json::parse(beast::buffers_to_string(b.data()))};
+        if (m.text["type"] == "stats") stats_ = m.text;
+        return m;
+    }
+
     /// Sends `c` and waits for its frame; returns the stats with latencyMs and arrival added.
     Json frameOf(const Camera& c) {
         ++seq_;
@@ -69,18 +85,15 @@ class Session {
         send(Json{{"type", "camera"}, {"azimuth", c.azimuth}, {"elevation", c.elevation}, {"distance", c.distance},
                   {"panX", c.panX}, {"panY", c.panY}, {"seq", seq_}});
         for (;;) {
-            beast::flat_buffer b;
-            ws_.read(b);
-            if (ws_.got_text()) {
-                const Json m = Json::parse(beast::buffers_to_string(b.data()));
-                if (m["type"] == "stats") stats_ = m;
-                else if (m["type"] == "notice") std::fprintf(stderr, "view: %s\n", m["text"].get<std::string>().c_str());
+            const Message m = next();
+            if (!m.frame) {
+                if (m.text["type"] == "notice") std::fprintf(stderr, "view: %s\n", m.text["text"].get<std::string>().c_str());
                 continue;
             }
             if (stats_.value("seq", std::uint64_t(0)) != seq_) continue; // an earlier state's frame
             Json s = stats_;
             s["latencyMs"] = std::chrono::duration<double, std::milli>(Clock::now() - sent).count();
-            s["receivedBytes"] = b.size();
+            s["receivedBytes"] = m.bytes;
             return s;
         }
     }
@@ -93,15 +106,12 @@ class Session {
         const auto sent = Clock::now();
         send(Json{{"type", "voxelize-view"}});
         for (;;) {
-            beast::flat_buffer b;
-            ws_.read(b);
-            if (ws_.got_text()) {
-                const Json m = Json::parse(beast::buffers_to_string(b.data()));
-                if (m["type"] == "stats") stats_ = m;
-                else if (m["type"] == "notice") throw std::runtime_error("view: " + m["text"].get<std::string>());
-                else if (m["type"] == "voxelize" && m["state"] == "failed")
-                    throw std::runtime_error("view: voxelize " + m.dump());
-                else if (m["type"] == "voxelize" && m["state"] == "already")
+            const Message m = next();
+            if (!m.frame) {
+                const Json& t = m.text;
+                if (t["type"] == "notice") throw std::runtime_error("view: " + t["text"].get<std::string>());
+                if (t["type"] == "voxelize" && t["state"] == "failed") throw std::runtime_error("view: voxelize " + t.dump());
+                if (t["type"] == "voxelize" && t["state"] == "already")
                     return nullptr; // this camera's box was run last: nothing new to show
                 continue;
             }

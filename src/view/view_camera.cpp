@@ -14,7 +14,7 @@ namespace yv {
 Camera viewCamera(const VoxelBox& box, const ViewCamera& v, int width, int height) {
     const glm::dvec3 lo(box.min), hi(box.max);
     const glm::dvec3 centre = 0.5 * (lo + hi);
-    const double radius = std::max(0.5 * glm::length(hi - lo), 0.5);
+    const double radius = viewRadius(box);
     const double az = glm::radians(v.azimuth), el = glm::radians(v.elevation);
     const glm::dvec3 dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
     // Looking straight down or up, z cannot be the up vector: y is (as frameBox).
@@ -33,6 +33,8 @@ Camera viewCamera(const VoxelBox& box, const ViewCamera& v, int width, int heigh
     c.projection = glm::perspective(glm::radians(kFieldOfViewDegrees), double(width) / double(height), nearPlane, farPlane);
     return c;
 }
+
+double viewRadius(const VoxelBox& box) { return std::max(0.5 * glm::length(glm::dvec3(box.max - box.min)), 0.5); }
 
 Camera mapCamera(const Camera& camera, double scale, const glm::dvec3& offset) {
     if (scale == 1.0 && offset == glm::dvec3(0.0)) return camera;

@@ -14,6 +14,9 @@ namespace yv {
 /// one sphere radius along the picture's right (panX) or up (panY).
 Camera viewCamera(const VoxelBox& box, const ViewCamera& view, int width, int height);
 
+/// The radius of `box`'s bounding sphere, the unit of a view's distance and pan.
+double viewRadius(const VoxelBox& box);
+
 /// The same camera in coordinates p' = scale * p + offset (scale > 0): the
 /// same picture of a volume whose voxels are `scale` times finer.
 Camera mapCamera(const Camera& camera, double scale, const glm::dvec3& offset);

@@ -208,9 +208,8 @@ const DetailRun* ViewScene::detail() const { return detail_ ? &detail_->run : nu
 
 double ViewScene::pixelSize(const ViewState& state, bool& world) const {
     // The point looked at lies `distance` bounding-sphere radii from the eye (viewCamera).
-    const double radius = std::max(0.5 * glm::length(glm::dvec3(box_.max - box_.min)), 0.5);
     const double pixelVoxels =
-        2.0 * state.camera.distance * radius * std::tan(glm::radians(kFieldOfViewDegrees) / 2.0) / double(state.height);
+        2.0 * state.camera.distance * viewRadius(box_) * std::tan(glm::radians(kFieldOfViewDegrees) / 2.0) / double(state.height);
     world = volume_.grid.has_value();
     return world ? pixelVoxels * volume_.grid->voxelSize : pixelVoxels;
 }
