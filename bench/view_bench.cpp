@@ -3,8 +3,10 @@
 // out, then stops that each voxelize what the camera sees, for a garment's
 // view) and prints one JSON line a phase: input-to-picture latency (a camera
 // message sent to its frame received, one at a time), the server's render
-// and encode times, frame intervals, and bytes a frame. The view and the
-// benchmark may run on different machines; the numbers include the network.
+// and encode times, frame intervals, and bytes a frame, and (given the
+// view's process id, on the same machine) the CPU time the view's process
+// took a frame. The view and the benchmark may run on different machines;
+// the numbers include the network.
 //   build/yarnvox view garment.vdb --port 8080 &
 //   build/bench/yv_view_bench --port 8080 --size 1280x720 --frames 120 --mode raycast
 #include <boost/asio/connect.hpp>
@@ -20,7 +22,9 @@
 #include <cstdlib>
 #include <functional>
 #include <stdexcept>
+#include <cstring>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 namespace beast = boost::beast;
@@ -34,7 +38,27 @@ namespace {
 struct Options {
     std::string host = "127.0.0.1", mode = "raycast";
     int port = 8080, width = 1280, height = 720, frames = 120, stops = 5;
+    int serverPid = 0; ///< the view's process, for its CPU time (0: not measured)
 };
+
+/// The CPU seconds (user and system, all threads) process `pid` has used,
+/// from /proc/PID/stat; negative where it cannot be read.
+double processCpuSeconds(int pid) {
+    if (pid <= 0) return -1.0;
+    std::FILE* f = std::fopen(("/proc/" + std::to_string(pid) + "/stat").c_str(), "r");
+    if (!f) return -1.0;
+    char text[4096];
+    const std::size_t n = std::fread(text, 1, sizeof text - 1, f);
+    std::fclose(f);
+    text[n] = 0;
+    // The command name (field 2) is in parentheses and may hold spaces: count fields after its last ')'.
+    const char* p = std::strrchr(text, ')');
+    if (!p) return -1.0;
+    unsigned long long utime = 0, stime = 0;
+    // Fields 3 to 13 skipped; 14 utime, 15 stime, in clock ticks.
+    if (std::sscanf(p + 2, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %llu %llu", &utime, &stime) != 2) return -1.0;
+    return double(utime + stime) / double(sysconf(_SC_CLK_TCK));
+}
 
 Json percentiles(std::vector<double> v) {
     if (v.empty()) return nullptr;
@@ -104,6 +128,7 @@ class Session {
     /// the view answers that the box in view is the one it ran last.
     Json voxelizeAndWait(std::uint64_t previous) {
         const auto sent = Clock::now();
+        double firstMs = -1.0;
         send(Json{{"type", "voxelize-view"}});
         for (;;) {
             const Message m = next();
@@ -117,8 +142,13 @@ class Session {
             }
             const Json& d = stats_["detail"];
             if (!d.is_object() || d["shown"] != true || d["id"].get<std::uint64_t>() <= previous) continue;
+            // A large view comes in two passes: the first picture of the run, then its final one.
+            const double ms = std::chrono::duration<double, std::milli>(Clock::now() - sent).count();
+            if (firstMs < 0.0) firstMs = ms;
+            if (d.value("final", true) != true) continue;
             Json s = stats_;
-            s["stopToDetailMs"] = std::chrono::duration<double, std::milli>(Clock::now() - sent).count();
+            s["stopToDetailMs"] = ms;
+            s["stopToFirstMs"] = firstMs;
             return s;
         }
     }
@@ -145,6 +175,7 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
     std::vector<double> latency, render, encode, bytes, interval;
     auto last = Clock::now();
     const auto start = last;
+    const double cpuBefore = processCpuSeconds(o.serverPid);
     for (int i = 0; i < frames; ++i) {
         const Json f = s.frameOf(path(frames > 1 ? double(i) / double(frames - 1) : 0.0));
         const auto now = Clock::now();
@@ -158,6 +189,13 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
     double meanBytes = 0.0;
     for (double b : bytes) meanBytes += b / double(bytes.size());
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const double cpuAfter = processCpuSeconds(o.serverPid);
+    // The view's CPU a frame, and what it would be at 60 frames a second (a core is 1.0).
+    Json serverCpu = nullptr;
+    if (cpuBefore >= 0.0 && cpuAfter >= cpuBefore)
+        serverCpu = {{"msPerFrame", 1e3 * (cpuAfter - cpuBefore) / frames},
+                     {"coresAtMeasuredRate", (cpuAfter - cpuBefore) / seconds},
+                     {"coresAt60", 60.0 * (cpuAfter - cpuBefore) / frames}};
     const Json line = {{"phase", phase},
                        {"mode", o.mode},
                        {"input", s.hello()["name"]},
@@ -172,7 +210,8 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
                        {"renderMs", percentiles(render)},
                        {"encodeMs", percentiles(encode)},
                        {"bytes", percentiles(bytes)},
-                       {"mbitPerSecondAt30", meanBytes * 8.0 * 30.0 / 1e6}};
+                       {"mbitPerSecondAt30", meanBytes * 8.0 * 30.0 / 1e6},
+                       {"serverCpu", serverCpu}};
     std::printf("%s\n", line.dump().c_str());
     std::fflush(stdout);
 }
@@ -180,7 +219,7 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
 /// Stops at `stops` close-up cameras around the garment, each voxelized in view:
 /// from the request (the page sends it when the camera stops) to its picture.
 void runStopPhase(Session& s, int stops, const Options& o) {
-    std::vector<double> stopToDetail, runSeconds, active;
+    std::vector<double> stopToDetail, stopToFirst, runSeconds, active;
     std::uint64_t last = 0;
     int already = 0;
     Json runs = Json::array();
@@ -194,12 +233,14 @@ void runStopPhase(Session& s, int stops, const Options& o) {
         const Json& d = f["detail"];
         last = d["id"];
         stopToDetail.push_back(f["stopToDetailMs"]);
+        stopToFirst.push_back(f["stopToFirstMs"]);
         runSeconds.push_back(d["seconds"]);
         active.push_back(d["activeVoxels"]);
         // Where the time went: the run (request to .vdb written), then the
         // frame that opens it and loads its atlas (renderMs), then encoding and sending.
         runs.push_back({{"voxelSize", d["voxelSize"]}, {"bboxWorld", d["bboxWorld"]}, {"activeVoxels", d["activeVoxels"]},
-                        {"stopToDetailMs", f["stopToDetailMs"]}, {"runSeconds", d["seconds"]},
+                        {"stopToDetailMs", f["stopToDetailMs"]}, {"stopToFirstMs", f["stopToFirstMs"]},
+                        {"runSeconds", d["seconds"]},
                         {"frameRenderMs", f["renderMs"]}, {"frameEncodeMs", f["encodeMs"]}});
     }
     const Json line = {{"phase", "stop-and-voxelize"},
@@ -211,6 +252,7 @@ void runStopPhase(Session& s, int stops, const Options& o) {
                        {"stops", stops},
                        {"stopsAlreadyRun", already},
                        {"stopToDetailMs", percentiles(stopToDetail)},
+                       {"stopToFirstPictureMs", percentiles(stopToFirst)},
                        {"runSeconds", percentiles(runSeconds)},
                        {"activeVoxels", percentiles(active)},
                        {"runs", runs}};
@@ -219,7 +261,7 @@ void runStopPhase(Session& s, int stops, const Options& o) {
 }
 
 int usage(const char* why) {
-    std::fprintf(stderr, "yv_view_bench: %s\nusage: yv_view_bench [--host H] [--port P] [--size WxH] [--frames N] [--mode M] [--stops K]\n", why);
+    std::fprintf(stderr, "yv_view_bench: %s\nusage: yv_view_bench [--host H] [--port P] [--size WxH] [--frames N] [--mode M] [--stops K] [--server-pid PID]\n", why);
     return 2;
 }
 
@@ -236,6 +278,7 @@ int main(int argc, char** argv) {
         else if (a == "--frames") o.frames = std::atoi(v.c_str());
         else if (a == "--mode") o.mode = v;
         else if (a == "--stops") o.stops = std::atoi(v.c_str());
+        else if (a == "--server-pid") o.serverPid = std::atoi(v.c_str());
         else if (a == "--size") {
             if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2) return usage("--size WIDTHxHEIGHT");
         } else return usage(("an unknown option " + a).c_str());

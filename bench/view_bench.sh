@@ -29,7 +29,7 @@ done
 [ -n "$port" ] || { echo "view_bench: no address from yarnvox view" >&2; kill -TERM "$view"; exit 1; }
 bench_header view "yarnvox view $input ${view_args[*]}; yv_view_bench ${bench_args[*]}"
 status=0
-"$build/bench/yv_view_bench" --port "$port" "${bench_args[@]}" || status=$?
+"$build/bench/yv_view_bench" --port "$port" --server-pid "$view" "${bench_args[@]}" || status=$?
 kill -TERM "$view"
 wait "$view" || status=$?
 exit $status

@@ -4,11 +4,17 @@
 // camera and mode in the address (#az=..&el=..) so a link reopens the view.
 // For a garment, when the camera stops the page asks the server to voxelize
 // what it sees (finer voxels where zoomed in), which the frames then show.
+// The transfer function (a preset and its opacity) and a garment's twist
+// are set from the controls or keys and kept in the address too.
 'use strict';
 (() => {
   const defaults = { az: 30, el: 20, d: 4, px: 0, py: 0 };
   const cam = Object.assign({}, defaults);
   let mode = null, modes = [], hello = null, seq = 0, blend = false;
+  // The look: a transfer-function preset, its opacity scale as a power of
+  // two, and the twist as the fibres' lean at the yarn's surface (twist
+  // times yarn radius: the tangent of the helix angle there). null: the server's.
+  const look = { tf: null, op: 0, tw: null };
   let socket = null, dirty = false, pendingStats = null, lastUrl = null, pendingShot = null;
   const sentAt = new Map(); // seq -> when sent, for input-to-picture time
   const img = document.getElementById('frame');
@@ -17,7 +23,7 @@
   const notice = document.getElementById('notice');
   // What tests (tests/browser) and the benchmark read.
   const view = window.yvView = { frames: 0, stats: null, shownSeq: -1, latencyMs: null, notices: [],
-                                 voxelize: [], autoVoxelize: true, stopToDetailMs: null };
+                                 voxelize: [], autoVoxelize: true, stopToDetailMs: null, stopToFinalMs: null };
   const stopMs = 250; // no camera input for this long: the camera has stopped
   let stopTimer = null, askedAt = null, lastDetailId = 0;
 
@@ -36,6 +42,10 @@
     cam.py = clamp(cam.py, -50, 50);
     cam.az = ((cam.az % 360) + 360) % 360;
     blend = h.get('blend') === '1';
+    if (h.has('tf')) look.tf = h.get('tf');
+    const op = Number(h.get('op')), tw = Number(h.get('tw'));
+    if (h.has('op') && Number.isFinite(op)) look.op = clamp(op, -6, 6);
+    if (h.has('tw') && Number.isFinite(tw)) look.tw = clamp(tw, -1, 1);
     return h.get('mode');
   }
 
@@ -44,6 +54,9 @@
     for (const k of Object.keys(defaults)) h.set(k, String(round(cam[k])));
     if (mode) h.set('mode', mode);
     if (blend) h.set('blend', '1');
+    if (look.tf) h.set('tf', look.tf);
+    if (look.op !== 0) h.set('op', String(look.op));
+    if (look.tw !== null) h.set('tw', String(round(look.tw)));
     history.replaceState(null, '', '#' + h.toString());
   }
 
@@ -66,6 +79,7 @@
   function voxelizeView() {
     if (!hello || hello.voxelSize === null || hello.voxelSize === undefined) return;
     askedAt = performance.now();
+    view.stopToDetailMs = view.stopToFinalMs = null;
     send({ type: 'voxelize-view' });
   }
 
@@ -93,6 +107,48 @@
     mode = m;
     send({ type: 'mode', mode });
     writeHash();
+  }
+
+  // The twist in the server's units (radians per world unit) from the lean at the surface.
+  const twistOf = (lean) => lean / hello.yarnRadius;
+  // The lean shown: the page's, else the garment's own.
+  const leanNow = () => (look.tw !== null ? look.tw : hello.twist * hello.yarnRadius);
+  const twistable = () => hello && hello.twist !== null && hello.twist !== undefined && hello.yarnRadius > 0;
+
+  function sendLook() {
+    if (!hello) return;
+    send({ type: 'transfer', preset: look.tf, opacity: Math.pow(2, look.op) });
+    if (twistable() && look.tw !== null) send({ type: 'twist', twist: twistOf(look.tw) });
+    showControls();
+    writeHash();
+  }
+
+  function showControls() {
+    const select = document.getElementById('transfer');
+    if (select.options.length !== hello.transferPresets.length) {
+      select.textContent = '';
+      for (const p of hello.transferPresets) select.add(new Option(p, p));
+    }
+    select.value = look.tf;
+    document.getElementById('opacity').value = String(look.op);
+    document.getElementById('opacity-value').textContent = 'x' + Number(Math.pow(2, look.op).toPrecision(3));
+    document.getElementById('twist-control').hidden = !twistable();
+    if (twistable()) {
+      const lean = leanNow();
+      document.getElementById('twist').value = String(lean);
+      document.getElementById('twist-value').textContent = (Math.atan(lean) * 180 / Math.PI).toFixed(1) +
+        ' deg at the surface, ' + Number(twistOf(lean).toPrecision(3)) + ' rad a unit';
+    }
+  }
+
+  function setLook(change) {
+    Object.assign(look, change);
+    if (!hello.transferPresets.includes(look.tf)) look.tf = hello.transfer;
+    look.op = clamp(look.op, -6, 6);
+    if (look.tw !== null) look.tw = clamp(Math.round(look.tw * 100) / 100, -1, 1);
+    sendLook();
+    // A twist changes what voxelizing the view would give: ask again once it has settled.
+    if ('tw' in change && view.autoVoxelize) { clearTimeout(stopTimer); stopTimer = setTimeout(voxelizeView, stopMs); }
   }
 
   function showNotice(text) {
@@ -148,9 +204,11 @@
       modes = m.modes;
       const wanted = readHash();
       mode = modes.includes(wanted) ? wanted : m.mode;
+      if (!m.transferPresets.includes(look.tf)) look.tf = m.transfer;
       sendSize();
       send({ type: 'mode', mode });
       if (hello.sideBySide) send({ type: 'layout', blend });
+      sendLook();
       flush();
     } else if (m.type === 'stats') {
       pendingStats = m;
@@ -160,7 +218,10 @@
       showNotice(m.text);
     } else if (m.type === 'voxelize') {
       view.voxelize.push(m);
-      if (m.state === 'running') showNotice('voxelizing what the camera sees: voxel ' + m.voxelSize + ', box ' + m.bboxWorld);
+      if (m.state === 'running') {
+        showNotice((m.pass === 'first' ? 'voxelizing what the camera sees, a coarse pass first: voxel '
+                                        : 'voxelizing what the camera sees: voxel ') + m.voxelSize + ', box ' + m.bboxWorld);
+      }
       if (m.state === 'failed') showNotice('voxelizing the view failed: ' + m.text);
       if (m.state === 'saved') showNotice('saved ' + (m.workDir ? m.workDir + ' and ' : '') + m.vdb + '; the same: ' + m.commandText);
     }
@@ -202,9 +263,13 @@
         view.stats = s;
         view.shownSeq = s.seq;
         view.shownMode = s.mode;
+        // The first picture of the view's run (a coarse pass where it comes in two), and its final one.
         if (s.detail && s.detail.shown && s.detail.id !== lastDetailId) {
           lastDetailId = s.detail.id;
-          if (askedAt !== null) view.stopToDetailMs = performance.now() - askedAt;
+          if (askedAt !== null) {
+            if (view.stopToDetailMs === null) view.stopToDetailMs = performance.now() - askedAt;
+            if (s.detail.final && view.stopToFinalMs === null) view.stopToFinalMs = performance.now() - askedAt;
+          }
         }
         showOverlay(s);
         showRuler(s);
@@ -223,6 +288,8 @@
   // True once the picture shown is of the latest camera, mode and size asked for (tests wait on it).
   view.settled = () => view.stats !== null && view.shownSeq === seq && view.shownMode === mode &&
     (!hello || !hello.sideBySide || view.stats.blend === blend) &&
+    (!hello || (view.stats.transfer === look.tf && Math.abs(view.stats.opacity - Math.pow(2, look.op)) < 1e-9 &&
+                (!twistable() || look.tw === null || Math.abs(view.stats.twist - twistOf(look.tw)) < 1e-9))) &&
     view.size && view.stats.width === view.size[0] && view.stats.height === view.size[1];
 
   let drag = null;
@@ -260,8 +327,12 @@
     }
     cameraChanged();
   }, { passive: false });
+  document.getElementById('transfer').addEventListener('change', (e) => setLook({ tf: e.target.value }));
+  document.getElementById('opacity').addEventListener('input', (e) => setLook({ op: Number(e.target.value) }));
+  document.getElementById('twist').addEventListener('input', (e) => setLook({ tw: Number(e.target.value) }));
   window.addEventListener('keydown', (e) => {
     if (e.altKey || e.metaKey || e.ctrlKey) return;
+    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) e.target.blur();
     const step = 5, k = 0.05 * cam.d;
     const keys = {
       ArrowLeft: () => (e.shiftKey ? (cam.px -= k) : (cam.az += step)),
@@ -279,6 +350,12 @@
     if (e.key === 'p') takeScreenshot();
     if (e.key === 'b' && hello && hello.sideBySide) { blend = !blend; send({ type: 'layout', blend }); writeHash(); }
     if (e.key === 'W') send({ type: 'save-view', workDir: true });
+    if (e.key === 't' && hello) {
+      const p = hello.transferPresets;
+      setLook({ tf: p[(p.indexOf(look.tf) + 1) % p.length] });
+    }
+    if ((e.key === 'o' || e.key === 'O') && hello) setLook({ op: look.op + (e.key === 'O' ? 0.5 : -0.5) });
+    if ((e.key === '[' || e.key === ']') && twistable()) setLook({ tw: leanNow() + (e.key === ']' ? 0.05 : -0.05) });
     if (e.key === 'h') { const h = document.getElementById('help'); h.style.display = h.style.display === 'none' ? '' : 'none'; }
   });
   let resizeTimer = null;

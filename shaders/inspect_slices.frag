@@ -6,8 +6,10 @@
 in vec3 localPosition;
 flat in vec3 localEye;
 flat in vec3 halfSize;
-flat in vec3 shade;
+flat in vec3 localLight;
 uniform float opacityPerVoxel; // extinction along the ray, per voxel of yarn crossed
+uniform float twist;           // radians per voxel of yarn the fibres turn by
+uniform vec3 albedo;
 layout(location = 0) out vec4 colour;
 
 void main() {
@@ -35,5 +37,14 @@ void main() {
     float crossed = leave - enter;
     if (crossed <= 0.0) discard;
     float alpha = 1.0 - exp(-opacityPerVoxel * crossed);
+    // The fibre where the ray is halfway through the yarn: a helix about the
+    // axis, so at (x, y) it leans by the twist along the circle through it
+    // (Eq. 1's step between slices, taken per unit length); untwisted, it
+    // runs along the yarn. Lambertian shading of a thin cylinder under
+    // parallel light: the sine of the angle between fibre and light.
+    vec2 p = (localEye + 0.5 * (enter + leave) * d).xy;
+    vec3 fibre = normalize(vec3(-twist * p.y, twist * p.x, 1.0));
+    float cosine = dot(fibre, localLight);
+    vec3 shade = albedo * (0.25 + 0.75 * sqrt(max(0.0, 1.0 - cosine * cosine)));
     colour = vec4(shade * alpha, alpha);
 }

@@ -13,13 +13,12 @@ layout(binding = kSliceSpansUnit) uniform usamplerBuffer spans; // per slice dra
 uniform mat4 viewProjection;
 uniform vec3 eye;
 uniform vec3 lightDirection; // unit, towards the light
-uniform vec3 albedo;
 uniform float radius;        // the yarn's
 
 out vec3 localPosition;  // in the slab's frame (right, up, tangent), voxel units from its centre
 flat out vec3 localEye;
 flat out vec3 halfSize;
-flat out vec3 shade;
+flat out vec3 localLight; // lightDirection in the slab's frame
 
 void main() {
     vec4 a = texelFetch(slices, int(2u * sliceIndex));
@@ -45,9 +44,6 @@ void main() {
     localPosition = corner * halfSize;
     vec3 toEye = eye - centre;
     localEye = vec3(dot(toEye, r), dot(toEye, u), dot(toEye, t));
-    // Lambertian shading of a fibre along t under parallel light: the
-    // diffuse term of a thin cylinder, sin of the angle between t and the light.
-    float c = dot(t, lightDirection);
-    shade = albedo * (0.25 + 0.75 * sqrt(max(0.0, 1.0 - c * c)));
+    localLight = vec3(dot(lightDirection, r), dot(lightDirection, u), dot(lightDirection, t));
     gl_Position = viewProjection * vec4(centre + localPosition.x * r + localPosition.y * u + localPosition.z * t, 1.0);
 }

@@ -19,6 +19,8 @@
 #include "vdb/vdb_writer.h"
 
 #include <catch2/catch.hpp>
+
+#include <cstring>
 #include <unistd.h>
 
 #include <glm/geometric.hpp>
@@ -306,6 +308,25 @@ TEST_CASE("inspect render: colour map files", "[inspect]") {
     CHECK_THROWS_WITH(parseColourMap("0.5 0 0 0 0\n0.2 1 1 1 1\n", "map.txt"), Catch::Contains("rise"));
     CHECK_THROWS_WITH(parseColourMap("0 0 0 0 0\n", "map.txt"), Catch::Contains("two lines"));
     CHECK_THROWS_WITH(parseColourMap("0 0 0 0 0\n1 2 0 0 0\n", "map.txt"), Catch::Contains("[0, 1]"));
+}
+
+TEST_CASE("inspect render: scaling a transfer function's opacity is what a voxel that many times as long would block", "[inspect]") {
+    const TransferFunction tf = parseColourMap("0 0.2 0.4 0.6 0\n0.5 1 1 1 0.5\n1 1 0.5 0 1\n", "map.txt");
+    const TransferFunction same = withOpacityScale(tf, 1.0);
+    CHECK(std::memcmp(same.data(), tf.data(), sizeof tf) == 0);
+    const TransferFunction twice = withOpacityScale(tf, 2.0), half = withOpacityScale(tf, 0.5);
+    for (std::size_t i = 0; i < tf.size(); ++i) {
+        INFO("entry " << i << " opacity " << tf[i].a);
+        // Two voxels' worth: light through both, (1 - a)^2, is what passes.
+        CHECK(1.0 - twice[i].a == Approx((1.0 - tf[i].a) * (1.0 - tf[i].a)).margin(1e-6));
+        CHECK(withOpacityScale(half, 2.0)[i].a == Approx(tf[i].a).margin(1e-6));
+        CHECK(twice[i].r == tf[i].r); // colours unchanged
+        CHECK(half[i].b == tf[i].b);
+    }
+    CHECK(twice[0].a == 0.0f);   // nothing stays nothing
+    CHECK(half[255].a == 1.0f);  // opaque stays opaque
+    CHECK(twice[128].a > tf[128].a);
+    CHECK(half[128].a < tf[128].a);
 }
 
 TEST_CASE("inspect render: --region frames one zoom region and draws only its bricks", "[inspect][gl]") {

@@ -23,8 +23,10 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <random>
 
 using namespace yv;
@@ -298,4 +300,139 @@ TEST_CASE("inspect slices: the command line finds the run's garment from a work 
     INFO(given.output);
     CHECK(given.exitCode == 0);
     CHECK(given.output.find("slices of " + moved) != std::string::npos);
+}
+
+namespace {
+
+/// The slices' picture worked out on the host, in doubles: per pixel, the
+/// ray from the eye through its centre against every slab (the box of
+/// SliceRenderer's vertex shader, its frame included), cut with the yarn's
+/// cylinder, its opacity from the length crossed, its shade from the fibre
+/// where the ray is halfway through (tilted by `twist` radians a voxel), and
+/// the slabs blended back to front. The reference for the GPU's picture.
+RgbImage referenceSlices(const SliceInstances& slices, const Camera& camera, double twist) {
+    const glm::dmat4 inverseView = glm::inverse(camera.view);
+    const glm::dvec3 light = glm::normalize(glm::dvec3(inverseView[2]) + 0.5 * glm::dvec3(inverseView[1]));
+    const double radius = slices.radius, extinction = kSliceOpacityTimesRadius / radius;
+    std::vector<std::uint32_t> order;
+    sortBackToFront(slices, camera.eye, order);
+    RgbImage out(camera.width, camera.height);
+    for (int y = 0; y < camera.height; ++y)
+        for (int x = 0; x < camera.width; ++x) {
+            glm::dvec3 o, dir;
+            pixelRay(camera, x, y, o, dir);
+            glm::dvec3 colour(0.0);
+            for (std::uint32_t i : order) {
+                const glm::dvec3 centre(slices.records[2 * i]);
+                const double half = 0.5 * slices.records[2 * i].w;
+                const glm::dvec3 t(slices.records[2 * i + 1]);
+                const glm::dvec3 helper = std::abs(t.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+                const glm::dvec3 r = glm::normalize(glm::cross(t, helper)), u = glm::cross(t, r);
+                const glm::dvec3 e = camera.eye - centre;
+                const glm::dvec3 eye(glm::dot(e, r), glm::dot(e, u), glm::dot(e, t));
+                const glm::dvec3 d(glm::dot(dir, r), glm::dot(dir, u), glm::dot(dir, t));
+                const glm::dvec3 size(radius, radius, half);
+                double enter = -HUGE_VAL, leave = HUGE_VAL;
+                for (int a = 0; a < 3; ++a) {
+                    if (d[a] == 0.0) {
+                        if (std::abs(eye[a]) > size[a]) enter = HUGE_VAL;
+                        continue;
+                    }
+                    const double t1 = (-size[a] - eye[a]) / d[a], t2 = (size[a] - eye[a]) / d[a];
+                    enter = std::max(enter, std::min(t1, t2));
+                    leave = std::min(leave, std::max(t1, t2));
+                }
+                const double qa = d.x * d.x + d.y * d.y, qb = eye.x * d.x + eye.y * d.y;
+                const double qc = eye.x * eye.x + eye.y * eye.y - radius * radius;
+                const double disc = qb * qb - qa * qc;
+                if (qa < 1e-12 || disc <= 0.0) continue;
+                enter = std::max(enter, (-qb - std::sqrt(disc)) / qa);
+                leave = std::min(leave, (-qb + std::sqrt(disc)) / qa);
+                if (leave <= enter) continue;
+                const double alpha = 1.0 - std::exp(-extinction * (leave - enter));
+                const glm::dvec3 p = eye + 0.5 * (enter + leave) * d;
+                const glm::dvec3 fibre = glm::normalize(-twist * p.y * r + twist * p.x * u + t);
+                const double c = glm::dot(fibre, light);
+                const glm::dvec3 shade = glm::dvec3(kSliceAlbedo) * (0.25 + 0.75 * std::sqrt(std::max(0.0, 1.0 - c * c)));
+                colour = shade * alpha + (1.0 - alpha) * colour;
+            }
+            for (int ch = 0; ch < 3; ++ch) out.at(x, y)[ch] = std::uint8_t(std::clamp(colour[ch] * 255.0 + 0.5, 0.0, 255.0));
+        }
+    return out;
+}
+
+int coveredPixels(const RgbImage& im) {
+    int n = 0;
+    for (int y = 0; y < im.height; ++y)
+        for (int x = 0; x < im.width; ++x) n += covered(im, x, y);
+    return n;
+}
+
+/// Pixels whose channels differ by more than `levels`.
+int pixelsOff(const RgbImage& a, const RgbImage& b, int levels) {
+    int n = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); i += 3) {
+        bool off = false;
+        for (int ch = 0; ch < 3; ++ch) off = off || std::abs(int(a.pixels[i + ch]) - int(b.pixels[i + ch])) > levels;
+        n += off;
+    }
+    return n;
+}
+
+} // namespace
+
+TEST_CASE("inspect slices: a twisted yarn's fibres lean as the helix says, pixel by pixel, and a twist set later draws the same",
+          "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    RenderContext context;
+    context.gl();
+    // A straight yarn, seen from above at an angle; slices 3 voxels apart.
+    const double radius = 0.3, h = radius / 8.0, lean = 1.0; // twist times radius: 45 degrees at the surface
+    const glm::dvec3 start(0.1, 0.2, 0.3), direction = glm::normalize(glm::dvec3(1.0, 0.6, 0.2));
+    const int length = 3;
+    SliceOptions opt;
+    opt.radius = radius;
+    opt.spacing = 3.0 * h;
+    opt.twist = lean / radius;
+    const SlicePlan twistedPlan = planSlices(test::straightYarn(start, direction, length), opt);
+    opt.twist = 0.0;
+    const SlicePlan straightPlan = planSlices(test::straightYarn(start, direction, length), opt);
+    const VoxelGrid grid = makeGrid(straightPlan, 0, h);
+    const SliceInstances twisted = sliceInstances(twistedPlan, grid), straight = sliceInstances(straightPlan, grid);
+    REQUIRE(twisted.twist == Approx(lean / radius * h));
+    REQUIRE(straight.twist == 0.0f);
+
+    const VoxelBox box{{0, 0, 0}, grid.dims};
+    const Camera camera = frameBox(box, ViewAngles{35.0, 50.0, 2.0}, 96, 72);
+    SliceSettings settings;
+    settings.lodPixels = 0.0;
+    const auto draw = [&](const SliceInstances& slices, std::optional<double> twist) {
+        SliceRenderer renderer(slices, settings);
+        if (twist) renderer.setTwist(*twist);
+        RenderReport report;
+        drawFrames(renderer, camera, 1, report);
+        return report.image;
+    };
+    const RgbImage plain = draw(straight, std::nullopt), leaning = draw(twisted, std::nullopt);
+    // The twist is the shading's alone: set on the untwisted slices it draws the same picture.
+    CHECK(draw(straight, double(twisted.twist)).pixels == leaning.pixels);
+    CHECK(draw(twisted, 0.0).pixels == plain.pixels);
+
+    const int covered = int(coveredPixels(plain));
+    INFO(covered << " pixels of yarn");
+    REQUIRE(covered > 800);
+    // Each picture is the reference's, but for a few pixels at slab edges (floats against doubles).
+    const RgbImage plainReference = referenceSlices(straight, camera, 0.0);
+    const RgbImage leaningReference = referenceSlices(straight, camera, twisted.twist);
+    const RgbImage mirroredReference = referenceSlices(straight, camera, -twisted.twist);
+    const int plainOff = pixelsOff(plain, plainReference, 3), leaningOff = pixelsOff(leaning, leaningReference, 3);
+    INFO("off the reference by more than 3 levels: " << plainOff << " untwisted, " << leaningOff << " twisted");
+    CHECK(plainOff <= covered / 50);
+    CHECK(leaningOff <= covered / 50);
+    // The test tells the twist and its sign: the other pictures are off in many pixels.
+    const int againstPlain = pixelsOff(leaning, plainReference, 3), againstMirror = pixelsOff(leaning, mirroredReference, 3);
+    INFO("the twisted picture against the untwisted reference: " << againstPlain << " off; against the opposite twist: "
+                                                                << againstMirror);
+    CHECK(againstPlain > covered / 5);
+    CHECK(againstMirror > covered / 10);
 }

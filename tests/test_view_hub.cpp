@@ -54,7 +54,7 @@ yv::CameraMessage camera(double azimuth, std::uint64_t seq) {
 } // namespace
 
 TEST_CASE("View hub: cameras that arrive during a frame are coalesced, the latest drawn once", "[view][hub]") {
-    yv::ViewHub hub({"raycast", "mip"}, yv::ViewState{});
+    yv::ViewHub hub(yv::ViewControls{{"raycast", "mip"}, {"fibre", "heat"}, false}, yv::ViewState{});
     RecordingSource source;
     std::thread loop([&] { hub.run(source); });
     std::vector<std::string> delivered;
@@ -87,7 +87,7 @@ TEST_CASE("View hub: cameras that arrive during a frame are coalesced, the lates
 }
 
 TEST_CASE("View hub: a new page is drawn once it asks, and pages are served in turn", "[view][hub]") {
-    yv::ViewHub hub({"raycast", "mip"}, yv::ViewState{});
+    yv::ViewHub hub(yv::ViewControls{{"raycast", "mip"}, {"fibre", "heat"}, false}, yv::ViewState{});
     RecordingSource source;
     source.holdFirst = false;
     std::thread loop([&] { hub.run(source); });
@@ -110,4 +110,38 @@ TEST_CASE("View hub: a new page is drawn once it asks, and pages are served in t
     const bool aFirst = source.drawn[0].mode == "mip";
     CHECK(source.drawn[aFirst ? 0 : 1].mode == "mip");
     CHECK(source.drawn[aFirst ? 1 : 0].width == 320);
+}
+
+TEST_CASE("View hub: a transfer function and twist change the state drawn; a preset or twist the view lacks is refused", "[view][hub]") {
+    using Catch::Contains;
+    yv::ViewState initial;
+    initial.twist = 2.0;
+    RecordingSource source;
+    source.holdFirst = false;
+    SECTION("a garment's view: both change what is drawn") {
+        yv::ViewHub hub(yv::ViewControls{{"raycast"}, {"fibre", "heat"}, true}, initial);
+        std::thread loop([&] { hub.run(source); });
+        auto page = hub.join([](yv::Outgoing) {});
+        hub.apply(*page, yv::TransferMessage{"heat", 4.0});
+        hub.apply(*page, yv::TwistMessage{-1.5});
+        REQUIRE(source.waitFor([&] {
+            return !source.drawn.empty() && source.drawn.back().transfer == "heat" && source.drawn.back().twist == -1.5;
+        }));
+        CHECK(source.drawn.back().opacity == 4.0);
+        CHECK_THROWS_WITH(hub.apply(*page, yv::TransferMessage{"rainbow", 1.0}), Contains("no transfer function 'rainbow'"));
+        hub.stop();
+        loop.join();
+    }
+    SECTION("a volume without its garment: the twist is refused, the state unchanged") {
+        yv::ViewHub hub(yv::ViewControls{{"raycast"}, {"fibre"}, false}, initial);
+        auto page = hub.join([](yv::Outgoing) {});
+        CHECK_THROWS_WITH(hub.apply(*page, yv::TwistMessage{1.0}), Contains("view the .bcc"));
+        std::thread loop([&] { hub.run(source); });
+        hub.apply(*page, yv::ModeMessage{"raycast"});
+        REQUIRE(source.waitFor([&] { return !source.drawn.empty(); }));
+        CHECK(source.drawn.back().twist == 2.0);
+        CHECK(source.drawn.back().transfer == "fibre");
+        hub.stop();
+        loop.join();
+    }
 }

@@ -112,3 +112,28 @@ TEST_CASE("View messages: a field name of control bytes is shown printable in th
         for (char ch : what) CHECK((ch >= 0x20 && ch <= 0x7e));
     }
 }
+
+TEST_CASE("View messages: transfer and twist are read within their limits and format back to themselves", "[view][message]") {
+    using Catch::Contains;
+    const yv::ViewMessage transfer = parseViewMessage(R"({"type":"transfer","preset":"heat","opacity":2.5})");
+    REQUIRE(std::get_if<yv::TransferMessage>(&transfer));
+    CHECK(std::get<yv::TransferMessage>(transfer).preset == "heat");
+    CHECK(std::get<yv::TransferMessage>(transfer).opacity == 2.5);
+    const yv::ViewMessage twist = parseViewMessage(R"({"type":"twist","twist":-3.25})");
+    REQUIRE(std::get_if<yv::TwistMessage>(&twist));
+    CHECK(std::get<yv::TwistMessage>(twist).twist == -3.25);
+    for (const yv::ViewMessage& m : {transfer, twist}) {
+        const std::string text = yv::formatViewMessage(m);
+        CHECK(yv::formatViewMessage(parseViewMessage(text)) == text);
+    }
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"transfer","preset":"heat"})"), Contains("needs the field 'opacity'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"transfer","preset":"heat","opacity":0})"),
+                      Contains("'opacity'") && Contains("must lie in [0.015625, 64]"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"transfer","preset":"heat","opacity":65})"), Contains("'opacity'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"transfer","preset":"/tmp/map.txt","opacity":1})"),
+                      Contains("preset may hold only a-z and '-'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"transfer","preset":"heat","opacity":1,"file":"x"})"), Contains("no field 'file'"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"twist","twist":1e5})"), Contains("'twist'") && Contains("[-10000, 10000]"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"twist","twist":"3"})"), Contains("must be a number"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"twist"})"), Contains("needs the field 'twist'"));
+}

@@ -168,3 +168,31 @@ TEST_CASE("A camera mapped onto a finer grid draws every point where the first d
         CHECK(b.z / b.w == Approx(a.z / a.w).margin(1e-9));
     }
 }
+
+TEST_CASE("View voxelization: a large run is shown first from a pass with voxels four times as large, a small one is not",
+          "[view][region]") {
+    ViewVoxelization run;
+    run.world = RealBox{{0.0, 0.0, 0.0}, {2.0, 1.0, 0.5}};
+    run.boxText = "0,0,0,2,1,0.5";
+    run.voxelSize = 0.01; // 200 voxels along the longest side
+    run.voxelSizeText = "0.01";
+    run.twist = 3.5;
+    const std::optional<ViewVoxelization> first = refinePass(run, 0.1);
+    REQUIRE(first);
+    CHECK(first->firstPass);
+    CHECK(!run.firstPass);
+    CHECK(first->voxelSizeText == "0.04");
+    CHECK(first->voxelSize == std::strtod("0.04", nullptr));
+    CHECK(first->boxText == run.boxText);
+    CHECK(first->twist == run.twist);
+    CHECK(!(*first == run));
+    CHECK(!refinePass(*first, 0.1)); // a first pass has none of its own
+    // Its voxels no finer than the volume opened: it would show nothing new.
+    CHECK(!refinePass(run, 0.04));
+    CHECK(refinePass(run, 0.05));
+    // Under kRefineFromVoxels along the longest side: one pass.
+    run.voxelSize = 2.0 / (kRefineFromVoxels - 1);
+    CHECK(!refinePass(run, 1.0));
+    run.voxelSize = 2.0 / kRefineFromVoxels;
+    CHECK(refinePass(run, 1.0));
+}

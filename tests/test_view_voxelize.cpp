@@ -121,3 +121,133 @@ TEST_CASE("View: what the camera sees is voxelized finer, drawn in place, and sa
     CHECK(page.notices.empty());
     CHECK(!view.failure);
 }
+
+TEST_CASE("View: the page's twist shades the slices and is what the camera's view is voxelized with; its transfer function "
+          "changes the ray cast alone",
+          "[view][gl]") {
+    YV_REQUIRE_GL();
+    ServedView view(false, [](yv::ViewRequest& r) { r.maxSideVoxels = 64; });
+    Page page(view.port.get_future().get());
+    REQUIRE(page.hello["twist"] == 0.0);
+    REQUIRE(page.hello["yarnRadius"].get<double>() > 0.0);
+    REQUIRE(page.hello["transferPresets"].size() >= 2);
+    std::uint64_t seq = 0;
+    page.sendCamera(30, 20, 0.5, ++seq);
+    const yv::RgbImage plain = page.frameOf(seq).second;
+    const int half = plain.width / 2;
+    // The mean difference of one half, 16 pixels from the middle: the JPEG's
+    // chroma, upsampled smoothly as it is decoded, reaches across the seam.
+    const auto halfDifference = [&](const yv::RgbImage& a, const yv::RgbImage& b, bool left) {
+        const int x0 = left ? 0 : half + 16, x1 = left ? half - 16 : a.width;
+        double sum = 0.0;
+        for (int y = 0; y < a.height; ++y)
+            for (int x = x0; x < x1; ++x)
+                for (int c = 0; c < 3; ++c) sum += std::abs(int(a.at(x, y)[c]) - int(b.at(x, y)[c]));
+        return sum / double(a.height * (x1 - x0) * 3);
+    };
+
+    // A twist leaning the fibres 45 degrees at the yarn's surface: the slices
+    // (left) shade differently, the ray cast of the density (right) does not.
+    const double twist = 1.0 / page.hello["yarnRadius"].get<double>();
+    page.send(Json{{"type", "twist"}, {"twist", twist}}.dump());
+    page.sendCamera(30, 20, 0.5, ++seq);
+    const auto [twistedStats, twisted] = page.frameOf(seq);
+    CHECK(twistedStats["twist"] == twist);
+    CHECK(halfDifference(plain, twisted, true) > 0.2);
+    CHECK(halfDifference(plain, twisted, false) < 0.01);
+
+    // Another transfer function: the ray cast changes, the slices do not; more opacity changes it again.
+    page.send(R"({"type":"transfer","preset":"heat","opacity":1})");
+    page.sendCamera(30, 20, 0.5, ++seq);
+    const auto [heatStats, heat] = page.frameOf(seq);
+    CHECK(heatStats["transfer"] == "heat");
+    CHECK(halfDifference(twisted, heat, false) > 0.2);
+    CHECK(halfDifference(twisted, heat, true) < 0.01);
+    page.send(R"({"type":"transfer","preset":"heat","opacity":8})");
+    page.sendCamera(30, 20, 0.5, ++seq);
+    CHECK(halfDifference(heat, page.frameOf(seq).second, false) > 0.2);
+    page.send(R"({"type":"transfer","preset":"fibre","opacity":1})");
+    page.sendCamera(30, 20, 0.5, ++seq);
+    CHECK(page.frameOf(seq).second.pixels == twisted.pixels);
+
+    // Voxelized with the page's twist: the command says --twist and gives the same voxels, orientations included.
+    page.send(R"({"type":"voxelize-view"})");
+    const std::size_t askedAt = waitForVoxelize(page, "asked", seq, 0);
+    CHECK(page.voxelizeMessages[askedAt]["twist"] == twist);
+    Json stats;
+    for (;;) {
+        page.sendCamera(30, 20, 0.5, ++seq);
+        stats = page.frameOf(seq).first;
+        if (stats["detail"].is_object() && stats["detail"]["shown"] == true) break;
+    }
+    const std::string command = joined(stats["detail"]["command"]);
+    INFO(command);
+    CHECK(command.find(" --twist ") != std::string::npos);
+    page.send(R"({"type":"save-view"})");
+    const Json saved = page.voxelizeMessages[waitForVoxelize(page, "saved", seq, askedAt + 1)];
+    const fs::path cliVdb = view.scratch.path / "twisted-cli.vdb";
+    REQUIRE(yv::test::runYarnvox(command + " --quiet -o " + cliVdb.string()).exitCode == 0);
+    const yv::test::BoxTestVoxels shown = yv::test::readActiveVoxels(saved["vdb"].get<std::string>());
+    CHECK(shown.size() > 100);
+    CHECK(shown == yv::test::readActiveVoxels(cliVdb));
+    // ... and the twist is in them: without it the orientations differ.
+    std::string untwisted = command.substr(0, command.find(" --twist "));
+    const std::string rest = command.substr(command.find(" --twist ") + 9);
+    untwisted += rest.find(' ') == std::string::npos ? "" : rest.substr(rest.find(' '));
+    const fs::path plainVdb = view.scratch.path / "untwisted-cli.vdb";
+    REQUIRE(yv::test::runYarnvox(untwisted + " --quiet -o " + plainVdb.string()).exitCode == 0);
+    const yv::test::BoxTestVoxels straight = yv::test::readActiveVoxels(plainVdb);
+    std::size_t axesDiffer = 0;
+    for (const auto& [coord, voxel] : straight)
+        if (const auto it = shown.find(coord); it != shown.end() && !(it->second.axis == voxel.axis)) ++axesDiffer;
+    CHECK(axesDiffer > shown.size() / 10);
+    CHECK(page.notices.empty());
+    CHECK(!view.failure);
+}
+
+TEST_CASE("View: a large view is shown first from a coarse pass, then refined; a save waits for the final pass", "[view][gl]") {
+    YV_REQUIRE_GL();
+    ServedView view(false, [](yv::ViewRequest& r) { r.maxSideVoxels = 256; });
+    Page page(view.port.get_future().get());
+    page.send(R"({"type":"size","width":640,"height":320})");
+    std::uint64_t seq = 0;
+    page.sendCamera(30, 20, 0.5, ++seq);
+    page.frameOf(seq);
+    page.send(R"({"type":"voxelize-view"})");
+    const std::size_t askedAt = waitForVoxelize(page, "asked", seq, 0);
+    const Json asked = page.voxelizeMessages[askedAt];
+    INFO(asked.dump());
+    REQUIRE(asked.contains("firstVoxelSize"));
+    CHECK(std::stod(asked["firstVoxelSize"].get<std::string>()) == Approx(4.0 * std::stod(asked["voxelSize"].get<std::string>())).epsilon(0.01));
+    Json firstShown, finalShown;
+    for (;;) {
+        page.sendCamera(30, 20, 0.5, ++seq);
+        const Json stats = page.frameOf(seq).first;
+        const Json& d = stats["detail"];
+        if (!d.is_object() || d["shown"] != true) continue;
+        if (d["final"] == false && firstShown.is_null()) {
+            firstShown = d;
+            // Shown, but not the run asked for: a save is refused until it is.
+            page.send(R"({"type":"save-view"})");
+        }
+        if (d["final"] == true) {
+            finalShown = d;
+            break;
+        }
+    }
+    REQUIRE(firstShown.is_object()); // shown as it refines: the coarse pass drawn before the final one
+    CHECK(firstShown["voxelSize"] == asked["firstVoxelSize"]);
+    CHECK(firstShown["bboxWorld"] == asked["bboxWorld"]);
+    CHECK(finalShown["voxelSize"] == asked["voxelSize"]);
+    CHECK(finalShown["id"].get<std::uint64_t>() > firstShown["id"].get<std::uint64_t>());
+    CHECK(finalShown["activeVoxels"].get<std::uint64_t>() > firstShown["activeVoxels"].get<std::uint64_t>());
+    const auto refused = std::find_if(page.notices.begin(), page.notices.end(),
+                                      [](const std::string& n) { return n.find("still being refined") != std::string::npos; });
+    CHECK(refused != page.notices.end());
+    // Both passes ran, the coarse first.
+    std::vector<std::string> passes;
+    for (const Json& m : page.voxelizeMessages)
+        if (m["state"] == "running") passes.push_back(m["pass"]);
+    CHECK(passes == std::vector<std::string>{"first", "final"});
+    CHECK(!view.failure);
+}

@@ -32,6 +32,7 @@ SliceInstances sliceInstances(const SlicePlan& plan, const VoxelGrid& grid) {
         }
     });
     out.radius = radius;
+    out.twist = float(plan.options.twist * h);
     return out;
 }
 

@@ -25,6 +25,9 @@ namespace yv {
 struct SliceInstances {
     std::vector<glm::vec4> records; ///< 2 per slice
     float radius = 0.0f;            ///< the yarn's, voxel units (every slice's)
+    /// The yarn twist the slices were placed with, radians per voxel of
+    /// yarn length (their shading tilts each fibre by it, Eq. 1).
+    float twist = 0.0f;
     std::uint64_t count() const { return records.size() / 2; }
     glm::vec3 center(std::uint64_t i) const { return glm::vec3(records[2 * i]); }
     std::uint32_t place(std::uint64_t i) const { return std::uint32_t(records[2 * i + 1].w); }

@@ -93,4 +93,14 @@ TransferFunction loadTransferFunction(const std::string& nameOrPath) {
     return parseColourMap(std::string(bytes->begin(), bytes->end()), nameOrPath);
 }
 
+TransferFunction withOpacityScale(const TransferFunction& tf, double factor) {
+    if (factor == 1.0) return tf;
+    TransferFunction out = tf;
+    for (glm::vec4& entry : out) {
+        const double a = std::clamp(double(entry.a), 0.0, 1.0);
+        entry.a = float(a >= 1.0 ? 1.0 : 1.0 - std::pow(1.0 - a, factor));
+    }
+    return out;
+}
+
 } // namespace yv

@@ -42,6 +42,7 @@ class RaycastRenderer : public Renderer {
     RgbImage picture(const Frame& frame) override;
     /// The proxy triangles (with empty-space skipping) and the mean samples per pixel.
     void describe(RenderReport& report) const override;
+    void setTransferFunction(const TransferFunction& tf) override { transferFunction_.update(tf); }
 
     /// The samples taken per pixel of the last picture read, rows top first.
     const std::vector<float>& samples() const { return samples_; }

@@ -8,6 +8,7 @@
 
 #include "inspect/camera.h"
 #include "inspect/png_image.h"
+#include "inspect/transfer_function.h"
 #include "render/render_target.h"
 
 #include <epoxy/gl.h>
@@ -63,6 +64,13 @@ class Renderer {
     virtual RgbImage picture(const Frame& frame);
     /// Adds what the renderer counted (slices, splats, samples) to `report`.
     virtual void describe(RenderReport&) const {}
+
+    // What a live view changes between frames without making the renderer
+    // again; a renderer that draws without it ignores it.
+    /// The transfer function of the next frames (ray casts, slicing, splats).
+    virtual void setTransferFunction(const TransferFunction&) {}
+    /// The yarn twist the next frames shade with, radians per voxel of yarn (slices).
+    virtual void setTwist(double) {}
 };
 
 /// Draws `repeat` frames (at least one, the same picture each time) from

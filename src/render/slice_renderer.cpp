@@ -15,9 +15,6 @@
 namespace yv {
 namespace {
 
-/// Extinction times the yarn's radius: a ray through the axis keeps e^-4 (2 %).
-constexpr float kOpacityTimesRadius = 2.0f;
-const glm::vec3 kAlbedo(0.92f, 0.78f, 0.58f);
 constexpr GLuint kBoxVertices = 14;   // one slab: a triangle strip (inspect_slices.vert)
 constexpr std::uint64_t kKeyGroup = 256; // inspect_slices_keys.comp's local_size_x
 /// The coarsest level of detail: a slab for 64 slices of a run.
@@ -67,7 +64,7 @@ SliceRenderer::SliceRenderer(const SliceInstances& slices, const SliceSettings& 
     : slices_(fitting(slices)), settings_(settings),
       program_(GlProgram::graphics("inspect_slices.vert", "inspect_slices.frag")),
       sliceTexture_(createTexture(GL_TEXTURE_BUFFER)), spanTexture_(createTexture(GL_TEXTURE_BUFFER)),
-      orderArray_(createVertexArray()) {
+      orderArray_(createVertexArray()), twist_(slices.twist) {
     if (!(settings.lodPixels >= 0.0)) throw Error("slices: the level of detail's pixels must be 0 or more");
     const std::size_t records = std::max<std::size_t>(slices.records.size(), 2);
     sliceBuffer_.reserve(records * sizeof(glm::vec4), nullptr);
@@ -157,9 +154,10 @@ void SliceRenderer::draw(const Frame& frame) {
     const glm::dmat4 inverseView = glm::inverse(camera.view);
     const glm::vec3 light(glm::normalize(glm::dvec3(inverseView[2]) + 0.5 * glm::dvec3(inverseView[1])));
     glUniform3fv(program_.uniform("lightDirection"), 1, glm::value_ptr(light));
-    glUniform3fv(program_.uniform("albedo"), 1, glm::value_ptr(kAlbedo));
+    glUniform3fv(program_.uniform("albedo"), 1, glm::value_ptr(kSliceAlbedo));
     glUniform1f(program_.uniform("radius"), slices_.radius);
-    glUniform1f(program_.uniform("opacityPerVoxel"), kOpacityTimesRadius / std::max(slices_.radius, 1e-6f));
+    glUniform1f(program_.uniform("twist"), twist_);
+    glUniform1f(program_.uniform("opacityPerVoxel"), kSliceOpacityTimesRadius / std::max(slices_.radius, 1e-6f));
     glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
     glBindTextureUnit(kSliceSpansUnit, spanTexture_.id());
     glBindVertexArray(orderArray_.id());

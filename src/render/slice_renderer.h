@@ -18,11 +18,18 @@
 #include "inspect/slice_instances.h"
 #include "render/renderer.h"
 
+#include <glm/vec3.hpp>
+
 #include <cstdint>
 #include <optional>
 #include <vector>
 
 namespace yv {
+
+/// The slices' look: extinction times the yarn's radius (a ray through the
+/// axis keeps e^-4, 2 %) and the fibres' colour.
+constexpr float kSliceOpacityTimesRadius = 2.0f;
+inline const glm::vec3 kSliceAlbedo(0.92f, 0.78f, 0.58f);
 
 /// How the slices are ordered and which are drawn.
 struct SliceSettings {
@@ -56,6 +63,8 @@ class SliceRenderer : public Renderer {
         report.slices = drawn_;
         report.garmentSlices = slices_.count();
     }
+    /// Shade with this twist rather than the slices' own (the live view's control).
+    void setTwist(double radiansPerVoxel) override { twist_ = float(radiansPerVoxel); }
 
     /// The slice indices the last prepare() put in the draw's order (read back; for tests).
     std::vector<std::uint32_t> drawOrder();
@@ -75,6 +84,7 @@ class SliceRenderer : public Renderer {
     std::vector<std::uint32_t> hostOrder_;
     GLuint maxGroups_ = 1;
     std::uint64_t drawn_ = 0;
+    float twist_; ///< radians per voxel of yarn the fibres turn by (SliceInstances::twist unless set)
 };
 
 } // namespace yv

@@ -51,6 +51,7 @@ class SlicingRenderer : public Renderer {
     void draw(const Frame& frame) override;
     /// The planes drawn.
     void describe(RenderReport& report) const override { report.slices = std::uint64_t(stack_.first.size()); }
+    void setTransferFunction(const TransferFunction& tf) override { transferFunction_.update(tf); }
 
   private:
     void setVolumeUniforms(const GlProgram& p, const glm::mat4& viewProjection) const;

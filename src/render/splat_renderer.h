@@ -38,6 +38,7 @@ class SplatRenderer : public Renderer {
     void draw(const Frame& frame) override;
     /// The voxels of the occupied bricks drawn (the empty ones are culled on the GPU).
     void describe(RenderReport& report) const override { report.splats = std::uint64_t(bricks_.size()) * 512u; }
+    void setTransferFunction(const TransferFunction& tf) override { transferFunction_.update(tf); }
 
   private:
     void setUniforms(const Camera& camera) const;

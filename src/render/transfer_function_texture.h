@@ -12,6 +12,8 @@ namespace yv {
 class TransferFunctionTexture {
   public:
     explicit TransferFunctionTexture(const TransferFunction& tf);
+    /// Replaces the entries (the next draw reads them).
+    void update(const TransferFunction& tf);
     GLuint id() const { return texture_.id(); }
 
   private:

@@ -36,7 +36,8 @@ Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* typ
                   {"activeVoxels", run->activeVoxels},
                   {"seconds", run->seconds},
                   {"command", run->command},
-                  {"shown", frame.detail == run->id}};
+                  {"shown", frame.detail == run->id},
+                  {"final", !run->plan.firstPass}};
     bool world = false;
     const double pixel = scene_.pixelSize(state, world);
     const nlohmann::json stats = {{"type", type},
@@ -44,6 +45,9 @@ Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* typ
                                   {"seq", state.camera.seq},
                                   {"mode", state.mode},
                                   {"blend", state.blend && scene_.sideBySide()},
+                                  {"transfer", state.transfer},
+                                  {"opacity", state.opacity},
+                                  {"twist", state.twist},
                                   {"width", state.width},
                                   {"height", state.height},
                                   {"renderMs", 1e3 * frame.renderSeconds},
@@ -70,6 +74,13 @@ std::string helloText(const ViewScene& scene, const ViewState& initial) {
                           {"renderer", scene.renderer()},
                           {"activeVoxels", scene.volume().activeVoxels},
                           {"voxelSize", scene.volume().grid ? nlohmann::json(scene.volume().grid->voxelSize) : nlohmann::json()},
+                          {"transferPresets", scene.transferPresets()},
+                          {"transfer", initial.transfer},
+                          {"opacity", initial.opacity},
+                          {"twist", scene.twistable() ? nlohmann::json(initial.twist) : nlohmann::json()},
+                          {"yarnRadius", scene.twistable() && scene.volume().slices
+                                             ? nlohmann::json(scene.volume().slices->radius * scene.volume().grid->voxelSize)
+                                             : nlohmann::json()},
                           {"width", initial.width},
                           {"height", initial.height}}
         .dump();

@@ -27,7 +27,7 @@ Outgoing notice(const std::string& text) {
 
 } // namespace
 
-ViewHub::ViewHub(std::vector<std::string> modes, ViewState initial) : modes_(std::move(modes)), initial_(std::move(initial)) {}
+ViewHub::ViewHub(ViewControls controls, ViewState initial) : controls_(std::move(controls)), initial_(std::move(initial)) {}
 
 std::shared_ptr<ViewHub::Client> ViewHub::join(Deliver deliver) {
     auto client = std::make_shared<Client>();
@@ -50,9 +50,19 @@ void ViewHub::apply(Client& client, const ViewMessage& message) {
     if (const auto* c = std::get_if<CameraMessage>(&message)) {
         next.camera = c->camera;
     } else if (const auto* m = std::get_if<ModeMessage>(&message)) {
-        if (std::find(modes_.begin(), modes_.end(), m->mode) == modes_.end())
+        if (std::find(controls_.modes.begin(), controls_.modes.end(), m->mode) == controls_.modes.end())
             throw Error("no mode '" + m->mode + "' in this view");
         next.mode = m->mode;
+    } else if (const auto* t = std::get_if<TransferMessage>(&message)) {
+        const auto& presets = controls_.transferPresets;
+        if (std::find(presets.begin(), presets.end(), t->preset) == presets.end())
+            throw Error("no transfer function '" + t->preset + "' in this view");
+        next.transfer = t->preset;
+        next.opacity = t->opacity;
+    } else if (const auto* twist = std::get_if<TwistMessage>(&message)) {
+        if (!controls_.twist)
+            throw Error("the twist can change only where the garment is known: view the .bcc (yarnvox view GARMENT.bcc)");
+        next.twist = twist->twist;
     } else if (const auto* s = std::get_if<SizeMessage>(&message)) {
         next.width = s->width;
         next.height = s->height;

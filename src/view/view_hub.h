@@ -41,19 +41,27 @@ class FrameSource {
     virtual Outgoing screenshot(const ViewState& state) = 0;
 };
 
+/// What pages may change beside the camera, size and layout.
+struct ViewControls {
+    std::vector<std::string> modes;           ///< the modes pages may ask for
+    std::vector<std::string> transferPresets; ///< the transfer functions, by name
+    bool twist = false;                       ///< whether the twist may change (ViewScene::twistable)
+};
+
 class ViewHub {
   public:
     using Deliver = std::function<void(Outgoing)>;
     struct Client;
 
-    /// `modes`: the modes pages may ask for; `initial`: a new page's state.
-    ViewHub(std::vector<std::string> modes, ViewState initial);
+    /// `initial`: a new page's state.
+    ViewHub(ViewControls controls, ViewState initial);
 
     /// A new page, whose frames go to `deliver` (called on the render thread).
     std::shared_ptr<Client> join(Deliver deliver);
     void leave(const std::shared_ptr<Client>& client);
     /// Applies a parsed message to `client`'s wanted state. Throws yv::Error
-    /// for a mode this view does not have.
+    /// for a mode or transfer function this view does not have, or a twist
+    /// it cannot change.
     void apply(Client& client, const ViewMessage& message);
 
     /// Draws what pages want until stop(): each page's latest state, once.
@@ -66,7 +74,7 @@ class ViewHub {
 
   private:
     std::shared_ptr<Client> nextDirty(); ///< with mutex_ held
-    std::vector<std::string> modes_;
+    ViewControls controls_;
     ViewState initial_;
     std::mutex mutex_;
     std::condition_variable wake_;

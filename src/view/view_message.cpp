@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/text.h"
+#include "inspect/transfer_function.h"
 
 #include <nlohmann/json.hpp>
 
@@ -63,16 +64,32 @@ CameraMessage parseCamera(const Json& m) {
     return c;
 }
 
+/// A name field (a mode, a preset): 1 to 32 of a-z and '-'.
+std::string name(const Json& m, const char* field, const std::string& type) {
+    const auto it = m.find(field);
+    if (it == m.end() || !it->is_string())
+        throw Error("a '" + type + "' message needs the string field '" + field + "'");
+    const std::string& text = it->get_ref<const std::string&>();
+    if (text.empty() || text.size() > 32)
+        throw Error("a '" + type + "' message's " + field + " must be 1 to 32 characters");
+    for (char ch : text)
+        if (!((ch >= 'a' && ch <= 'z') || ch == '-'))
+            throw Error("a '" + type + "' message's " + field + " may hold only a-z and '-'");
+    return text;
+}
+
 ModeMessage parseMode(const Json& m) {
     requireOnlyFields(m, {"type", "mode"}, "mode");
-    const auto it = m.find("mode");
-    if (it == m.end() || !it->is_string()) throw Error("a 'mode' message needs the string field 'mode'");
-    const std::string& mode = it->get_ref<const std::string&>();
-    if (mode.empty() || mode.size() > 32) throw Error("a 'mode' message's mode must be 1 to 32 characters");
-    for (char ch : mode)
-        if (!((ch >= 'a' && ch <= 'z') || ch == '-'))
-            throw Error("a 'mode' message's mode may hold only a-z and '-'");
-    return ModeMessage{mode};
+    return ModeMessage{name(m, "mode", "mode")};
+}
+
+TransferMessage parseTransfer(const Json& m) {
+    const std::string type = "transfer";
+    requireOnlyFields(m, {"type", "preset", "opacity"}, type);
+    TransferMessage t;
+    t.preset = name(m, "preset", type);
+    t.opacity = number(m, "opacity", kMinOpacityScale, kMaxOpacityScale, type);
+    return t;
 }
 
 SizeMessage parseSize(const Json& m, const std::string& type) {
@@ -99,6 +116,11 @@ ViewMessage parseViewMessage(std::string_view text) {
     if (t == "camera") return parseCamera(m);
     if (t == "mode") return parseMode(m);
     if (t == "size") return parseSize(m, t);
+    if (t == "transfer") return parseTransfer(m);
+    if (t == "twist") {
+        requireOnlyFields(m, {"type", "twist"}, t);
+        return TwistMessage{number(m, "twist", -kMaxViewTwist, kMaxViewTwist, t)};
+    }
     if (t == "screenshot") {
         const SizeMessage s = parseSize(m, t);
         return ScreenshotMessage{s.width, s.height};
@@ -122,7 +144,7 @@ ViewMessage parseViewMessage(std::string_view text) {
         }
         return save;
     }
-    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, layout, voxelize-view, save-view, screenshot)");
+    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, layout, transfer, twist, voxelize-view, save-view, screenshot)");
 }
 
 std::string formatViewMessage(const ViewMessage& message) {
@@ -143,6 +165,10 @@ std::string formatViewMessage(const ViewMessage& message) {
         j = {{"type", "layout"}, {"blend", layout->blend}};
     } else if (const auto* shot = std::get_if<ScreenshotMessage>(&message)) {
         j = {{"type", "screenshot"}, {"width", shot->width}, {"height", shot->height}};
+    } else if (const auto* transfer = std::get_if<TransferMessage>(&message)) {
+        j = {{"type", "transfer"}, {"preset", transfer->preset}, {"opacity", transfer->opacity}};
+    } else if (const auto* twist = std::get_if<TwistMessage>(&message)) {
+        j = {{"type", "twist"}, {"twist", twist->twist}};
     } else if (const auto* save = std::get_if<SaveViewMessage>(&message)) {
         j = {{"type", "save-view"}, {"workDir", save->workDir}};
     } else {

@@ -63,9 +63,24 @@ struct ScreenshotMessage {
     int width = 0, height = 0;
 };
 
+/// {"type":"transfer","preset":"heat","opacity":1.5}: the ray cast's
+/// transfer function, a preset by name (the scene says which it has) with
+/// its opacity scaled (withOpacityScale's factor).
+struct TransferMessage {
+    std::string preset;
+    double opacity = 1.0;
+};
+/// The largest yarn twist a page may set, radians per world unit either way.
+constexpr double kMaxViewTwist = 1.0e4;
+/// {"type":"twist","twist":T}: the yarn twist, radians per world unit, the
+/// slices are shaded with and what the camera sees is voxelized with.
+struct TwistMessage {
+    double twist = 0.0;
+};
+
 using ViewMessage =
     std::variant<CameraMessage, ModeMessage, SizeMessage, VoxelizeViewMessage, SaveViewMessage, ScreenshotMessage,
-                 LayoutMessage>;
+                 LayoutMessage, TransferMessage, TwistMessage>;
 
 /// Parses one text message. Throws yv::Error with one line saying what is
 /// wrong (too long, not JSON, not an object, an unknown type or field, a

@@ -120,4 +120,15 @@ std::optional<ViewVoxelization> planViewVoxelization(const VoxelBox& bounds, con
     return run;
 }
 
+std::optional<ViewVoxelization> refinePass(const ViewVoxelization& run, double openedVoxelSize) {
+    const glm::dvec3 extent = run.world.max - run.world.min;
+    const double longest = std::max({extent.x, extent.y, extent.z});
+    if (run.firstPass || longest < kRefineFromVoxels * run.voxelSize) return std::nullopt;
+    ViewVoxelization first = run;
+    first.firstPass = true;
+    first.voxelSizeText = roundedText(kRefineFactor * run.voxelSize, 3, +1, first.voxelSize);
+    if (first.voxelSize >= 0.95 * openedVoxelSize) return std::nullopt;
+    return first;
+}
+
 } // namespace yv

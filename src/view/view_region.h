@@ -39,7 +39,13 @@ struct ViewVoxelization {
     std::string voxelSizeText;
     RealBox world;        ///< the box, world units
     std::string boxText;  ///< "x0,y0,z0,x1,y1,z1"
-    bool operator==(const ViewVoxelization& o) const { return voxelSizeText == o.voxelSizeText && boxText == o.boxText; }
+    /// The yarn twist, radians per world unit, where the view set one other than the garment's.
+    std::optional<double> twist;
+    /// A coarser first pass, shown while the run asked for goes on (refinePass).
+    bool firstPass = false;
+    bool operator==(const ViewVoxelization& o) const {
+        return voxelSizeText == o.voxelSizeText && boxText == o.boxText && twist == o.twist;
+    }
 };
 
 /// The run for `camera` over `bounds` of a volume on `grid`: the seen box in
@@ -51,5 +57,17 @@ struct ViewVoxelization {
 /// finer than the grid's voxels (voxelizing again would add nothing).
 std::optional<ViewVoxelization> planViewVoxelization(const VoxelBox& bounds, const VoxelGrid& grid, const Camera& camera,
                                                      int maxSideVoxels, int maxResolution, std::string& why);
+
+/// A view run this many voxels or more along its box's longest side is
+/// shown first from a pass with voxels kRefineFactor times as large.
+constexpr int kRefineFromVoxels = 128;
+constexpr double kRefineFactor = 4.0;
+
+/// The coarser first pass of `run` (the same box and twist, voxels
+/// kRefineFactor times as large, three significant digits), which the view
+/// shows while `run` goes on: a 64th of the voxels, there in a fraction of
+/// the time. None where `run` is small (under kRefineFromVoxels along its
+/// longest side) or the pass would be no finer than `openedVoxelSize`.
+std::optional<ViewVoxelization> refinePass(const ViewVoxelization& run, double openedVoxelSize);
 
 } // namespace yv

@@ -35,7 +35,8 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
             ViewFrames frames(scene, request.jpegQuality, request.maxSideVoxels, log);
             ViewState initial = request.initial;
             initial.mode = scene.modes().front();
-            hub.emplace(scene.modes(), initial);
+            initial.twist = scene.twist();
+            hub.emplace(ViewControls{scene.modes(), scene.transferPresets(), scene.twistable()}, initial);
             // Voxelize what the camera sees, where the garment is known; after
             // the scene, so its runs stop before the scratch directory goes.
             std::optional<ViewVoxelizer> voxelizer;

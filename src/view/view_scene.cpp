@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "inspect/render_request.h"
+#include "inspect/transfer_function.h"
 #include "render/render_volume.h"
 #include "view/view_camera.h"
 
@@ -52,7 +53,7 @@ struct ViewScene::DetailLayer {
 
 ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, double sliceLodPixels)
     : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes),
-      sliceLodPixels_(sliceLodPixels) {
+      sliceLodPixels_(sliceLodPixels), baseTwist_(volume_.twist) {
     const GlContext& gl = context_.gl();
     rendererName_ = gl.info().renderer;
     if (const long long free = gl.queryFreeMemoryBytes(); free > 0) budget_ = std::min(budget_, std::uint64_t(free) / 2);
@@ -111,12 +112,29 @@ ViewScene::VolumeLayer& ViewScene::layerFor(const std::string& mode, const ViewC
     return detail_->layer;
 }
 
-void ViewScene::drawInto(const std::string& mode, const ViewCamera& view, int width, int height, RgbImage& out, int x0,
+const std::vector<std::string>& ViewScene::transferPresets() const { return transferFunctionPresets(); }
+
+const TransferFunction& ViewScene::transferFunction(const ViewState& state) {
+    const auto key = std::make_pair(state.transfer, state.opacity);
+    if (const auto it = transfers_.find(key); it != transfers_.end()) return it->second;
+    // A page moving a slider makes a few dozen; a hostile one is bounded by the hub's checks, not by this cache.
+    if (transfers_.size() >= 64) transfers_.clear();
+    return transfers_[key] = withOpacityScale(loadTransferFunction(state.transfer), state.opacity);
+}
+
+void ViewScene::drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
                          ViewFrame& frame) {
-    VolumeLayer& layer = layerFor(mode, view, width, height);
+    VolumeLayer& layer = layerFor(mode, state.camera, width, height);
     Renderer& renderer = rendererFor(layer, mode);
+    if (mode == renderKindName(RenderKind::Slices)) {
+        // The twist is in world units; the slices lie in the volume's voxels.
+        if (twistable()) renderer.setTwist(state.twist * volume_.grid->voxelSize);
+    } else if (auto& look = layer.looks[mode]; look != std::make_pair(state.transfer, state.opacity)) {
+        renderer.setTransferFunction(transferFunction(state));
+        look = {state.transfer, state.opacity};
+    }
     RenderReport report;
-    drawFrames(renderer, mapCamera(viewCamera(box_, view, width, height), layer.scale, layer.offset), 1, report);
+    drawFrames(renderer, mapCamera(viewCamera(box_, state.camera, width, height), layer.scale, layer.offset), 1, report);
     frame.drawSeconds += report.frameSeconds + report.sortSeconds;
     frame.slices += report.slices;
     if (const auto it = layer.atlases.find(mode); it != layer.atlases.end()) {
@@ -162,17 +180,17 @@ ViewFrame ViewScene::render(const ViewState& state) {
     if (sideBySide() && state.blend) {
         // One picture: both drawn whole, the voxels' over the slices at half weight.
         RgbImage slices(state.width, state.height);
-        drawInto(renderKindName(RenderKind::Slices), state.camera, state.width, state.height, slices, 0, frame);
-        drawInto(state.mode, state.camera, state.width, state.height, frame.image, 0, frame);
+        drawInto(state, renderKindName(RenderKind::Slices), state.width, state.height, slices, 0, frame);
+        drawInto(state, state.mode, state.width, state.height, frame.image, 0, frame);
         for (std::size_t i = 0; i < frame.image.pixels.size(); ++i)
             frame.image.pixels[i] = std::uint8_t((unsigned(frame.image.pixels[i]) + unsigned(slices.pixels[i]) + 1u) / 2u);
     } else if (sideBySide()) {
         // One camera for both halves: the same view of the same voxel box.
         const int left = state.width / 2;
-        drawInto(renderKindName(RenderKind::Slices), state.camera, left, state.height, frame.image, 0, frame);
-        drawInto(state.mode, state.camera, state.width - left, state.height, frame.image, left, frame);
+        drawInto(state, renderKindName(RenderKind::Slices), left, state.height, frame.image, 0, frame);
+        drawInto(state, state.mode, state.width - left, state.height, frame.image, left, frame);
     } else {
-        drawInto(state.mode, state.camera, state.width, state.height, frame.image, 0, frame);
+        drawInto(state, state.mode, state.width, state.height, frame.image, 0, frame);
     }
     frame.renderSeconds = secondsSince(start);
     frame.gpuFreeBytes = context_.gl().queryFreeMemoryBytes();
@@ -185,21 +203,27 @@ std::string ViewScene::voxelizeInView(const ViewState& state, int maxSideVoxels)
                     "[voxelize options]) rather than a volume made from it");
     const int width = volumeWidth(*this, state);
     std::string why;
-    const std::optional<ViewVoxelization> plan =
+    std::optional<ViewVoxelization> plan =
         planViewVoxelization(box_, *volume_.grid, viewCamera(box_, state.camera, width, state.height), maxSideVoxels,
                              kMaxViewResolution, why);
     if (!plan) throw Error(why);
-    const bool started = voxelizer_->request(*plan);
-    return nlohmann::json{{"type", "voxelize"},
-                          {"state", started ? "asked" : "already"},
-                          {"voxelSize", plan->voxelSizeText},
-                          {"bboxWorld", plan->boxText}}
-        .dump();
+    if (state.twist != baseTwist_) plan->twist = state.twist;
+    const std::optional<ViewVoxelization> first = refinePass(*plan, volume_.grid->voxelSize);
+    const bool started = voxelizer_->request(*plan, first);
+    nlohmann::json said = {{"type", "voxelize"},
+                           {"state", started ? "asked" : "already"},
+                           {"voxelSize", plan->voxelSizeText},
+                           {"bboxWorld", plan->boxText}};
+    if (plan->twist) said["twist"] = *plan->twist;
+    if (started && first) said["firstVoxelSize"] = first->voxelSizeText;
+    return said.dump();
 }
 
 std::string ViewScene::saveView(bool workDir) {
     if (!voxelizer_ || !detail_)
         throw Error("nothing to save yet: stop the camera on a close view (or press v) to voxelize what it sees");
+    if (detail_->run.plan.firstPass)
+        throw Error("the view is still being refined: save once its final pass is shown");
     voxelizer_->save(detail_->run, workDir);
     return nlohmann::json{{"type", "voxelize"}, {"state", "saving"}, {"id", detail_->run.id}, {"workDir", workDir}}.dump();
 }

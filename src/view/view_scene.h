@@ -32,6 +32,12 @@ struct ViewState {
     /// A garment's view: the ray cast blended over the slices in one picture
     /// (the paper's Figure 3) rather than beside them.
     bool blend = false;
+    /// The ray cast's transfer function: a preset and its opacity scale (withOpacityScale).
+    std::string transfer = "fibre";
+    double opacity = 1.0;
+    /// The yarn twist, radians per world unit: the slices' shading and the
+    /// view voxelizations (ViewScene::twist() unless the page sets it).
+    double twist = 0.0;
     bool operator==(const ViewState&) const = default;
 };
 
@@ -63,6 +69,13 @@ class ViewScene {
     const ViewVolume& volume() const { return volume_; }
     /// The GL renderer's name.
     const std::string& renderer() const { return rendererName_; }
+    /// The transfer-function presets a page may pick (transferFunctionPresets()).
+    const std::vector<std::string>& transferPresets() const;
+    /// Whether a page may change the twist: the garment's place in the world
+    /// is known (its slices are drawn or its view voxelized).
+    bool twistable() const { return volume_.grid.has_value(); }
+    /// The twist the garment was sliced and voxelized with, radians per world unit.
+    double twist() const { return baseTwist_; }
 
     /// Draws `state` (its mode one of modes()). Throws yv::Error on a GL error.
     ViewFrame render(const ViewState& state);
@@ -98,13 +111,15 @@ class ViewScene {
         glm::dvec3 offset{0.0};
         std::map<std::string, std::unique_ptr<Renderer>> renderers;
         std::map<std::string, AtlasLoad> atlases; ///< by mode: the one its renderer draws
+        std::map<std::string, std::pair<std::string, double>> looks; ///< by mode: the transfer function its renderer has
     };
     struct DetailLayer;
 
     Renderer& rendererFor(VolumeLayer& layer, const std::string& mode);
     VolumeLayer& layerFor(const std::string& mode, const ViewCamera& view, int width, int height);
-    void drawInto(const std::string& mode, const ViewCamera& camera, int width, int height, RgbImage& out, int x0,
+    void drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
                   ViewFrame& frame);
+    const TransferFunction& transferFunction(const ViewState& state);
     void takeFinishedDetail();
 
     ViewVolume volume_;
@@ -112,6 +127,8 @@ class ViewScene {
     RenderContext context_;
     std::uint64_t budget_;
     double sliceLodPixels_;
+    double baseTwist_ = 0.0;
+    std::map<std::pair<std::string, double>, TransferFunction> transfers_; ///< by (preset, opacity), as made
     std::string rendererName_;
     std::vector<std::string> modes_;
     VolumeLayer opened_;

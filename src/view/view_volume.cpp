@@ -65,7 +65,7 @@ std::optional<SliceInstances> runSlicesOf(const std::string& volumePath, const s
 
 ViewVolume::ViewVolume(ViewVolume&& other) noexcept
     : source(std::move(other.source)), slices(std::move(other.slices)), garment(other.garment),
-      activeVoxels(other.activeVoxels), grid(other.grid), name(std::move(other.name)), scratch(std::move(other.scratch)) {
+      activeVoxels(other.activeVoxels), grid(other.grid), twist(other.twist), name(std::move(other.name)), scratch(std::move(other.scratch)) {
     other.scratch.clear();
 }
 
@@ -96,6 +96,7 @@ ViewVolume openViewVolume(const std::string& path, const VoxelizeJob& job, const
         v.source = openVdbSource(run.output);
         v.activeVoxels = report.activeVoxels;
         v.grid = VoxelGrid{report.origin, report.voxelSize, report.dims};
+        v.twist = job.twist;
         v.slices = runSlicesOf(run.output, path, note);
     } else {
         v.source = openVolumeSource(path);

@@ -26,6 +26,9 @@ struct ViewVolume {
     /// Where the volume's voxels lie in the world, where known (a garment's
     /// run): what voxelizing the view at a finer voxel size needs.
     std::optional<VoxelGrid> grid;
+    /// The yarn twist the garment was sliced and voxelized with, radians per
+    /// world unit (a garment given; 0 otherwise).
+    double twist = 0.0;
     std::string name; ///< the input's file name, for the page's title
     std::filesystem::path scratch; ///< where a garment's voxelization lies while the view runs ("" when none)
 

@@ -77,6 +77,7 @@ VoxelizeJob ViewVoxelizer::jobFor(const ViewVoxelization& plan) const {
     job.resolution = 0;
     job.voxelSize = plan.voxelSize;
     job.box = parseBoxRequest(true, plan.boxText);
+    if (plan.twist) job.twist = *plan.twist;
     job.quiet = true;
     job.verbose = false;
     job.statsPath.clear();
@@ -85,19 +86,23 @@ VoxelizeJob ViewVoxelizer::jobFor(const ViewVoxelization& plan) const {
     return job;
 }
 
-bool ViewVoxelizer::request(const ViewVoxelization& plan) {
+bool ViewVoxelizer::request(const ViewVoxelization& plan, const std::optional<ViewVoxelization>& first) {
     {
         const std::lock_guard lock(mutex_);
         if (running_ == plan || last_ == plan) return false;
         for (const Task& t : waiting_)
             if (t.kind == Task::Kind::Voxelize && t.plan == plan) return false;
-        // The newest view wins over one not yet started.
+        // The newest view wins over every pass of one not yet started.
         std::erase_if(waiting_, [](const Task& t) { return t.kind == Task::Kind::Voxelize; });
-        Task task;
-        task.plan = plan;
-        task.id = nextId_++;
-        task.askedAt = now();
-        waiting_.push_back(std::move(task));
+        const double asked = now();
+        for (const ViewVoxelization* pass : {first ? &*first : nullptr, &plan}) {
+            if (!pass) continue;
+            Task task;
+            task.plan = *pass;
+            task.id = nextId_++;
+            task.askedAt = asked;
+            waiting_.push_back(std::move(task));
+        }
     }
     wake_.notify_all();
     return true;
@@ -154,7 +159,8 @@ void ViewVoxelizer::voxelize(const Task& task) {
                                   {"state", "running"},
                                   {"id", task.id},
                                   {"voxelSize", task.plan.voxelSizeText},
-                                  {"bboxWorld", task.plan.boxText}}
+                                  {"bboxWorld", task.plan.boxText},
+                                  {"pass", task.plan.firstPass ? "first" : "final"}}
                        .dump());
     VoxelizeJob job = jobFor(task.plan);
     job.output = (scratch_ / ("view-" + std::to_string(task.id) + ".vdb")).string();

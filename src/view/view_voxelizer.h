@@ -5,9 +5,12 @@
 // its own) while frames go on being drawn; the render thread takes the
 // finished run and swaps it into the ray cast. The worker also saves a run
 // where the user asks: the .vdb as shown, or a work directory that `merge`
-// and `inspect` read. A request made while a run is under way waits (the
-// newest replaces an older one waiting); a run is never stopped half-way
-// but by Ctrl-C, which stops the whole view.
+// and `inspect` read. A large run comes in two passes, a coarse one first
+// (view_region.h's refinePass), each taken as it finishes, so the view
+// refines where it looks. A request made while a run is under way waits
+// (the newest replaces any pass of an older one not yet started, so a
+// camera that moves on skips the fine pass of where it was); a pass is
+// never stopped half-way but by Ctrl-C, which stops the whole view.
 #pragma once
 
 #include "core/voxel_grid.h"
@@ -59,9 +62,9 @@ class ViewVoxelizer {
     ViewVoxelizer(const ViewVoxelizer&) = delete;
     ViewVoxelizer& operator=(const ViewVoxelizer&) = delete;
 
-    /// Asks for `plan`; false (nothing done) when it is the run under way,
-    /// waiting or last finished.
-    bool request(const ViewVoxelization& plan);
+    /// Asks for `plan`, after `first` (its coarser pass) where given; false
+    /// (nothing done) when `plan` is the run under way, waiting or last finished.
+    bool request(const ViewVoxelization& plan, const std::optional<ViewVoxelization>& first = std::nullopt);
     /// The newest run finished since the last call, if any.
     std::optional<DetailRun> takeFinished();
     /// Saves finished run `run` to the save directory: its .vdb as it is, or

@@ -142,6 +142,50 @@ try {
   await page.keyboard.press('b');
   await page.waitForFunction(() => window.yvView.stats.blend === false && window.yvView.settled(), null, { timeout: 180000 });
 
+  // t: the next transfer function (the ray cast changes, the slices do not); O twice: four times the
+  // opacity; ] four times: the fibres lean 0.2 at the yarn's surface (the slices change). The address keeps
+  // them and a link restores the same picture; then back to how it was.
+  const halfDifference = (a, b, left) => {
+    let sum = 0, n = 0;
+    for (let i = 0; i < a.length; i += 1) if ((i % 80 < 40) === left) { sum += Math.abs(a[i] - b[i]); n += 1; }
+    return sum / n;
+  };
+  const plainLook = await picture();
+  await page.keyboard.press('t');
+  await page.waitForFunction(() => window.yvView.stats.transfer === 'grey' && window.yvView.settled(), null, { timeout: 180000 });
+  const grey = await picture();
+  check('t switches the transfer function: the ray cast changes, the slices do not',
+        halfDifference(plainLook, grey, false) > 1 && halfDifference(plainLook, grey, true) < 0.5,
+        'right ' + halfDifference(plainLook, grey, false) + ', left ' + halfDifference(plainLook, grey, true));
+  await page.keyboard.press('O');
+  await page.keyboard.press('O');
+  await page.waitForFunction(() => window.yvView.stats.opacity === 2 && window.yvView.settled(), null, { timeout: 180000 });
+  const denser = await picture();
+  check('O raises the opacity', halfDifference(grey, denser, false) > 0.5, 'right ' + halfDifference(grey, denser, false));
+  for (let i = 0; i < 4; i += 1) await page.keyboard.press(']');
+  await page.waitForFunction(() => window.yvView.stats.twist > 0 && window.yvView.settled(), null, { timeout: 180000 });
+  const twisted = await picture();
+  const lookHash = await page.evaluate(() => location.hash);
+  check('] twists the yarn: the slices change, the ray cast does not',
+        halfDifference(denser, twisted, true) > 0.3 && halfDifference(denser, twisted, false) < 0.5,
+        'left ' + halfDifference(denser, twisted, true) + ', right ' + halfDifference(denser, twisted, false));
+  check('the address keeps the transfer function, opacity and twist',
+        /tf=grey/.test(lookHash) && /op=1(&|$)/.test(lookHash) && /tw=0.2(&|$)/.test(lookHash), lookHash);
+  const lookPage = await context.newPage();
+  await lookPage.goto(page.url());
+  await lookPage.waitForFunction(() => window.yvView && window.yvView.settled(), null, { timeout: 180000 });
+  const lookAgain = await picture(lookPage);
+  check('a link restores the same look', difference(twisted, lookAgain) < 1, 'mean difference ' + difference(twisted, lookAgain));
+  await lookPage.close();
+  await page.keyboard.press('t');
+  await page.keyboard.press('t');
+  await page.keyboard.press('o');
+  await page.keyboard.press('o');
+  for (let i = 0; i < 4; i += 1) await page.keyboard.press('[');
+  await page.waitForFunction(() => window.yvView.stats.transfer === 'fibre' && window.yvView.stats.opacity === 1 &&
+                                   window.yvView.stats.twist === 0 && window.yvView.settled(), null, { timeout: 180000 });
+  check('and back to how it was', difference(plainLook, await picture()) < 1);
+
   // p: a screenshot at twice the frame's size, sent once and saved by the browser, never shown in the view.
   const download = page.waitForEvent('download', { timeout: 180000 }).catch(() => null);
   await page.keyboard.press('p');
@@ -187,7 +231,7 @@ try {
   await page.mouse.move(480, 180);
   await page.mouse.wheel(0, -1200);
   await page.waitForFunction(() => window.yvView.stats && window.yvView.stats.detail && window.yvView.stats.detail.shown &&
-                                   window.yvView.settled(), null, { timeout: 300000 });
+                                   window.yvView.stats.detail.final && window.yvView.settled(), null, { timeout: 300000 });
   const shown = await page.evaluate(() => ({ stats: window.yvView.stats, voxelize: window.yvView.voxelize,
                                              hello: null, ms: window.yvView.stopToDetailMs }));
   const detail = shown.stats.detail;
