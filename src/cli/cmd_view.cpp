@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 namespace yv {
@@ -71,6 +72,11 @@ void runViewCommand(ViewArgs& a) {
         std::fprintf(stderr, "yarnvox view: %s\n", line.c_str());
         std::fflush(stderr);
     };
+    // NVIDIA's driver spins a core while it waits for the GPU (glFinish, the
+    // readback): a view that waits on every frame would keep a core busy at
+    // any frame rate. Yielding costs no frame time measured here (README,
+    // "Live view in the browser"); a user's own setting wins.
+    setenv("__GL_YIELD", "USLEEP", 0);
     const InterruptScope signals;
     runView(
         r,
