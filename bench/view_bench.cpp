@@ -237,11 +237,14 @@ void runStopPhase(Session& s, int stops, const Options& o) {
         runSeconds.push_back(d["seconds"]);
         active.push_back(d["activeVoxels"]);
         // Where the time went: the run (request to .vdb written), then the
-        // frame that opens it and loads its atlas (renderMs), then encoding and sending.
+        // frame that opens it (openMs), loads its atlas (atlasMs) and makes
+        // its renderer (rendererMs), all within renderMs, then encoding and sending.
         runs.push_back({{"voxelSize", d["voxelSize"]}, {"bboxWorld", d["bboxWorld"]}, {"activeVoxels", d["activeVoxels"]},
                         {"stopToDetailMs", f["stopToDetailMs"]}, {"stopToFirstMs", f["stopToFirstMs"]},
                         {"runSeconds", d["seconds"]},
-                        {"frameRenderMs", f["renderMs"]}, {"frameEncodeMs", f["encodeMs"]}});
+                        {"frameRenderMs", f["renderMs"]}, {"frameEncodeMs", f["encodeMs"]},
+                        {"frameOpenMs", f.value("openMs", 0.0)}, {"frameAtlasMs", f.value("atlasMs", 0.0)},
+                        {"frameRendererMs", f.value("rendererMs", 0.0)}});
     }
     const Json line = {{"phase", "stop-and-voxelize"},
                        {"mode", o.mode},

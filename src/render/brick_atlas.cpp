@@ -1,6 +1,7 @@
 #include "render/brick_atlas.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 #include "gpu/gl_program.h"
 
 #include <glm/common.hpp>
@@ -43,6 +44,7 @@ BrickAtlas::BrickAtlas(const LevelPlan& plan, bool withOrientation, int max3dTex
 }
 
 void BrickAtlas::upload(const LevelBrick& brick) {
+    const TraceSpan span("upload a brick");
     const glm::ivec3 c = brick.coord, d = plan_.brickDims;
     if (glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, d)))
         throw Error("brick atlas: a brick outside the level's grid");

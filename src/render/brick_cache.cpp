@@ -26,14 +26,22 @@ AtlasLoad BrickCache::load(const GlContext& gl, const VolumeSource& source, cons
             return hit;
         }
     const TraceSpan span("load a brick atlas");
-    const LevelPlan plan =
-        planLevel(source, box, budgetBytes, atlasBytesPerVoxel(withOrientation), gl.info().max3dTextureSize);
+    const LevelPlan plan = [&] {
+        const TraceSpan planning("plan the atlas's level");
+        return planLevel(source, box, budgetBytes, atlasBytesPerVoxel(withOrientation), gl.info().max3dTextureSize);
+    }();
     if (plan.bricks.empty()) throw Error("nothing to render: no active voxel inside the framed box");
     if (entries_.size() == kKeptAtlases) entries_.erase(entries_.begin()); // its textures go before the new ones
     Entry e{source.id(), box, budgetBytes, withOrientation, nullptr, {}};
     e.atlas = std::make_unique<BrickAtlas>(plan, withOrientation, gl.info().max3dTextureSize);
-    streamLevelBricks(source, box, plan, withOrientation, [&](const LevelBrick& b) { e.atlas->upload(b); });
-    e.atlas->finish();
+    {
+        const TraceSpan streaming("read and upload the level's bricks");
+        streamLevelBricks(source, box, plan, withOrientation, [&](const LevelBrick& b) { e.atlas->upload(b); });
+    }
+    {
+        const TraceSpan finishing("finish the atlas");
+        e.atlas->finish();
+    }
     e.load = AtlasLoad{e.atlas.get(), plan.level, plan.stored && plan.level > 0, plan.fineBricks, plan.bricks.size(),
                        plan.gpuBytes, false};
     entries_.push_back(std::move(e));

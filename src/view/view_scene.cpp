@@ -1,6 +1,7 @@
 #include "view/view_scene.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 #include "inspect/render_request.h"
 #include "inspect/transfer_function.h"
 #include "render/render_volume.h"
@@ -81,7 +82,7 @@ ViewScene::~ViewScene() {
     }
 }
 
-Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode) {
+Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame) {
     if (auto it = layer.renderers.find(mode); it != layer.renderers.end()) return *it->second;
     RenderRequest request;
     request.kind = parseRenderKind(mode);
@@ -93,11 +94,19 @@ Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode) {
     } else {
         const bool orientation = request.kind == RenderKind::Orientation;
         // The cache keeps two atlases, plain and with orientation: the renderers' stay alive.
+        const auto loading = std::chrono::steady_clock::now();
         const AtlasLoad load = layer.cache->load(context_.gl(), *layer.source, layer.box, budget_, orientation);
+        frame.atlasSeconds += secondsSince(loading);
         layer.atlases[mode] = load;
         input.atlas = load.atlas;
     }
-    auto made = makeRenderer(request, input);
+    const auto making = std::chrono::steady_clock::now();
+    std::unique_ptr<Renderer> made;
+    {
+        const TraceSpan span("make a renderer");
+        made = makeRenderer(request, input);
+    }
+    frame.rendererSeconds += secondsSince(making);
     Renderer& renderer = *made;
     layer.renderers[mode] = std::move(made);
     return renderer;
@@ -125,7 +134,7 @@ const TransferFunction& ViewScene::transferFunction(const ViewState& state) {
 void ViewScene::drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
                          ViewFrame& frame) {
     VolumeLayer& layer = layerFor(mode, state.camera, width, height);
-    Renderer& renderer = rendererFor(layer, mode);
+    Renderer& renderer = rendererFor(layer, mode, frame);
     if (mode == renderKindName(RenderKind::Slices)) {
         // The twist is in world units; the slices lie in the volume's voxels.
         if (twistable()) renderer.setTwist(state.twist * volume_.grid->voxelSize);
@@ -146,13 +155,18 @@ void ViewScene::drawInto(const ViewState& state, const std::string& mode, int wi
         std::memcpy(out.at(x0, y), report.image.at(0, y), std::size_t(width) * 3u);
 }
 
-void ViewScene::takeFinishedDetail() {
+void ViewScene::takeFinishedDetail(ViewFrame& frame) {
     if (!voxelizer_) return;
     std::optional<DetailRun> run = voxelizer_->takeFinished();
     if (!run) return;
+    const auto start = std::chrono::steady_clock::now();
     auto next = std::make_unique<DetailLayer>();
     next->run = std::move(*run);
-    next->source = openVdbSource(next->run.vdbPath);
+    {
+        const TraceSpan span("open a view voxelization");
+        next->source = openVdbSource(next->run.vdbPath);
+    }
+    frame.openSeconds = secondsSince(start);
     next->layer.source = next->source.get();
     next->layer.cache = &next->cache;
     next->layer.box = next->source->bounds();
@@ -174,8 +188,8 @@ ViewFrame ViewScene::render(const ViewState& state) {
         throw Error("no mode '" + state.mode + "' in this view");
     const auto start = std::chrono::steady_clock::now();
     context_.gl(); // current on this thread
-    takeFinishedDetail();
     ViewFrame frame;
+    takeFinishedDetail(frame);
     frame.image = RgbImage(state.width, state.height);
     if (sideBySide() && state.blend) {
         // One picture: both drawn whole, the voxels' over the slices at half weight.

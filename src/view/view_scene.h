@@ -50,6 +50,9 @@ struct ViewFrame {
     std::uint64_t slices = 0, gpuBytes = 0;
     std::uint64_t detail = 0;   ///< the view voxelization drawn (its id; 0: the volume opened)
     long long gpuFreeBytes = -1; ///< the GPU's free memory after the frame (-1: the driver does not say)
+    /// Where a frame that first draws a volume or mode spent its setup (0 otherwise):
+    /// opening a view voxelization's .vdb, loading atlases, making renderers.
+    double openSeconds = 0.0, atlasSeconds = 0.0, rendererSeconds = 0.0;
 };
 
 class ViewScene {
@@ -115,12 +118,12 @@ class ViewScene {
     };
     struct DetailLayer;
 
-    Renderer& rendererFor(VolumeLayer& layer, const std::string& mode);
+    Renderer& rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame);
     VolumeLayer& layerFor(const std::string& mode, const ViewCamera& view, int width, int height);
     void drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
                   ViewFrame& frame);
     const TransferFunction& transferFunction(const ViewState& state);
-    void takeFinishedDetail();
+    void takeFinishedDetail(ViewFrame& frame);
 
     ViewVolume volume_;
     VoxelBox box_;
