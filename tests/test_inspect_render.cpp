@@ -20,7 +20,11 @@
 
 #include <catch2/catch.hpp>
 
+#include <Imath/half.h>
+
+#include <algorithm>
 #include <cstring>
+#include <set>
 #include <unistd.h>
 
 #include <glm/geometric.hpp>
@@ -75,6 +79,78 @@ struct GlVolume {
 };
 
 } // namespace
+
+TEST_CASE("inspect render: the brick atlas holds every brick where its indirection says, over rows of slots and a last row "
+          "partly filled",
+          "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    GlContext context;
+    // 8 slots a row (a 64-texel atlas side): 150 bricks fill 18 rows and 6 slots of a 19th.
+    LevelPlan plan;
+    plan.brickDims = {10, 5, 4};
+    std::mt19937 rng(5);
+    std::vector<LevelBrick> bricks;
+    for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 5; ++y)
+            for (int x = 0; x < 10; ++x) {
+                if ((x + 2 * y + 3 * z) % 4 == 3) continue;
+                plan.bricks.push_back({x, y, z});
+                LevelBrick b;
+                b.coord = {x, y, z};
+                std::uniform_real_distribution<float> u(0.0f, 1.5f);
+                for (int v = 0; v < 512; ++v) {
+                    b.density[std::size_t(v)] = u(rng);
+                    b.axisColour[std::size_t(v)] = glm::vec3(u(rng), u(rng), u(rng)) * 0.7f;
+                }
+                bricks.push_back(b);
+            }
+    REQUIRE(bricks.size() == 150);
+    for (bool orientation : {false, true}) {
+        INFO("orientation " << orientation);
+        BrickAtlas atlas(plan, orientation, 64);
+        REQUIRE(atlas.slotsPerAxis().x == 8);
+        std::shuffle(bricks.begin(), bricks.end(), rng); // in any order
+        for (const LevelBrick& b : bricks) atlas.upload(b);
+        atlas.finish();
+        const glm::ivec3 texels = atlas.slotsPerAxis() * kBrickSize;
+        const std::size_t count = std::size_t(texels.x) * std::size_t(texels.y) * std::size_t(texels.z);
+        std::vector<std::uint16_t> density(count);
+        std::vector<std::uint8_t> colour(4 * count);
+        std::vector<std::uint32_t> slots(std::size_t(plan.brickDims.x) * plan.brickDims.y * plan.brickDims.z);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glGetTextureImage(atlas.densityTexture(), 0, GL_RED, GL_HALF_FLOAT, GLsizei(density.size() * 2), density.data());
+        if (orientation)
+            glGetTextureImage(atlas.orientationTexture(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(colour.size()), colour.data());
+        glGetTextureImage(atlas.indirectionTexture(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(slots.size() * 4), slots.data());
+        REQUIRE(glGetError() == GL_NO_ERROR);
+        std::set<std::uint32_t> used;
+        std::size_t wrongDensity = 0, wrongColour = 0;
+        for (const LevelBrick& b : bricks) {
+            const std::uint32_t slot = slots[std::size_t(b.coord.x + plan.brickDims.x * (b.coord.y + plan.brickDims.y * b.coord.z))];
+            REQUIRE(slot >= 1);
+            REQUIRE(slot <= 150);
+            used.insert(slot);
+            const std::uint32_t s = slot - 1;
+            const glm::ivec3 at = glm::ivec3(int(s % 8u), int(s / 8u % std::uint32_t(atlas.slotsPerAxis().y)),
+                                             int(s / (8u * std::uint32_t(atlas.slotsPerAxis().y)))) * kBrickSize;
+            for (int v = 0; v < 512; ++v) {
+                const glm::ivec3 p = at + glm::ivec3(v % 8, v / 8 % 8, v / 64);
+                const std::size_t t = std::size_t(p.x) + std::size_t(texels.x) * (std::size_t(p.y) + std::size_t(texels.y) * std::size_t(p.z));
+                wrongDensity += density[t] != imath_float_to_half(b.density[std::size_t(v)]);
+                if (orientation)
+                    for (int c = 0; c < 3; ++c)
+                        wrongColour += colour[4 * t + std::size_t(c)] !=
+                                       std::uint8_t(std::lround(255.0f * std::clamp(b.axisColour[std::size_t(v)][c], 0.0f, 1.0f)));
+            }
+        }
+        CHECK(used.size() == 150); // every brick a slot of its own
+        CHECK(wrongDensity == 0);
+        CHECK(wrongColour == 0);
+        float expectedMax = 0.0f;
+        for (const LevelBrick& b : bricks) expectedMax = std::max(expectedMax, *std::max_element(b.density.begin(), b.density.end()));
+        CHECK(atlas.densityMax() == expectedMax);
+    }
+}
 
 TEST_CASE("inspect render: the ray cast of a straight yarn seen side-on covers the pixels its radius says", "[inspect][gl]") {
     YV_REQUIRE_GL();

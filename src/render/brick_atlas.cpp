@@ -45,7 +45,6 @@ BrickAtlas::BrickAtlas(const LevelPlan& plan, bool withOrientation, int max3dTex
 }
 
 void BrickAtlas::upload(const LevelBrick& brick) {
-    const TraceSpan span("upload a brick");
     const glm::ivec3 c = brick.coord, d = plan_.brickDims;
     if (glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, d)))
         throw Error("brick atlas: a brick outside the level's grid");
@@ -55,31 +54,60 @@ void BrickAtlas::upload(const LevelBrick& brick) {
         throw Error("brick atlas: more bricks than the level plan counted");
     const std::uint64_t s = used_++;
     slot = std::uint32_t(s + 1);
-    const glm::ivec3 at = glm::ivec3(int(s % std::uint64_t(slots_.x)), int((s / std::uint64_t(slots_.x)) % std::uint64_t(slots_.y)),
-                                     int(s / (std::uint64_t(slots_.x) * std::uint64_t(slots_.y)))) * kBrickSize;
-    // Halves made here (rounded to nearest even) and copied as they are: handed
+    const std::size_t rowTexels = std::size_t(slots_.x) * kBrickSize;
+    if (rowDensity_.empty()) {
+        rowDensity_.assign(rowTexels * 64, 0);
+        if (withOrientation_) rowOrientation_.assign(4 * rowTexels * 64, 0);
+    }
+    // The brick's voxels (x fastest) into its place along the row: texel
+    // (8 slot + x, y, z) of a block slots_.x * 8 wide and 8 high. Halves
+    // made here (rounded to nearest even) and copied as they are: handed
     // floats for a 16-bit texture, NVIDIA's driver converts them on a slow
-    // path (about 5 us a brick on the H200, half a second for 100 k bricks).
-    std::array<std::uint16_t, 512> halves;
-    for (std::size_t v = 0; v < 512; ++v) {
-        halves[v] = imath_float_to_half(brick.density[v]);
-        densityMax_ = std::max(densityMax_, brick.density[v]);
-    }
-    glTextureSubImage3D(density_.id(), 0, at.x, at.y, at.z, 8, 8, 8, GL_RED, GL_HALF_FLOAT, halves.data());
+    // path (about 5 us a brick on the H200).
+    const std::size_t x0 = std::size_t(s - rowStart_) * kBrickSize;
+    for (int z = 0; z < kBrickSize; ++z)
+        for (int y = 0; y < kBrickSize; ++y)
+            for (int x = 0; x < kBrickSize; ++x) {
+                const std::size_t v = std::size_t(x + kBrickSize * (y + kBrickSize * z));
+                const std::size_t t = x0 + std::size_t(x) + rowTexels * std::size_t(y + kBrickSize * z);
+                rowDensity_[t] = imath_float_to_half(brick.density[v]);
+                densityMax_ = std::max(densityMax_, brick.density[v]);
+                if (withOrientation_) {
+                    const glm::vec3 a = glm::clamp(brick.axisColour[v], 0.0f, 1.0f);
+                    rowOrientation_[4 * t + 0] = std::uint8_t(std::lround(255.0f * a.x));
+                    rowOrientation_[4 * t + 1] = std::uint8_t(std::lround(255.0f * a.y));
+                    rowOrientation_[4 * t + 2] = std::uint8_t(std::lround(255.0f * a.z));
+                    rowOrientation_[4 * t + 3] = 255;
+                }
+            }
+    if (used_ - rowStart_ == std::uint64_t(slots_.x)) uploadRow();
+}
+
+void BrickAtlas::uploadRow() {
+    const std::uint64_t filled = used_ - rowStart_;
+    if (filled == 0) return;
+    const TraceSpan span("upload a row of bricks");
+    const std::uint64_t row = rowStart_ / std::uint64_t(slots_.x);
+    const int y = int(row % std::uint64_t(slots_.y)) * kBrickSize, z = int(row / std::uint64_t(slots_.y)) * kBrickSize;
+    const GLsizei width = GLsizei(filled) * kBrickSize;
+    // A last row partly filled: the block's rows keep their full length.
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, slots_.x * kBrickSize);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    glTextureSubImage3D(density_.id(), 0, 0, y, z, width, kBrickSize, kBrickSize, GL_RED, GL_HALF_FLOAT, rowDensity_.data());
     if (withOrientation_) {
-        std::array<std::uint8_t, 4 * 512> rgba;
-        for (std::size_t v = 0; v < 512; ++v) {
-            const glm::vec3 a = glm::clamp(brick.axisColour[v], 0.0f, 1.0f);
-            rgba[4 * v + 0] = std::uint8_t(std::lround(255.0f * a.x));
-            rgba[4 * v + 1] = std::uint8_t(std::lround(255.0f * a.y));
-            rgba[4 * v + 2] = std::uint8_t(std::lround(255.0f * a.z));
-            rgba[4 * v + 3] = 255;
-        }
-        glTextureSubImage3D(orientation_.id(), 0, at.x, at.y, at.z, 8, 8, 8, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTextureSubImage3D(orientation_.id(), 0, 0, y, z, width, kBrickSize, kBrickSize, GL_RGBA, GL_UNSIGNED_BYTE,
+                            rowOrientation_.data());
     }
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    rowStart_ = used_;
 }
 
 void BrickAtlas::finish() {
+    uploadRow();
+    std::vector<std::uint16_t>().swap(rowDensity_);
+    std::vector<std::uint8_t>().swap(rowOrientation_);
     const glm::ivec3 d = plan_.brickDims;
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage3D(indirection_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED_INTEGER, GL_UNSIGNED_INT, slotOf_.data());

@@ -1,7 +1,10 @@
 // The GPU side of a render's volume: a brick atlas (a 3D texture of 8^3
 // bricks: density as 16-bit floats, and |axis| as RGBA8 when orientation is
 // drawn) and an indirection texture from level brick to atlas slot. Bricks
-// arrive one at a time (streamLevelBricks) and go straight to the GPU.
+// arrive one at a time (streamLevelBricks) and fill the atlas's slots in
+// order, a row of slots along x at a time: each row goes to the GPU in one
+// call once full (a call a brick cost the driver about 2.7 us each on the
+// H200, a quarter of a second for 100 k bricks).
 #pragma once
 
 #include "gpu/gl_objects.h"
@@ -22,9 +25,10 @@ class BrickAtlas {
     /// context. Throws yv::Error when the driver refuses the textures.
     BrickAtlas(const LevelPlan& plan, bool withOrientation, int max3dTextureSize);
 
-    /// Puts one brick in the next free slot (throws when the atlas is full).
+    /// Puts one brick in the next free slot (throws when the atlas is full);
+    /// on the GPU once its row of slots is full, or at finish().
     void upload(const LevelBrick& brick);
-    /// Uploads the indirection texture; call once every brick is in.
+    /// Uploads the last row of slots and the indirection texture; call once every brick is in.
     void finish();
 
     const LevelPlan& plan() const { return plan_; }
@@ -45,7 +49,14 @@ class BrickAtlas {
     glm::ivec3 slots_{1};
     std::uint64_t used_ = 0;
     float densityMax_ = 0.0f;
+    void uploadRow();
+
     std::vector<std::uint32_t> slotOf_; ///< the indirection grid on the host, uploaded by finish()
+    /// The row of slots being filled, as the texels it covers (slots_.x * 8 x 8 x 8):
+    /// density as halves, orientation as RGBA8.
+    std::vector<std::uint16_t> rowDensity_;
+    std::vector<std::uint8_t> rowOrientation_;
+    std::uint64_t rowStart_ = 0; ///< the first slot of that row
     GlTexture density_, orientation_, indirection_;
 };
 
