@@ -151,7 +151,9 @@ void streamLevelBricks(const VolumeSource& source, const VoxelBox& clip, const L
         const std::size_t slot = found->second;
         float* sums = density.data() + slot * kBrickVoxels;
         glm::vec3* axisSums = withOrientation ? axis.data() + slot * kBrickVoxels : nullptr;
-        std::lock_guard lock(stripes[slot % stripes.size()]);
+        // At level 0 a source brick is a level brick of its own: nothing else adds to its block.
+        std::unique_lock<std::mutex> lock;
+        if (plan.level > 0) lock = std::unique_lock(stripes[slot % stripes.size()]);
         for (int x = 0; x < 8; ++x)
             for (int y = 0; y < 8; ++y)
                 for (int z = 0; z < 8; ++z) {
@@ -165,14 +167,16 @@ void streamLevelBricks(const VolumeSource& source, const VoxelBox& clip, const L
                     if (axisSums && b.orientation) axisSums[to] += d * glm::abs(b.orientation[from]);
                 }
     });
+    out.axisColour.fill(glm::vec3(0.0f));
     for (std::size_t i = 0; i < slots; ++i) {
         if (!touched[i]) continue;
         out.coord = plan.bricks[i];
-        for (std::size_t v = 0; v < std::size_t(kBrickVoxels); ++v) {
-            out.density[v] = density[i * kBrickVoxels + v];
-            const float total = out.density[v] / weight;
-            out.axisColour[v] = axis.empty() || total <= 0.0f ? glm::vec3(0.0f) : axis[i * kBrickVoxels + v] / total;
-        }
+        std::copy_n(density.data() + i * kBrickVoxels, kBrickVoxels, out.density.data());
+        if (!axis.empty())
+            for (std::size_t v = 0; v < std::size_t(kBrickVoxels); ++v) {
+                const float total = out.density[v] / weight;
+                out.axisColour[v] = total <= 0.0f ? glm::vec3(0.0f) : axis[i * kBrickVoxels + v] / total;
+            }
         visit(out);
     }
 }
