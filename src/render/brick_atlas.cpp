@@ -6,8 +6,6 @@
 
 #include <Imath/half.h>
 #include <glm/common.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_reduce.h>
 #include <glm/vector_relational.hpp>
 
 #include <algorithm>
@@ -58,28 +56,30 @@ void BrickAtlas::upload(const LevelBrick& brick) {
     slot = std::uint32_t(s + 1);
     const std::size_t rowTexels = std::size_t(slots_.x) * kBrickSize;
     if (rowDensity_.empty()) {
-        rowFloats_.assign(rowTexels * 64, 0.0f);
         rowDensity_.assign(rowTexels * 64, 0);
         if (withOrientation_) rowOrientation_.assign(4 * rowTexels * 64, 0);
     }
     // The brick's voxels (x fastest) into its place along the row: texel
-    // (8 slot + x, y, z) of a block slots_.x * 8 wide and 8 high.
+    // (8 slot + x, y, z) of a block slots_.x * 8 wide and 8 high. Halves
+    // made here (rounded to nearest even) and copied as they are: handed
+    // floats for a 16-bit texture, NVIDIA's driver converts them on a slow
+    // path (about 5 us a brick on the H200).
     const std::size_t x0 = std::size_t(s - rowStart_) * kBrickSize;
     for (int z = 0; z < kBrickSize; ++z)
-        for (int y = 0; y < kBrickSize; ++y) {
-            const std::size_t v0 = std::size_t(kBrickSize * (y + kBrickSize * z));
-            const std::size_t t0 = x0 + rowTexels * std::size_t(y + kBrickSize * z);
-            std::copy_n(brick.density.data() + v0, kBrickSize, rowFloats_.data() + t0);
-            if (withOrientation_)
-                for (int x = 0; x < kBrickSize; ++x) {
-                    const std::size_t v = v0 + std::size_t(x), t = t0 + std::size_t(x);
+        for (int y = 0; y < kBrickSize; ++y)
+            for (int x = 0; x < kBrickSize; ++x) {
+                const std::size_t v = std::size_t(x + kBrickSize * (y + kBrickSize * z));
+                const std::size_t t = x0 + std::size_t(x) + rowTexels * std::size_t(y + kBrickSize * z);
+                rowDensity_[t] = imath_float_to_half(brick.density[v]);
+                densityMax_ = std::max(densityMax_, brick.density[v]);
+                if (withOrientation_) {
                     const glm::vec3 a = glm::clamp(brick.axisColour[v], 0.0f, 1.0f);
                     rowOrientation_[4 * t + 0] = std::uint8_t(std::lround(255.0f * a.x));
                     rowOrientation_[4 * t + 1] = std::uint8_t(std::lround(255.0f * a.y));
                     rowOrientation_[4 * t + 2] = std::uint8_t(std::lround(255.0f * a.z));
                     rowOrientation_[4 * t + 3] = 255;
                 }
-        }
+            }
     if (used_ - rowStart_ == std::uint64_t(slots_.x)) uploadRow();
 }
 
@@ -90,21 +90,6 @@ void BrickAtlas::uploadRow() {
     const std::uint64_t row = rowStart_ / std::uint64_t(slots_.x);
     const int y = int(row % std::uint64_t(slots_.y)) * kBrickSize, z = int(row / std::uint64_t(slots_.y)) * kBrickSize;
     const GLsizei width = GLsizei(filled) * kBrickSize;
-    // Halves made here on every core (rounded to nearest even) and copied as
-    // they are: handed floats for a 16-bit texture, NVIDIA's driver converts
-    // them on one core on a slow path (about 5 us a brick on the H200).
-    const std::size_t rowTexels = std::size_t(slots_.x) * kBrickSize;
-    densityMax_ = std::max(densityMax_, tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, std::size_t(kBrickSize * kBrickSize)), 0.0f,
-        [&](const tbb::blocked_range<std::size_t>& lines, float max) {
-            for (std::size_t line = lines.begin(); line != lines.end(); ++line)
-                for (std::size_t t = line * rowTexels, end = t + std::size_t(width); t < end; ++t) {
-                    rowDensity_[t] = imath_float_to_half(rowFloats_[t]);
-                    max = std::max(max, rowFloats_[t]);
-                }
-            return max;
-        },
-        [](float a, float b) { return std::max(a, b); }));
     // A last row partly filled: the block's rows keep their full length.
     glPixelStorei(GL_UNPACK_ROW_LENGTH, slots_.x * kBrickSize);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
@@ -121,7 +106,6 @@ void BrickAtlas::uploadRow() {
 
 void BrickAtlas::finish() {
     uploadRow();
-    std::vector<float>().swap(rowFloats_);
     std::vector<std::uint16_t>().swap(rowDensity_);
     std::vector<std::uint8_t>().swap(rowOrientation_);
     const glm::ivec3 d = plan_.brickDims;

@@ -54,8 +54,7 @@ class BrickAtlas {
     std::vector<std::uint32_t> slotOf_; ///< the indirection grid on the host, uploaded by finish()
     /// The row of slots being filled, as the texels it covers (slots_.x * 8 x 8 x 8):
     /// density as halves, orientation as RGBA8.
-    std::vector<float> rowFloats_;       ///< density as it arrives
-    std::vector<std::uint16_t> rowDensity_; ///< made from rowFloats_ on every core before the upload
+    std::vector<std::uint16_t> rowDensity_;
     std::vector<std::uint8_t> rowOrientation_;
     std::uint64_t rowStart_ = 0; ///< the first slot of that row
     GlTexture density_, orientation_, indirection_;
