@@ -70,6 +70,7 @@ ViewVoxelizer::~ViewVoxelizer() {
     }
     wake_.notify_all();
     worker_.join();
+    if (firstPass_.joinable()) firstPass_.join();
 }
 
 VoxelizeJob ViewVoxelizer::jobFor(const ViewVoxelization& plan) const {
@@ -140,7 +141,22 @@ void ViewVoxelizer::work() {
             if (stopping_) return;
             task = std::move(waiting_.front());
             waiting_.erase(waiting_.begin());
-            if (task.kind == Task::Kind::Voxelize) running_ = task.plan;
+            if (task.kind == Task::Kind::Voxelize && !task.plan.firstPass) running_ = task.plan;
+        }
+        if (task.kind == Task::Kind::Voxelize && task.plan.firstPass) {
+            // The coarse pass runs beside the final one (a GL context of its
+            // own; the GPU and cores have room for both), so it costs the
+            // final pass nothing; the one before it is done or nearly.
+            if (firstPass_.joinable()) firstPass_.join();
+            firstPass_ = std::thread([this, task] {
+                try {
+                    voxelize(task);
+                } catch (const Error& e) {
+                    listener_.tell(
+                        nlohmann::json{{"type", "voxelize"}, {"state", "failed"}, {"id", task.id}, {"text", e.what()}}.dump());
+                }
+            });
+            continue;
         }
         try {
             if (task.kind == Task::Kind::Voxelize) voxelize(task);
@@ -177,11 +193,15 @@ void ViewVoxelizer::voxelize(const Task& task) {
     run.command = voxelizeArguments(job);
     {
         const std::lock_guard lock(mutex_);
-        // The file of a run replaced before it was taken is not needed (one taken stays while shown).
-        if (finished_) {
-            std::error_code ignored;
-            fs::remove(finished_->vdbPath, ignored);
+        std::error_code ignored;
+        // A coarse pass done after the final one of its view (or a later view's): not shown.
+        if (task.id < publishedId_) {
+            fs::remove(run.vdbPath, ignored);
+            return;
         }
+        publishedId_ = task.id;
+        // The file of a run replaced before it was taken is not needed (one taken stays while shown).
+        if (finished_) fs::remove(finished_->vdbPath, ignored);
         finished_ = run;
         last_ = task.plan;
     }

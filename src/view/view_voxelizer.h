@@ -5,8 +5,9 @@
 // its own) while frames go on being drawn; the render thread takes the
 // finished run and swaps it into the ray cast. The worker also saves a run
 // where the user asks: the .vdb as shown, or a work directory that `merge`
-// and `inspect` read. A large run comes in two passes, a coarse one first
-// (view_region.h's refinePass), each taken as it finishes, so the view
+// and `inspect` read. A large run comes in two passes, a coarse one beside
+// the one asked for (view_region.h's refinePass), each taken as it
+// finishes (the coarse one only while no later run has been), so the view
 // refines where it looks. A request made while a run is under way waits
 // (the newest replaces any pass of an older one not yet started, so a
 // camera that moves on skips the fine pass of where it was); a pass is
@@ -95,6 +96,8 @@ class ViewVoxelizer {
     std::optional<ViewVoxelization> running_, last_;
     std::optional<DetailRun> finished_;
     std::uint64_t nextId_ = 1;
+    std::uint64_t publishedId_ = 0; ///< the newest run handed to takeFinished
+    std::thread firstPass_;         ///< the coarse pass under way beside the worker, if any
     bool stopping_ = false;
     std::thread worker_; ///< last: started once the rest is there
 };
