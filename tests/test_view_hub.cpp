@@ -112,7 +112,7 @@ TEST_CASE("View hub: a new page is drawn once it asks, and pages are served in t
     CHECK(source.drawn[aFirst ? 1 : 0].width == 320);
 }
 
-TEST_CASE("View hub: a transfer function and twist change the state drawn; a preset or twist the view lacks is refused", "[view][hub]") {
+TEST_CASE("View hub: a transfer function and twist change the state drawn, a preset or twist the view lacks is refused", "[view][hub]") {
     using Catch::Contains;
     yv::ViewState initial;
     initial.twist = 2.0;

@@ -122,7 +122,7 @@ TEST_CASE("View: what the camera sees is voxelized finer, drawn in place, and sa
     CHECK(!view.failure);
 }
 
-TEST_CASE("View: the page's twist shades the slices and is what the camera's view is voxelized with; its transfer function "
+TEST_CASE("View: the page's twist shades the slices and is what the camera's view is voxelized with, its transfer function "
           "changes the ray cast alone",
           "[view][gl]") {
     YV_REQUIRE_GL();
@@ -205,7 +205,7 @@ TEST_CASE("View: the page's twist shades the slices and is what the camera's vie
     CHECK(!view.failure);
 }
 
-TEST_CASE("View: a large view is shown first from a coarse pass, then refined; a save waits for the final pass", "[view][gl]") {
+TEST_CASE("View: a large view is shown first from a coarse pass, then refined, and a save waits for the final pass", "[view][gl]") {
     YV_REQUIRE_GL();
     ServedView view(false, [](yv::ViewRequest& r) { r.maxSideVoxels = 256; });
     Page page(view.port.get_future().get());
