@@ -12,14 +12,14 @@ namespace yv {
 std::unique_ptr<RegionRasterizer> makeRasterizer(Backend backend, const SlicedGarment& sliced, const VoxelGrid& grid,
                                                  const VoxelizeSettings& base, const VoxelizeJob& job, GlStart&& gl) {
     if (backend == Backend::Cpu)
-        return std::make_unique<CpuRegionBackend>(sliced.plan, sliced.xs, grid, base, job.fragmentCapacity);
+        return std::make_unique<CpuRegionBackend>(sliced.plan(), sliced.xs, grid, base, job.fragmentCapacity);
     GlVoxelizeSettings settings;
     settings.base = base;
     settings.fragmentCapacity = job.fragmentCapacity;
     settings.verbose = job.verbose && !job.quiet;
     settings.contextSeconds = gl.seconds;
     const TraceSpan span("set up the GL backend");
-    return std::make_unique<GlBackend>(sliced.plan, sliced.xs, grid, settings, std::move(gl.context));
+    return std::make_unique<GlBackend>(sliced.plan(), sliced.xs, grid, settings, std::move(gl.context));
 }
 
 ZoomPlan planZoomWhilePreparing(RegionRasterizer& rasterizer, const SlicedGarment& sliced, const VoxelGrid& grid,
@@ -29,7 +29,7 @@ ZoomPlan planZoomWhilePreparing(RegionRasterizer& rasterizer, const SlicedGarmen
     std::future<ZoomPlan> pending = std::async(std::launch::async, [&] {
         const auto start = std::chrono::steady_clock::now();
         ZoomPlan planned =
-            planZoomRegions(sliced.plan, grid, sliced.xs, {budget, rasterizer.maxRegionSize(), supersample}, box);
+            planZoomRegions(sliced.plan(), grid, sliced.xs, {budget, rasterizer.maxRegionSize(), supersample}, box);
         traceSpanSince("plan the zoom regions", start);
         seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return planned;

@@ -27,7 +27,7 @@ void addDestinationStats(JsonObject& backendStats, const RunTotals& totals, std:
 
 JsonObject runStats(const RunRecord& run) {
     const VoxelGrid& grid = run.grid;
-    const SlicePlan& plan = run.sliced.plan;
+    const SlicePlan& plan = run.sliced.plan();
     const double h3 = grid.voxelSize * grid.voxelSize * grid.voxelSize;
     const ResolveTally& tally = run.totals.writer.tally;
     // Regions taken from a resumed run were not resolved here: no totals over them.
@@ -39,7 +39,7 @@ JsonObject runStats(const RunRecord& run) {
         .set("output", run.job.output)
         .set("backend", backendName(run.backend))
         .set("reduce", toString(run.job.reduce))
-        .set("yarns", static_cast<std::uint64_t>(run.sliced.garment.yarns.size()))
+        .set("yarns", static_cast<std::uint64_t>(run.sliced.garment().yarns.size()))
         .set("segments", static_cast<std::uint64_t>(plan.segments.size()))
         .set("slices", plan.sliceCount)
         .set("samples", run.samples)

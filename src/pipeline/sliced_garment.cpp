@@ -37,41 +37,86 @@ void checkDiskNeeds(const VoxelizeJob& job, bool throughWorkDir, const Garment& 
 
 } // namespace
 
+SlicePlanCache::FileKey SlicePlanCache::keyOf(const std::string& path) {
+    std::error_code ec;
+    FileKey key{path, std::filesystem::file_size(path, ec), 0};
+    if (ec) return FileKey{}; // unreadable: never matches, the read says why
+    const auto modified = std::filesystem::last_write_time(path, ec);
+    if (ec) return FileKey{};
+    key.modified = std::int64_t(modified.time_since_epoch().count());
+    return key;
+}
+
+std::shared_ptr<const Garment> SlicePlanCache::garment(const FileKey& file) const {
+    const std::lock_guard lock(mutex_);
+    return !file.path.empty() && file == garmentFile_ ? garment_ : nullptr;
+}
+
+void SlicePlanCache::keepGarment(const FileKey& file, std::shared_ptr<const Garment> garment) {
+    const std::lock_guard lock(mutex_);
+    garmentFile_ = file;
+    garment_ = std::move(garment);
+}
+
+std::shared_ptr<const SlicePlan> SlicePlanCache::plan(const FileKey& file, const SliceOptions& options) const {
+    const std::lock_guard lock(mutex_);
+    if (file.path.empty()) return nullptr;
+    for (const PlanEntry& e : plans_)
+        if (e.file == file && e.options.slicesPerSegment == options.slicesPerSegment &&
+            e.options.spacing == options.spacing && e.options.twist == options.twist && e.options.radius == options.radius)
+            return e.plan;
+    return nullptr;
+}
+
+void SlicePlanCache::keepPlan(const FileKey& file, const SliceOptions& options, std::shared_ptr<const SlicePlan> plan) {
+    const std::lock_guard lock(mutex_);
+    if (plans_.size() == 2) plans_.erase(plans_.begin());
+    plans_.push_back(PlanEntry{file, options, std::move(plan)});
+}
+
 SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Tell& tell, StageTimer& timer) {
     SlicedGarment s;
-    s.garment = readBcc(job.input);
-    // Real files repeat points and mislabel loops: tidied here, said once.
-    const CurveCheckReport curveReport = checkCurves(s.garment, job.input);
-    if (const std::string dropped = curveReport.droppedText(job.input); !dropped.empty()) tell(dropped);
-    for (const std::string& w : curveReport.warnings) tell("warning: " + w);
+    const SlicePlanCache::FileKey file = job.sliceCache ? SlicePlanCache::keyOf(job.input) : SlicePlanCache::FileKey{};
+    if (job.sliceCache) s.garmentRead = job.sliceCache->garment(file);
+    if (!s.garmentRead) {
+        auto garment = std::make_shared<Garment>(readBcc(job.input));
+        // Real files repeat points and mislabel loops: tidied here, said once.
+        const CurveCheckReport curveReport = checkCurves(*garment, job.input);
+        if (const std::string dropped = curveReport.droppedText(job.input); !dropped.empty()) tell(dropped);
+        for (const std::string& w : curveReport.warnings) tell("warning: " + w);
+        s.garmentRead = std::move(garment);
+        if (job.sliceCache) job.sliceCache->keepGarment(file, s.garmentRead);
+    }
     timer.lap("read");
 
     s.xs = makeCrossSection(job.crossSection, job.albedo);
-    s.radius = chooseYarnRadius(job.yarnRadius, s.xs, s.garment, job.input);
+    s.radius = chooseYarnRadius(job.yarnRadius, s.xs, s.garment(), job.input);
     if (!s.radius.note.empty()) tell(s.radius.note);
     s.sliceOptions.twist = job.twist;
     s.sliceOptions.radius = s.radius.radius;
     // Slices follow the voxel size, not the garment's control points: one
     // slice per (supersampled) voxel along the yarn, unless asked otherwise.
-    const double voxelSize = voxelSizeFor(s.garment, s.radius.radius, job.resolution, job.voxelSize);
+    const double voxelSize = voxelSizeFor(s.garment(), s.radius.radius, job.resolution, job.voxelSize);
     // A run that would leave no voxels is refused before any slicing.
     const RunScale scale{s.radius.radius, s.radius.description, voxelSize, scaleOption(job), job.supersample, job.spacing};
     for (const std::string& w : checkRunScale(scale, s.xs)) tell("warning: " + w);
     // The whole garment's bound says nothing of a --bbox run's box (a cuff at
     // a resolution the garment could never have): checkOutputFits covers it.
-    if (!job.box) checkDiskNeeds(job, throughWorkDir, s.garment, s.radius.radius, voxelSize, scale.voxelSource);
+    if (!job.box) checkDiskNeeds(job, throughWorkDir, s.garment(), s.radius.radius, voxelSize, scale.voxelSource);
 
     s.explicitSpacing = job.slicesPerSegment > 0 || job.spacing > 0.0;
     s.sliceOptions.slicesPerSegment = job.slicesPerSegment;
     s.sliceOptions.spacing = s.explicitSpacing ? job.spacing : defaultSliceSpacing(voxelSize, job.supersample);
-    s.plan = [&] {
+    if (job.sliceCache) s.slicePlan = job.sliceCache->plan(file, s.sliceOptions);
+    if (!s.slicePlan) {
         const TraceSpan span("plan the slices");
         try {
-            return planSlices(s.garment, s.sliceOptions);
+            s.slicePlan = std::make_shared<const SlicePlan>(planSlices(s.garment(), s.sliceOptions));
         } catch (const Error& e) {
             throw Error(job.input + ": " + e.what());
         }
-    }();
+        if (job.sliceCache) job.sliceCache->keepPlan(file, s.sliceOptions, s.slicePlan);
+    }
     timer.lap("slices");
     return s;
 }
@@ -79,7 +124,7 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
 void checkOutputFits(const VoxelizeJob& job, bool throughWorkDir, const SlicedGarment& sliced, const VoxelGrid& grid,
                      const VdbShape& shape, std::optional<double> boxYarnLength) {
     const TraceSpan span("estimate the output");
-    OutputPlan expected = outputPlan(sliced.plan, grid, sliced.xs, shape);
+    OutputPlan expected = outputPlan(sliced.plan(), grid, sliced.xs, shape);
     if (boxYarnLength) expected.yarnLength = *boxYarnLength;
     const std::string problem = checkExpectedDisk(expected, runPlace(job, throughWorkDir), scaleOption(job));
     if (!problem.empty()) throw Error(job.input + ": " + problem);

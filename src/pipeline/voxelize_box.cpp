@@ -24,7 +24,7 @@ std::optional<RunBox> placeRunBox(const VoxelizeJob& job, const SlicedGarment& s
     RunBox run;
     run.placed = placeBox(*job.box, grid);
     const VoxelBox& box = run.placed.box;
-    const SlicePlan& plan = sliced.plan;
+    const SlicePlan& plan = sliced.plan();
     std::vector<std::uint32_t> all(plan.segments.size());
     std::iota(all.begin(), all.end(), 0u);
     for (std::uint32_t s : segmentsReaching(plan, grid, all, box.min, box.max)) {

@@ -10,10 +10,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
 namespace yv {
+
+class SlicePlanCache;
 
 /// Where a run's warnings and notes go, one line at a time.
 using Tell = std::function<void(const std::string&)>;
@@ -49,6 +52,9 @@ struct VoxelizeJob {
     std::optional<BoxRequest> box;
     bool albedo = false;  ///< --albedo: the cross-section PNG's colour as an "albedo" grid
     bool resume = false, keepWorkDir = false;           ///< --resume, --keep-work-dir
+    /// Where set, the garment read and its slice plan are taken from (and
+    /// kept for) runs of the same file and slice options: the live view's runs.
+    std::shared_ptr<SlicePlanCache> sliceCache;
     bool quiet = false, verbose = false;                ///< --quiet, --verbose
     /// Under mpirun: this rank voxelizes the garment by itself, as one
     /// process would (whole garments handed out to ranks), on its own GPU.

@@ -32,11 +32,11 @@ std::string shortNumber(double v) {
 
 /// Slices asked to lie further apart than a voxel coarsen the bends: said once.
 void warnCoarseSpacing(const VoxelizeJob& job, const SlicedGarment& sliced, const VoxelGrid& grid, const Tell& tell) {
-    if (!sliced.explicitSpacing || sliced.plan.maxSpacing <= 1.05 * grid.voxelSize) return;
+    if (!sliced.explicitSpacing || sliced.plan().maxSpacing <= 1.05 * grid.voxelSize) return;
     tell("warning: " +
          (job.slicesPerSegment > 0 ? "--slices-per-segment " + std::to_string(job.slicesPerSegment)
                                    : std::string("--slice-spacing")) +
-         " places slices up to " + shortNumber(sliced.plan.maxSpacing / grid.voxelSize) +
+         " places slices up to " + shortNumber(sliced.plan().maxSpacing / grid.voxelSize) +
          " voxels apart: each slab is split over the voxels it spans and treated as flat across them, so "
          "bends are coarsened (leave it out for one slice per voxel)");
 }
@@ -49,13 +49,13 @@ VolumeMetadata describeRun(const VoxelizeJob& job, Backend backend, const Sliced
     meta.backend = backendName(backend);
     meta.crossSection = sliced.xs.name;
     meta.resolution = job.resolution;
-    meta.sliceCount = sliced.plan.sliceCount;
+    meta.sliceCount = sliced.plan().sliceCount;
     meta.yarnRadius = sliced.sliceOptions.radius;
     meta.yarnRadiusSource = sliced.radius.source;
     meta.twist = job.twist;
     meta.supersample = job.supersample;
     meta.overlap = toString(job.overlap);
-    meta.sliceSpacing = sliced.plan.maxSpacing;
+    meta.sliceSpacing = sliced.plan().maxSpacing;
     meta.slicesPerSegment = job.slicesPerSegment;
     meta.sliceSpacingOption = job.spacing;
     meta.albedo = sliced.xs.hasAlbedo();
@@ -186,7 +186,7 @@ VoxelizeReport reportOf(const VoxelizeJob& job, Backend backend, const SlicedGar
                         const RunTotals& totals, double voxelizeSeconds) {
     VoxelizeReport report;
     report.backend = backendName(backend);
-    report.slices = sliced.plan.sliceCount;
+    report.slices = sliced.plan().sliceCount;
     report.activeVoxels = totals.activeVoxels;
     report.bricks = totals.bricks;
     report.dims = grid.dims;
@@ -226,7 +226,7 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
         note("backend: no GPU found, using the CPU backend (--backend gl forces the software GL path)");
     const Backend backend = agreeOnBackend(chosen, group, job, gl);
 
-    const VoxelGrid grid = makeGrid(sliced.plan, job.resolution, job.voxelSize);
+    const VoxelGrid grid = makeGrid(sliced.plan(), job.resolution, job.voxelSize);
     // --bbox: the box selects voxels of that grid (refused here, before anything is written, when it misses).
     const std::optional<RunBox> box = placeRunBox(job, sliced, grid, tell);
     warnCoarseSpacing(job, sliced, grid, tell);

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "pipeline/sliced_garment.h"
 #include "pipeline/voxelize_run.h"
 
 #include <nlohmann/json.hpp>
@@ -36,6 +37,12 @@ fs::path savedName(const fs::path& dir, const std::string& input, std::uint64_t 
     return dir / (fs::path(input).stem().string() + "-view-" + std::to_string(id));
 }
 
+/// Box after box of one garment: read once, and its slices planned once per slice spacing.
+VoxelizeJob withSliceCache(VoxelizeJob job) {
+    if (!job.sliceCache) job.sliceCache = std::make_shared<SlicePlanCache>();
+    return job;
+}
+
 } // namespace
 
 std::vector<std::string> voxelizeArguments(const VoxelizeJob& job) {
@@ -59,8 +66,8 @@ std::vector<std::string> voxelizeArguments(const VoxelizeJob& job) {
 }
 
 ViewVoxelizer::ViewVoxelizer(VoxelizeJob base, fs::path scratch, fs::path saveDir, Listener listener)
-    : base_(std::move(base)), scratch_(std::move(scratch)), saveDir_(std::move(saveDir)), listener_(std::move(listener)),
-      worker_([this] { work(); }) {}
+    : base_(withSliceCache(std::move(base))), scratch_(std::move(scratch)), saveDir_(std::move(saveDir)),
+      listener_(std::move(listener)), worker_([this] { work(); }) {}
 
 ViewVoxelizer::~ViewVoxelizer() {
     {
