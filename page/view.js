@@ -357,6 +357,8 @@
     if ((e.key === 'o' || e.key === 'O') && hello) setLook({ op: look.op + (e.key === 'O' ? 0.5 : -0.5) });
     if ((e.key === '[' || e.key === ']') && twistable()) setLook({ tw: leanNow() + (e.key === ']' ? 0.05 : -0.05) });
     if (e.key === 'h') { const h = document.getElementById('help'); h.style.display = h.style.display === 'none' ? '' : 'none'; }
+    // The controls stay hidden until asked for: they would take the drags of a small window.
+    if (e.key === 'c') { const c = document.getElementById('controls'); c.hidden = !c.hidden; }
   });
   let resizeTimer = null;
   window.addEventListener('resize', () => { clearTimeout(resizeTimer); resizeTimer = setTimeout(sendSize, 150); });

@@ -151,6 +151,14 @@ try {
     return sum / n;
   };
   const plainLook = await picture();
+  const hiddenAtFirst = await page.evaluate(() => document.getElementById('controls').hidden);
+  await page.keyboard.press('c');
+  const controls = await page.evaluate(() => ({ hidden: document.getElementById('controls').hidden,
+    presets: [...document.getElementById('transfer').options].map((o) => o.value) }));
+  await page.keyboard.press('c');
+  check('c shows the controls, with the transfer functions, and hides them',
+        hiddenAtFirst && !controls.hidden && controls.presets.includes('fibre') && controls.presets.includes('heat') &&
+        await page.evaluate(() => document.getElementById('controls').hidden), JSON.stringify(controls));
   await page.keyboard.press('t');
   await page.waitForFunction(() => window.yvView.stats.transfer === 'grey' && window.yvView.settled(), null, { timeout: 180000 });
   const grey = await picture();
