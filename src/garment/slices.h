@@ -30,6 +30,7 @@ struct SliceOptions {
     double twist = 0.0;
     /// Yarn radius (world units): slices are squares of side 2 radius.
     double radius = 0.1;
+    bool operator==(const SliceOptions&) const = default;
 };
 
 /// One curve segment of one yarn, with what it takes to place its slices.

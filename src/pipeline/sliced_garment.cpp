@@ -62,9 +62,7 @@ std::shared_ptr<const SlicePlan> SlicePlanCache::plan(const FileKey& file, const
     const std::lock_guard lock(mutex_);
     if (file.path.empty()) return nullptr;
     for (const PlanEntry& e : plans_)
-        if (e.file == file && e.options.slicesPerSegment == options.slicesPerSegment &&
-            e.options.spacing == options.spacing && e.options.twist == options.twist && e.options.radius == options.radius)
-            return e.plan;
+        if (e.file == file && e.options == options) return e.plan;
     return nullptr;
 }
 

@@ -54,7 +54,7 @@ struct ViewScene::DetailLayer {
 
 ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, double sliceLodPixels)
     : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes),
-      sliceLodPixels_(sliceLodPixels), baseTwist_(volume_.twist) {
+      sliceLodPixels_(sliceLodPixels) {
     const GlContext& gl = context_.gl();
     rendererName_ = gl.info().renderer;
     if (const long long free = gl.queryFreeMemoryBytes(); free > 0) budget_ = std::min(budget_, std::uint64_t(free) / 2);
@@ -221,7 +221,7 @@ std::string ViewScene::voxelizeInView(const ViewState& state, int maxSideVoxels)
         planViewVoxelization(box_, *volume_.grid, viewCamera(box_, state.camera, width, state.height), maxSideVoxels,
                              kMaxViewResolution, why);
     if (!plan) throw Error(why);
-    if (state.twist != baseTwist_) plan->twist = state.twist;
+    if (state.twist != volume_.twist) plan->twist = state.twist;
     const std::optional<ViewVoxelization> first = refinePass(*plan, volume_.grid->voxelSize);
     const bool started = voxelizer_->request(*plan, first);
     nlohmann::json said = {{"type", "voxelize"},

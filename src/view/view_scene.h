@@ -78,7 +78,7 @@ class ViewScene {
     /// is known (its slices are drawn or its view voxelized).
     bool twistable() const { return volume_.grid.has_value(); }
     /// The twist the garment was sliced and voxelized with, radians per world unit.
-    double twist() const { return baseTwist_; }
+    double twist() const { return volume_.twist; }
 
     /// Draws `state` (its mode one of modes()). Throws yv::Error on a GL error.
     ViewFrame render(const ViewState& state);
@@ -130,7 +130,6 @@ class ViewScene {
     RenderContext context_;
     std::uint64_t budget_;
     double sliceLodPixels_;
-    double baseTwist_ = 0.0;
     std::map<std::pair<std::string, double>, TransferFunction> transfers_; ///< by (preset, opacity), as made
     std::string rendererName_;
     std::vector<std::string> modes_;

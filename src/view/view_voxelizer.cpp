@@ -37,6 +37,11 @@ fs::path savedName(const fs::path& dir, const std::string& input, std::uint64_t 
     return dir / (fs::path(input).stem().string() + "-view-" + std::to_string(id));
 }
 
+/// The pages' message for a task that failed.
+std::string failedText(std::uint64_t id, const char* what) {
+    return nlohmann::json{{"type", "voxelize"}, {"state", "failed"}, {"id", id}, {"text", what}}.dump();
+}
+
 /// Box after box of one garment: read once, and its slices planned once per slice spacing.
 VoxelizeJob withSliceCache(VoxelizeJob job) {
     if (!job.sliceCache) job.sliceCache = std::make_shared<SlicePlanCache>();
@@ -159,8 +164,7 @@ void ViewVoxelizer::work() {
                 try {
                     voxelize(task);
                 } catch (const Error& e) {
-                    listener_.tell(
-                        nlohmann::json{{"type", "voxelize"}, {"state", "failed"}, {"id", task.id}, {"text", e.what()}}.dump());
+                    listener_.tell(failedText(task.id, e.what()));
                 }
             });
             continue;
@@ -169,7 +173,7 @@ void ViewVoxelizer::work() {
             if (task.kind == Task::Kind::Voxelize) voxelize(task);
             else saveRun(task);
         } catch (const Error& e) {
-            listener_.tell(nlohmann::json{{"type", "voxelize"}, {"state", "failed"}, {"id", task.id}, {"text", e.what()}}.dump());
+            listener_.tell(failedText(task.id, e.what()));
         }
         const std::lock_guard lock(mutex_);
         running_.reset();
