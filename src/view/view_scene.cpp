@@ -101,12 +101,9 @@ Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, Vi
         input.atlas = load.atlas;
     }
     const auto making = std::chrono::steady_clock::now();
-    std::unique_ptr<Renderer> made;
-    {
-        const TraceSpan span("make a renderer");
-        made = makeRenderer(request, input);
-    }
+    std::unique_ptr<Renderer> made = makeRenderer(request, input);
     frame.rendererSeconds += secondsSince(making);
+    traceSpanSince("make a renderer", making);
     Renderer& renderer = *made;
     layer.renderers[mode] = std::move(made);
     return renderer;
@@ -162,11 +159,9 @@ void ViewScene::takeFinishedDetail(ViewFrame& frame) {
     const auto start = std::chrono::steady_clock::now();
     auto next = std::make_unique<DetailLayer>();
     next->run = std::move(*run);
-    {
-        const TraceSpan span("open a view voxelization");
-        next->source = openVdbSource(next->run.vdbPath);
-    }
+    next->source = openVdbSource(next->run.vdbPath);
     frame.openSeconds = secondsSince(start);
+    traceSpanSince("open a view voxelization", start);
     next->layer.source = next->source.get();
     next->layer.cache = &next->cache;
     next->layer.box = next->source->bounds();
