@@ -4,6 +4,7 @@
 #include "garment/cross_section.h"
 #include "store/brick_store.h"
 #include "store/region_writer.h"
+#include "packed_test_bricks.h"
 #include "test_helpers.h"
 #include "vdb/merge.h"
 #include "vdb/vdb_writer.h"
@@ -679,28 +680,22 @@ namespace {
 
 /// What the GPU resolve reads back for a region, built here with resolveBrick.
 PackedBricks packOnCpu(const std::vector<BrickAccumulator>& accumulators) {
-    PackedBricks packed;
+    std::vector<VoxelBrick> bricks;
+    std::vector<ResolveTally> tallies;
     for (const BrickAccumulator& a : accumulators) {
         VoxelBrick b;
         ResolveTally t;
         if (!resolveBrick(Reduce::Mean, Overlap::Clamp, a, b, &t)) continue;
-        PackedBrickHeader h{};
-        h.key[0] = static_cast<std::uint32_t>(b.key);
-        h.key[1] = static_cast<std::uint32_t>(b.key >> 32);
-        for (int w = 0; w < 8; ++w) {
-            h.activeMask[2 * w] = static_cast<std::uint32_t>(b.activeMask[w]);
-            h.activeMask[2 * w + 1] = static_cast<std::uint32_t>(b.activeMask[w] >> 32);
-        }
-        h.firstVoxel = static_cast<std::uint32_t>(packed.voxels.size());
-        h.activeCount = static_cast<std::uint32_t>(t.activeVoxels);
-        h.voxelsOverOne = static_cast<std::uint32_t>(t.voxelsOverOne);
-        h.densitySum = t.densitySum;
-        h.rawDensitySum = t.rawDensitySum;
-        h.excessOverOne = t.excessOverOne;
-        for (int v = 0; v < kBrickVoxels; ++v)
-            if (b.isActive(v))
-                packed.voxels.push_back({b.density[v], {b.orientation[v].x, b.orientation[v].y, b.orientation[v].z}});
-        packed.headers.push_back(h);
+        bricks.push_back(std::move(b));
+        tallies.push_back(t);
+    }
+    PackedBricks packed = test::packBricks(bricks);
+    for (std::size_t i = 0; i < tallies.size(); ++i) {
+        PackedBrickHeader& h = packed.headers[i];
+        h.voxelsOverOne = static_cast<std::uint32_t>(tallies[i].voxelsOverOne);
+        h.densitySum = tallies[i].densitySum;
+        h.rawDensitySum = tallies[i].rawDensitySum;
+        h.excessOverOne = tallies[i].excessOverOne;
     }
     return packed;
 }

@@ -3,8 +3,9 @@
 #include "core/error.h"
 #include "vdb/tree_order.h"
 #include "vdb/vdb_writer.h"
-#include "vdb_bytes.h"
+#include "packed_test_bricks.h"
 #include "test_helpers.h"
+#include "vdb_bytes.h"
 
 #include <catch2/catch.hpp>
 #include <openvdb/openvdb.h>
@@ -334,35 +335,6 @@ TEST_CASE("A brick given twice is refused and leaves no file", "[vdb][stream]") 
         CHECK(e.path().filename().string().rfind("twice.vdb.partial", 0) != 0);
 }
 
-namespace {
-
-/// `bricks` as the GPU's resolve packs them (core/packed_bricks.h): a header
-/// per brick, its active voxels in voxel order, their colours where the
-/// bricks carry them. Tallies are left at zero: the writer does not read them.
-PackedBricks packed(const std::vector<VoxelBrick>& bricks) {
-    PackedBricks out;
-    for (const VoxelBrick& b : bricks) {
-        PackedBrickHeader h{};
-        h.key[0] = static_cast<std::uint32_t>(b.key);
-        h.key[1] = static_cast<std::uint32_t>(b.key >> 32);
-        for (int w = 0; w < kBrickVoxels / 64; ++w) {
-            h.activeMask[2 * w] = static_cast<std::uint32_t>(b.activeMask[w]);
-            h.activeMask[2 * w + 1] = static_cast<std::uint32_t>(b.activeMask[w] >> 32);
-        }
-        h.firstVoxel = static_cast<std::uint32_t>(out.voxels.size());
-        h.activeCount = static_cast<std::uint32_t>(b.activeCount());
-        for (int v = 0; v < kBrickVoxels; ++v) {
-            if (!b.isActive(v)) continue;
-            out.voxels.push_back({b.density[v], {b.orientation[v].x, b.orientation[v].y, b.orientation[v].z}});
-            if (!b.albedo.empty()) out.albedo.push_back({{b.albedo[v].x, b.albedo[v].y, b.albedo[v].z}});
-        }
-        out.headers.push_back(h);
-    }
-    return out;
-}
-
-} // namespace
-
 TEST_CASE("Bricks added packed, as the GPU resolved them, give the file that voxel bricks give", "[vdb][stream]") {
     openvdb::initialize();
     BrickVolume volume = treeShapedVolume();
@@ -399,12 +371,12 @@ TEST_CASE("Bricks added packed, as the GPU resolved them, give the file that vox
                     }
                     {
                         VdbAssembler assembler(fromPacked.string(), volume.grid, volume.reduce, options);
-                        assembler.add(packed(first));
+                        assembler.add(test::packBricks(first));
                         // The second batch's voxels behind others in their
                         // storage (as a region's passes append them), so its
                         // headers' firstVoxel is not 0.
-                        const PackedBricks rest = packed(second);
-                        PackedBricks behind = packed(first);
+                        const PackedBricks rest = test::packBricks(second);
+                        PackedBricks behind = test::packBricks(first);
                         behind.headers.clear();
                         behind.append(rest.headers.data(), rest.headers.size(), rest.voxels.data(), rest.voxels.size(),
                                       albedo ? rest.albedo.data() : nullptr);

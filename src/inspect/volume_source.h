@@ -20,6 +20,8 @@
 
 namespace yv {
 
+class KeptBricks;
+
 /// One 8^3 brick as a source hands it over: values in brickOffset order,
 /// inactive voxels 0.
 struct SourceBrick {
@@ -100,6 +102,10 @@ std::unique_ptr<VolumeSource> openVdbSource(const std::string& path);
 std::unique_ptr<VolumeSource> openVdbSourceThroughOpenVdb(const std::string& path);
 /// Bricks already in memory (tests, benchmarks); regions are given as boxes by id.
 std::unique_ptr<VolumeSource> memorySource(const BrickVolume& volume, std::vector<VoxelBox> regions = {});
+/// A run's bricks kept in memory as it stored them (the live view's runs):
+/// level 0 only, no regions recorded. Throws yv::Error when two regions hold
+/// the same brick.
+std::unique_ptr<VolumeSource> keptBricksSource(std::shared_ptr<const KeptBricks> bricks);
 /// The box of zoom region `id` among the regions a .vdb at `path` records;
 /// throws yv::Error when it records none or not that one.
 VoxelBox recordedRegionBox(const std::vector<RecordedRegion>& regions, std::uint64_t id, const std::string& path);

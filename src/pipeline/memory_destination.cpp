@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/kept_bricks.h"
 #include "pipeline/region_sinks.h"
 #include "vdb/merge.h"
 
@@ -13,9 +14,16 @@ class MemoryDestination : public RegionDestination {
   public:
     explicit MemoryDestination(const DestinationSetup& setup)
         : job_(setup.job), regions_(setup.regions), assembler_(setup.job.output, setup.grid, setup.settings.reduce, setup.writeOptions),
-          writer_([this](std::uint64_t id, std::vector<VoxelBrick>&& resolved) { assembler_.add(resolved, regionName(id)); },
-                  [this](std::uint64_t id, const PackedBricks& packed) { assembler_.add(packed, regionName(id)); },
-                  setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), writerThreads()),
+          writer_(
+              [this](std::uint64_t id, std::vector<VoxelBrick>&& resolved) {
+                  if (job_.keepBricks) job_.keepBricks->add(resolved);
+                  assembler_.add(resolved, regionName(id));
+              },
+              [this](std::uint64_t id, const PackedBricks& packed) {
+                  if (job_.keepBricks) job_.keepBricks->add(packed);
+                  assembler_.add(packed, regionName(id));
+              },
+              setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), writerThreads()),
           sink_(writer_) {}
 
     const std::vector<ZoomRegion>& regionOrder() const override { return regions_; }

@@ -16,6 +16,7 @@
 
 namespace yv {
 
+class KeptBricks;
 class SlicePlanCache;
 
 /// Where a run's warnings and notes go, one line at a time.
@@ -55,6 +56,11 @@ struct VoxelizeJob {
     /// Where set, the garment read and its slice plan are taken from (and
     /// kept for) runs of the same file and slice options: the live view's runs.
     std::shared_ptr<SlicePlanCache> sliceCache;
+    /// Where set, a run whose regions go straight into the .vdb (no work
+    /// dir) also keeps its resolved bricks here: the live view draws a run
+    /// from them rather than reading its .vdb back. Runs through a work dir
+    /// keep nothing.
+    std::shared_ptr<KeptBricks> keepBricks;
     bool quiet = false, verbose = false;                ///< --quiet, --verbose
     /// Under mpirun: this rank voxelizes the garment by itself, as one
     /// process would (whole garments handed out to ranks), on its own GPU.

@@ -159,7 +159,8 @@ void ViewScene::takeFinishedDetail(ViewFrame& frame) {
     const auto start = std::chrono::steady_clock::now();
     auto next = std::make_unique<DetailLayer>();
     next->run = std::move(*run);
-    next->source = openVdbSource(next->run.vdbPath);
+    // The bricks the run kept, else (a run that kept none) its .vdb read back.
+    next->source = next->run.bricks ? keptBricksSource(next->run.bricks) : openVdbSource(next->run.vdbPath);
     frame.openSeconds = secondsSince(start);
     traceSpanSince("open a view voxelization", start);
     next->layer.source = next->source.get();

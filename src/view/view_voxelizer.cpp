@@ -191,11 +191,13 @@ void ViewVoxelizer::voxelize(const Task& task) {
                        .dump());
     VoxelizeJob job = jobFor(task.plan);
     job.output = (scratch_ / ("view-" + std::to_string(task.id) + ".vdb")).string();
+    job.keepBricks = std::make_shared<KeptBricks>();
     const VoxelizeReport report = runVoxelize(job, [](const std::string&) {});
     DetailRun run;
     run.id = task.id;
     run.plan = task.plan;
     run.vdbPath = job.output;
+    if (job.keepBricks->brickCount() > 0) run.bricks = std::move(job.keepBricks);
     run.grid.origin = report.origin;
     run.grid.voxelSize = report.voxelSize;
     run.grid.dims = report.dims;

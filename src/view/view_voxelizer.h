@@ -14,6 +14,7 @@
 // never stopped half-way but by Ctrl-C, which stops the whole view.
 #pragma once
 
+#include "core/kept_bricks.h"
 #include "core/voxel_grid.h"
 #include "pipeline/voxelize_job.h"
 #include "view/view_region.h"
@@ -22,6 +23,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -35,6 +37,9 @@ struct DetailRun {
     std::uint64_t id = 0; ///< 1, 2, ... in the order asked
     ViewVoxelization plan;
     std::string vdbPath;  ///< in the view's scratch directory
+    /// The run's bricks as it kept them beside the .vdb (drawn from these
+    /// rather than the file read back); empty where the run kept none.
+    std::shared_ptr<const KeptBricks> bricks;
     VoxelGrid grid;       ///< the run's whole grid (its box is part of it)
     std::uint64_t activeVoxels = 0;
     double seconds = 0.0; ///< from the request to the .vdb written
