@@ -5,12 +5,16 @@
 // For a garment, when the camera stops the page asks the server to voxelize
 // what it sees (finer voxels where zoomed in), which the frames then show.
 // The transfer function (a preset and its opacity) and a garment's twist
-// are set from the controls or keys and kept in the address too.
+// are set from the controls or keys and kept in the address too. Cameras
+// sent while input goes on say they are moving (the server may then draw
+// fewer slices where a frame would be late); when it stops, the camera is
+// sent once more, not moving, for the picture at full quality. `g` turns
+// that off: every frame at full quality.
 'use strict';
 (() => {
   const defaults = { az: 30, el: 20, d: 4, px: 0, py: 0 };
   const cam = Object.assign({}, defaults);
-  let mode = null, modes = [], hello = null, seq = 0, blend = false;
+  let mode = null, modes = [], hello = null, seq = 0, blend = false, moving = false, degrade = true;
   // The look: a transfer-function preset, its opacity scale as a power of
   // two, and the twist as the fibres' lean at the yarn's surface (twist
   // times yarn radius: the tangent of the helix angle there). null: the server's.
@@ -23,9 +27,10 @@
   const notice = document.getElementById('notice');
   // What tests (tests/browser) and the benchmark read.
   const view = window.yvView = { frames: 0, stats: null, shownSeq: -1, latencyMs: null, notices: [],
-                                 voxelize: [], autoVoxelize: true, stopToDetailMs: null, stopToFinalMs: null };
+                                 voxelize: [], autoVoxelize: true, stopToDetailMs: null, stopToFinalMs: null,
+                                 movingFrames: 0 };
   const stopMs = 250; // no camera input for this long: the camera has stopped
-  let stopTimer = null, askedAt = null, lastDetailId = 0;
+  let stopTimer = null, twistTimer = null, askedAt = null, lastDetailId = 0;
 
   const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
   const round = (v) => Math.round(v * 1000) / 1000;
@@ -42,6 +47,7 @@
     cam.py = clamp(cam.py, -50, 50);
     cam.az = ((cam.az % 360) + 360) % 360;
     blend = h.get('blend') === '1';
+    degrade = h.get('deg') !== '0';
     if (h.has('tf')) look.tf = h.get('tf');
     const op = Number(h.get('op')), tw = Number(h.get('tw'));
     if (h.has('op') && Number.isFinite(op)) look.op = clamp(op, -6, 6);
@@ -54,6 +60,7 @@
     for (const k of Object.keys(defaults)) h.set(k, String(round(cam[k])));
     if (mode) h.set('mode', mode);
     if (blend) h.set('blend', '1');
+    if (!degrade) h.set('deg', '0');
     if (look.tf) h.set('tf', look.tf);
     if (look.op !== 0) h.set('op', String(look.op));
     if (look.tw !== null) h.set('tw', String(round(look.tw)));
@@ -70,9 +77,18 @@
     cam.d = clamp(cam.d, 0.05, 100);
     cam.px = clamp(cam.px, -50, 50);
     cam.py = clamp(cam.py, -50, 50);
+    moving = true;
     if (!dirty) { dirty = true; requestAnimationFrame(flush); }
     clearTimeout(stopTimer);
-    if (view.autoVoxelize) stopTimer = setTimeout(voxelizeView, stopMs);
+    stopTimer = setTimeout(cameraStopped, stopMs);
+  }
+
+  // The camera once more, not moving (the picture at full quality), then
+  // what it sees voxelized where that is on.
+  function cameraStopped() {
+    moving = false;
+    flush();
+    if (view.autoVoxelize) voxelizeView();
   }
 
   // Only a garment's view can voxelize (the hello gives its voxel size).
@@ -90,7 +106,7 @@
     if (sentAt.size > 256) sentAt.delete(sentAt.keys().next().value);
     view.seq = seq;
     send({ type: 'camera', azimuth: round(cam.az), elevation: round(cam.el), distance: round(cam.d),
-           panX: round(cam.px), panY: round(cam.py), seq });
+           panX: round(cam.px), panY: round(cam.py), seq, moving });
     writeHash();
   }
 
@@ -148,7 +164,7 @@
     if (look.tw !== null) look.tw = clamp(Math.round(look.tw * 100) / 100, -1, 1);
     sendLook();
     // A twist changes what voxelizing the view would give: ask again once it has settled.
-    if ('tw' in change && view.autoVoxelize) { clearTimeout(stopTimer); stopTimer = setTimeout(voxelizeView, stopMs); }
+    if ('tw' in change && view.autoVoxelize) { clearTimeout(twistTimer); twistTimer = setTimeout(voxelizeView, stopMs); }
   }
 
   function showNotice(text) {
@@ -171,7 +187,10 @@
         ? s.detail.activeVoxels.toLocaleString('en') + ' active voxels of the view, voxel ' + s.detail.voxelSize +
           ' (voxelized in ' + s.detail.seconds.toFixed(2) + ' s)'
         : s.activeVoxels.toLocaleString('en') + ' active voxels') + '   level ' + s.level +
-      (s.slices ? '   ' + s.slices.toLocaleString('en') + ' slices' : '') + '   ' +
+      (s.slices ? '   ' + s.slices.toLocaleString('en') + ' slices' : '') +
+      (s.sliceLod !== null && s.sliceLod !== undefined
+        ? ' (level of detail ' + s.sliceLod + ' px' + (s.degraded ? ', coarser while moving' : '') + ')' : '') +
+      (s.degrade ? '' : '   full quality while moving (g)') + '   ' +
       (s.bytes / 1024).toFixed(1) + ' KiB a frame   GPU: ' + (s.gpuBytes / 1048576).toFixed(0) + ' MiB of bricks' +
       (s.gpuFreeBytes >= 0 ? ', ' + (s.gpuFreeBytes / 1073741824).toFixed(1) + ' GiB free' : '') +
       (hello ? '\n' + hello.renderer : '') + (hello && hello.voxelSize ? '   voxel ' + hello.voxelSize.toPrecision(3) : '') +
@@ -208,6 +227,7 @@
       sendSize();
       send({ type: 'mode', mode });
       if (hello.sideBySide) send({ type: 'layout', blend });
+      if (!degrade) send({ type: 'quality', degrade });
       sendLook();
       flush();
     } else if (m.type === 'stats') {
@@ -261,6 +281,7 @@
         const t = sentAt.get(s.seq);
         if (t !== undefined) { view.latencyMs = performance.now() - t; sentAt.delete(s.seq); }
         view.stats = s;
+        if (s.moving) view.movingFrames += 1;
         view.shownSeq = s.seq;
         view.shownMode = s.mode;
         // The first picture of the view's run (a coarse pass where it comes in two), and its final one.
@@ -287,6 +308,7 @@
 
   // True once the picture shown is of the latest camera, mode and size asked for (tests wait on it).
   view.settled = () => view.stats !== null && view.shownSeq === seq && view.shownMode === mode &&
+    !moving && view.stats.degrade === degrade &&
     (!hello || !hello.sideBySide || view.stats.blend === blend) &&
     (!hello || (view.stats.transfer === look.tf && Math.abs(view.stats.opacity - Math.pow(2, look.op)) < 1e-9 &&
                 (!twistable() || look.tw === null || Math.abs(view.stats.twist - twistOf(look.tw)) < 1e-9))) &&
@@ -349,6 +371,12 @@
     if (e.key === 's') send({ type: 'save-view', workDir: false });
     if (e.key === 'p') takeScreenshot();
     if (e.key === 'b' && hello && hello.sideBySide) { blend = !blend; send({ type: 'layout', blend }); writeHash(); }
+    if (e.key === 'g') {
+      degrade = !degrade;
+      send({ type: 'quality', degrade });
+      writeHash();
+      showNotice(degrade ? 'while moving: fewer slices where a frame would be late' : 'while moving: every frame at full quality');
+    }
     if (e.key === 'W') send({ type: 'save-view', workDir: true });
     if (e.key === 't' && hello) {
       const p = hello.transferPresets;

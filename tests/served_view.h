@@ -134,9 +134,9 @@ struct Page {
     void sendCamera(double azimuth, std::uint64_t seq) {
         sendCamera(azimuth, 20, 3, seq);
     }
-    void sendCamera(double azimuth, double elevation, double distance, std::uint64_t seq) {
+    void sendCamera(double azimuth, double elevation, double distance, std::uint64_t seq, bool moving = false) {
         send(Json{{"type", "camera"}, {"azimuth", azimuth}, {"elevation", elevation}, {"distance", distance},
-                  {"panX", 0}, {"panY", 0}, {"seq", seq}}.dump());
+                  {"panX", 0}, {"panY", 0}, {"seq", seq}, {"moving", moving}}.dump());
     }
     /// The next frame: its stats and its picture (notices on the way are kept).
     std::pair<Json, yv::RgbImage> readFrame() {

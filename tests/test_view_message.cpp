@@ -96,7 +96,8 @@ TEST_CASE("View messages: malformed or hostile messages are refused with what is
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"voxelize-view","box":[0,0,0]})"), Contains("no field 'box'"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"save-view","workDir":"yes"})"), Contains("'workDir' must be true or false"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"save-view","path":"/etc/passwd"})"), Contains("no field 'path'"));
-    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"layout","blend":"yes"})"), Contains("'blend', true or false"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"layout","blend":"yes"})"), Contains("'blend' must be true or false"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"layout"})"), Contains("needs 'blend', true or false"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"screenshot","width":8192,"height":4096})"),
                       Contains("screenshot") && Contains("'width'") && Contains("[16, 4096]"));
     // Deep nesting within the size cap is refused as not an object, not a crash.
@@ -136,4 +137,26 @@ TEST_CASE("View messages: transfer and twist are read within their limits and fo
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"twist","twist":1e5})"), Contains("'twist'") && Contains("[-10000, 10000]"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"twist","twist":"3"})"), Contains("must be a number"));
     CHECK_THROWS_WITH(parseViewMessage(R"({"type":"twist"})"), Contains("needs the field 'twist'"));
+}
+
+TEST_CASE("View messages: a camera says whether it is moving, and quality whether moving frames may degrade",
+          "[view][message]") {
+    using Catch::Contains;
+    CHECK_FALSE(std::get<yv::CameraMessage>(parseViewMessage(camera("0"))).moving);
+    CHECK(std::get<yv::CameraMessage>(parseViewMessage(camera("0", R"(,"moving":true)"))).moving);
+    CHECK_FALSE(std::get<yv::CameraMessage>(parseViewMessage(camera("0", R"(,"moving":false)"))).moving);
+    const yv::ViewMessage quality = parseViewMessage(R"({"type":"quality","degrade":false})");
+    REQUIRE(std::get_if<yv::QualityMessage>(&quality));
+    CHECK_FALSE(std::get<yv::QualityMessage>(quality).degrade);
+    CHECK(std::get<yv::QualityMessage>(parseViewMessage(R"({"type":"quality","degrade":true})")).degrade);
+    for (const yv::ViewMessage& m : {parseViewMessage(camera("5", R"(,"moving":true)")), quality}) {
+        const std::string text = yv::formatViewMessage(m);
+        CHECK(yv::formatViewMessage(parseViewMessage(text)) == text);
+    }
+    CHECK(std::get<yv::CameraMessage>(parseViewMessage(yv::formatViewMessage(parseViewMessage(camera("5", R"(,"moving":true)")))))
+              .moving);
+    CHECK_THROWS_WITH(parseViewMessage(camera("0", R"(,"moving":1)")), Contains("'moving' must be true or false"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"quality"})"), Contains("needs 'degrade', true or false"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"quality","degrade":"no"})"), Contains("'degrade' must be true or false"));
+    CHECK_THROWS_WITH(parseViewMessage(R"({"type":"quality","degrade":false,"fps":5})"), Contains("no field 'fps'"));
 }

@@ -71,6 +71,8 @@ class Renderer {
     virtual void setTransferFunction(const TransferFunction&) {}
     /// The yarn twist the next frames shade with, radians per voxel of yarn (slices).
     virtual void setTwist(double) {}
+    /// The level of detail of the next frames, in pixels (slices: SliceSettings::lodPixels).
+    virtual void setSliceLod(double) {}
 };
 
 /// Draws `repeat` frames (at least one, the same picture each time) from

@@ -95,6 +95,11 @@ SliceRenderer::SliceRenderer(const SliceInstances& slices, const SliceSettings& 
     checkGlError("uploading the slices");
 }
 
+void SliceRenderer::setSliceLod(double pixels) {
+    YV_CHECK(pixels >= 0.0);
+    settings_.lodPixels = pixels;
+}
+
 void SliceRenderer::prepare(const Camera& camera) {
     const std::uint64_t n = slices_.count();
     if (settings_.sortOnHost) {

@@ -65,6 +65,8 @@ class SliceRenderer : public Renderer {
     }
     /// Shade with this twist rather than the slices' own (the live view's control).
     void setTwist(double radiansPerVoxel) override { twist_ = float(radiansPerVoxel); }
+    /// Draw the next frames at this level of detail (the GPU's order only; 0 or more).
+    void setSliceLod(double pixels) override;
 
     /// The slice indices the last prepare() put in the draw's order (read back; for tests).
     std::vector<std::uint32_t> drawOrder();

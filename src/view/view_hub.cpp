@@ -49,6 +49,7 @@ void ViewHub::apply(Client& client, const ViewMessage& message) {
     ViewState next = client.wanted;
     if (const auto* c = std::get_if<CameraMessage>(&message)) {
         next.camera = c->camera;
+        next.moving = c->moving;
     } else if (const auto* m = std::get_if<ModeMessage>(&message)) {
         if (std::find(controls_.modes.begin(), controls_.modes.end(), m->mode) == controls_.modes.end())
             throw Error("no mode '" + m->mode + "' in this view");
@@ -68,6 +69,8 @@ void ViewHub::apply(Client& client, const ViewMessage& message) {
         next.height = s->height;
     } else if (const auto* layout = std::get_if<LayoutMessage>(&message)) {
         next.blend = layout->blend;
+    } else if (const auto* quality = std::get_if<QualityMessage>(&message)) {
+        next.degrade = quality->degrade;
     } else if (const auto* save = std::get_if<SaveViewMessage>(&message)) {
         client.saveAsked = save->workDir;
     } else if (const auto* shot = std::get_if<ScreenshotMessage>(&message)) {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
+#include <optional>
 
 namespace yv {
 namespace {
@@ -50,9 +51,20 @@ double integer(const Json& object, const char* field, double lo, double hi, cons
     return v;
 }
 
+/// A true-or-false field; `fallback` where it may be left out (else it must be there).
+bool boolean(const Json& object, const char* field, const std::string& type, std::optional<bool> fallback = std::nullopt) {
+    const auto it = object.find(field);
+    if (it == object.end()) {
+        if (fallback) return *fallback;
+        throw Error("a '" + type + "' message needs '" + field + "', true or false");
+    }
+    if (!it->is_boolean()) throw Error("a '" + type + "' message's '" + field + "' must be true or false");
+    return it->get<bool>();
+}
+
 CameraMessage parseCamera(const Json& m) {
     const std::string type = "camera";
-    requireOnlyFields(m, {"type", "azimuth", "elevation", "distance", "panX", "panY", "seq"}, type);
+    requireOnlyFields(m, {"type", "azimuth", "elevation", "distance", "panX", "panY", "seq", "moving"}, type);
     CameraMessage c;
     // The page keeps the azimuth within a turn or two; a wider range is a runaway client.
     c.camera.azimuth = number(m, "azimuth", -3600.0, 3600.0, type);
@@ -61,6 +73,7 @@ CameraMessage parseCamera(const Json& m) {
     c.camera.panX = number(m, "panX", -100.0, 100.0, type);
     c.camera.panY = number(m, "panY", -100.0, 100.0, type);
     c.camera.seq = std::uint64_t(integer(m, "seq", 0.0, kMaxExactInteger, type));
+    c.moving = boolean(m, "moving", type, false);
     return c;
 }
 
@@ -131,20 +144,18 @@ ViewMessage parseViewMessage(std::string_view text) {
     }
     if (t == "layout") {
         requireOnlyFields(m, {"type", "blend"}, t);
-        const auto it = m.find("blend");
-        if (it == m.end() || !it->is_boolean()) throw Error("a 'layout' message needs 'blend', true or false");
-        return LayoutMessage{it->get<bool>()};
+        return LayoutMessage{boolean(m, "blend", t)};
+    }
+    if (t == "quality") {
+        requireOnlyFields(m, {"type", "degrade"}, t);
+        return QualityMessage{boolean(m, "degrade", t)};
     }
     if (t == "save-view") {
         requireOnlyFields(m, {"type", "workDir"}, t);
-        SaveViewMessage save;
-        if (const auto it = m.find("workDir"); it != m.end()) {
-            if (!it->is_boolean()) throw Error("a 'save-view' message's 'workDir' must be true or false");
-            save.workDir = it->get<bool>();
-        }
-        return save;
+        return SaveViewMessage{boolean(m, "workDir", t, false)};
     }
-    throw Error("a message of unknown type '" + shownName(t) + "' (known: camera, mode, size, layout, transfer, twist, voxelize-view, save-view, screenshot)");
+    throw Error("a message of unknown type '" + shownName(t) +
+                "' (known: camera, mode, size, layout, quality, transfer, twist, voxelize-view, save-view, screenshot)");
 }
 
 std::string formatViewMessage(const ViewMessage& message) {
@@ -156,13 +167,16 @@ std::string formatViewMessage(const ViewMessage& message) {
              {"distance", c->camera.distance},
              {"panX", c->camera.panX},
              {"panY", c->camera.panY},
-             {"seq", c->camera.seq}};
+             {"seq", c->camera.seq},
+             {"moving", c->moving}};
     } else if (const auto* m = std::get_if<ModeMessage>(&message)) {
         j = {{"type", "mode"}, {"mode", m->mode}};
     } else if (const auto* s = std::get_if<SizeMessage>(&message)) {
         j = {{"type", "size"}, {"width", s->width}, {"height", s->height}};
     } else if (const auto* layout = std::get_if<LayoutMessage>(&message)) {
         j = {{"type", "layout"}, {"blend", layout->blend}};
+    } else if (const auto* quality = std::get_if<QualityMessage>(&message)) {
+        j = {{"type", "quality"}, {"degrade", quality->degrade}};
     } else if (const auto* shot = std::get_if<ScreenshotMessage>(&message)) {
         j = {{"type", "screenshot"}, {"width", shot->width}, {"height", shot->height}};
     } else if (const auto* transfer = std::get_if<TransferMessage>(&message)) {

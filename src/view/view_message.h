@@ -31,9 +31,12 @@ struct ViewCamera {
     bool operator==(const ViewCamera&) const = default;
 };
 
-/// {"type":"camera","azimuth":A,"elevation":E,"distance":D,"panX":X,"panY":Y,"seq":N}
+/// {"type":"camera","azimuth":A,"elevation":E,"distance":D,"panX":X,"panY":Y,"seq":N,"moving":true}
+/// ("moving" may be left out: false). The page says moving while input goes
+/// on and sends the camera once more, not moving, when it stops.
 struct CameraMessage {
     ViewCamera camera;
+    bool moving = false;
 };
 /// {"type":"mode","mode":"raycast"}: which render; the scene says whether it has it.
 struct ModeMessage {
@@ -56,6 +59,12 @@ struct SaveViewMessage {
 /// cast blended over the slices (the paper's Figure 3), or (false) beside them.
 struct LayoutMessage {
     bool blend = false;
+};
+/// {"type":"quality","degrade":false}: whether frames drawn while the
+/// camera moves may draw fewer slices when they would be late (true, the
+/// default), or every frame is drawn at full quality (false).
+struct QualityMessage {
+    bool degrade = true;
 };
 /// {"type":"screenshot","width":W,"height":H}: one picture of the page's
 /// view at this size (up to 4096 a side, larger than any window), sent once.
@@ -80,7 +89,7 @@ struct TwistMessage {
 
 using ViewMessage =
     std::variant<CameraMessage, ModeMessage, SizeMessage, VoxelizeViewMessage, SaveViewMessage, ScreenshotMessage,
-                 LayoutMessage, TransferMessage, TwistMessage>;
+                 LayoutMessage, TransferMessage, TwistMessage, QualityMessage>;
 
 /// Parses one text message. Throws yv::Error with one line saying what is
 /// wrong (too long, not JSON, not an object, an unknown type or field, a

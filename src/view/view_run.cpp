@@ -31,7 +31,7 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
         try {
             // The scene and its GL context live and die on this thread.
             ViewScene scene(openViewVolume(request.input, request.voxelize, log), request.device, request.gpuBudgetBytes,
-                            request.sliceLodPixels);
+                            request.slices);
             ViewFrames frames(scene, request.jpegQuality, request.maxSideVoxels, log);
             ViewState initial = request.initial;
             initial.mode = scene.modes().front();

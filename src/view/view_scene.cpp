@@ -52,9 +52,9 @@ struct ViewScene::DetailLayer {
     VolumeLayer layer; ///< last: its renderers go before the atlases they draw
 };
 
-ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, double sliceLodPixels)
+ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewSliceQuality slices)
     : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes),
-      sliceLodPixels_(sliceLodPixels) {
+      sliceQuality_(slices), movingSliceLod_(slices.lodPixels) {
     const GlContext& gl = context_.gl();
     rendererName_ = gl.info().renderer;
     if (const long long free = gl.queryFreeMemoryBytes(); free > 0) budget_ = std::min(budget_, std::uint64_t(free) / 2);
@@ -89,7 +89,7 @@ Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, Vi
     RenderInput input;
     if (request.kind == RenderKind::Slices) {
         request.slices = &*volume_.slices;
-        request.sliceLodPixels = sliceLodPixels_;
+        request.sliceLodPixels = sliceQuality_.lodPixels;
         input.slices = &*volume_.slices;
     } else {
         const bool orientation = request.kind == RenderKind::Orientation;
@@ -128,13 +128,32 @@ const TransferFunction& ViewScene::transferFunction(const ViewState& state) {
     return transfers_[key] = withOpacityScale(loadTransferFunction(state.transfer), state.opacity);
 }
 
+double ViewScene::sliceLodFor(const ViewState& state) const {
+    return state.moving && state.degrade ? std::max(movingSliceLod_, sliceQuality_.lodPixels) : sliceQuality_.lodPixels;
+}
+
+void ViewScene::adaptMovingSliceLod(double seconds) {
+    constexpr double kCoarsest = 64.0; // SliceRenderer's slabs span at most 64 slices
+    const double finest = sliceQuality_.lodPixels;
+    if (seconds > sliceQuality_.movingSeconds) {
+        movingSliceLod_ = std::min(kCoarsest, std::max(1.0, 2.0 * movingSliceLod_));
+    } else if (seconds < sliceQuality_.movingSeconds / 4.0 && movingSliceLod_ > finest) {
+        // Halved back while early; below a pixel, the level asked for.
+        movingSliceLod_ = movingSliceLod_ / 2.0 < std::max(finest, 1.0) ? finest : movingSliceLod_ / 2.0;
+    }
+}
+
 void ViewScene::drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
                          ViewFrame& frame) {
     VolumeLayer& layer = layerFor(mode, state.camera, width, height);
     Renderer& renderer = rendererFor(layer, mode, frame);
-    if (mode == renderKindName(RenderKind::Slices)) {
+    const bool slices = mode == renderKindName(RenderKind::Slices);
+    if (slices) {
         // The twist is in world units; the slices lie in the volume's voxels.
         if (twistable()) renderer.setTwist(state.twist * volume_.grid->voxelSize);
+        frame.sliceLod = sliceLodFor(state);
+        frame.degraded = frame.sliceLod != sliceQuality_.lodPixels;
+        renderer.setSliceLod(frame.sliceLod);
     } else if (auto& look = layer.looks[mode]; look != std::make_pair(state.transfer, state.opacity)) {
         renderer.setTransferFunction(transferFunction(state));
         look = {state.transfer, state.opacity};
@@ -143,6 +162,7 @@ void ViewScene::drawInto(const ViewState& state, const std::string& mode, int wi
     drawFrames(renderer, mapCamera(viewCamera(box_, state.camera, width, height), layer.scale, layer.offset), 1, report);
     frame.drawSeconds += report.frameSeconds + report.sortSeconds;
     frame.slices += report.slices;
+    if (slices && state.moving && state.degrade) adaptMovingSliceLod(report.frameSeconds + report.sortSeconds);
     if (const auto it = layer.atlases.find(mode); it != layer.atlases.end()) {
         frame.level = it->second.level;
         frame.gpuBytes += it->second.gpuBytes;

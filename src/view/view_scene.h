@@ -38,7 +38,25 @@ struct ViewState {
     /// The yarn twist, radians per world unit: the slices' shading and the
     /// view voxelizations (ViewScene::twist() unless the page sets it).
     double twist = 0.0;
+    /// The camera is moving (the page says so while input goes on): a
+    /// frame late for the slices' time draws fewer of them, where `degrade`.
+    bool moving = false;
+    /// Frames drawn while moving may degrade (the page's switch: false draws every frame at full quality).
+    bool degrade = true;
     bool operator==(const ViewState&) const = default;
+};
+
+/// How a garment's slices are drawn in the view.
+struct ViewSliceQuality {
+    /// --slice-lod: the level of detail, in pixels (SliceSettings::lodPixels),
+    /// of every frame once the camera stops.
+    double lodPixels = kDefaultSliceLodPixels;
+    /// --moving-slices-ms: while the camera moves (and the page lets frames
+    /// degrade), the slices' part of a frame may take this long; a frame that
+    /// took longer doubles the level of detail of the next (1, 2, 4, ... 64
+    /// pixels: fewer slabs), one that took under a quarter of it halves it
+    /// back towards lodPixels. Half of a frame at 60 a second by default.
+    double movingSeconds = 0.008;
 };
 
 /// One frame drawn, with what the page's overlay shows about it.
@@ -48,6 +66,10 @@ struct ViewFrame {
     double drawSeconds = 0.0;   ///< the renderers' draw calls to glFinish (the slices' also their sort)
     int level = 0;              ///< the level of detail drawn
     std::uint64_t slices = 0, gpuBytes = 0;
+    /// The slices' level of detail drawn, in pixels (-1: no slices drawn), and
+    /// whether it was coarser than ViewSliceQuality::lodPixels because the camera moved.
+    double sliceLod = -1.0;
+    bool degraded = false;
     std::uint64_t detail = 0;   ///< the view voxelization drawn (its id; 0: the volume opened)
     long long gpuFreeBytes = -1; ///< the GPU's free memory after the frame (-1: the driver does not say)
     /// Where a frame that first draws a volume or mode spent its setup (0 otherwise):
@@ -59,11 +81,9 @@ class ViewScene {
   public:
     /// Takes the opened volume; makes the GL context on `device` on the
     /// calling thread and loads the atlas (the level `gpuBudgetBytes` holds).
-    /// The slices are drawn at the level of detail `sliceLodPixels`
-    /// (SliceSettings::lodPixels). Throws yv::Error (no GL context, a budget
-    /// that holds no level).
-    ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes,
-              double sliceLodPixels = kDefaultSliceLodPixels);
+    /// The slices are drawn as `slices` says. Throws yv::Error (no GL
+    /// context, a budget that holds no level).
+    ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewSliceQuality slices = {});
     ~ViewScene();
 
     /// The modes one key away, in key order ("raycast" first).
@@ -123,13 +143,17 @@ class ViewScene {
     void drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
                   ViewFrame& frame);
     const TransferFunction& transferFunction(const ViewState& state);
+    /// The slices' level of detail for `state`, and (once drawn in `seconds`) the next moving frame's.
+    double sliceLodFor(const ViewState& state) const;
+    void adaptMovingSliceLod(double seconds);
     void takeFinishedDetail(ViewFrame& frame);
 
     ViewVolume volume_;
     VoxelBox box_;
     RenderContext context_;
     std::uint64_t budget_;
-    double sliceLodPixels_;
+    ViewSliceQuality sliceQuality_;
+    double movingSliceLod_; ///< the level of detail moving frames draw at, adapted to their time
     std::map<std::pair<std::string, double>, TransferFunction> transfers_; ///< by (preset, opacity), as made
     std::string rendererName_;
     std::vector<std::string> modes_;

@@ -108,6 +108,17 @@ try {
   check('frames keep arriving while dragging', dragged.frames > first.frames, `${first.frames} then ${dragged.frames}`);
   check('the address follows the camera', dragged.hash !== first.hash && !/az=30&/.test(dragged.hash), dragged.hash);
   check('the picture changes with the camera', difference(before, after) > 2, 'mean difference ' + difference(before, after));
+  const motion = await page.evaluate(() => ({ moving: window.yvView.movingFrames, last: window.yvView.stats }));
+  check('frames drawn while dragging say the camera moves, the one after it stops does not',
+        motion.moving > 0 && motion.last.moving === false && motion.last.degraded === false,
+        JSON.stringify({ moving: motion.moving, last: motion.last.moving, degraded: motion.last.degraded }));
+  await page.keyboard.press('g');
+  await page.waitForFunction(() => window.yvView.stats.degrade === false && window.yvView.settled(), null, { timeout: 180000 });
+  const fullQuality = await page.evaluate(() => location.hash);
+  await page.keyboard.press('g');
+  await page.waitForFunction(() => window.yvView.stats.degrade === true && window.yvView.settled(), null, { timeout: 180000 });
+  check('g turns degrading while moving off and on, and the address keeps it',
+        /deg=0/.test(fullQuality) && !/deg=0/.test(await page.evaluate(() => location.hash)), fullQuality);
 
   // The address reopens the same view: the same picture in a fresh page.
   const link = page.url();

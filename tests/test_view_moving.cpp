@@ -1,0 +1,83 @@
+// Frames while the camera moves (issue: "coarser levels and fewer slices
+// where a frame would be late, full quality as soon as it stops, and a
+// switch that never degrades"), in-process on a garment's view: a moving
+// frame late for the slices' time draws the next at a coarser level of
+// detail (fewer slabs), the camera stopped draws at the level asked for
+// again, and a page that turned degrading off gets full quality throughout.
+#include "served_view.h"
+
+#include <catch2/catch.hpp>
+
+#include <cstdint>
+
+using Json = nlohmann::json;
+using yv::test::Page;
+using yv::test::ServedView;
+
+namespace {
+
+struct Seen {
+    double lod = -1.0;
+    std::uint64_t slices = 0;
+    bool degraded = false;
+};
+
+Seen frameAt(Page& page, double azimuth, bool moving, std::uint64_t& seq) {
+    page.sendCamera(azimuth, 20, 1.2, ++seq, moving);
+    const Json stats = page.frameOf(seq).first;
+    REQUIRE(stats["sliceLod"].is_number());
+    CHECK(stats["moving"] == moving);
+    return {stats["sliceLod"].get<double>(), stats["slices"].get<std::uint64_t>(), stats["degraded"].get<bool>()};
+}
+
+} // namespace
+
+TEST_CASE("View: frames late while the camera moves draw fewer slices, a stopped camera draws them all again, and a page "
+          "may turn degrading off",
+          "[view][gl]") {
+    YV_REQUIRE_GL();
+    // Every moving frame counts as late (its slices may take no time at all):
+    // what follows does not hang on how fast this machine draws.
+    ServedView view(false, [](yv::ViewRequest& r) {
+        r.slices.lodPixels = 1.0;
+        r.slices.movingSeconds = 0.0;
+        r.initial.width = 256;
+        r.initial.height = 128;
+    });
+    Page page(view.port.get_future().get());
+    std::uint64_t seq = 0;
+    const Seen still = frameAt(page, 30, false, seq);
+    CHECK(still.lod == 1.0);
+    CHECK_FALSE(still.degraded);
+    REQUIRE(still.slices > 0);
+
+    // Moving: each late frame doubles the next one's level of detail, up to 64 pixels.
+    Seen moving = frameAt(page, 31, true, seq);
+    CHECK(moving.lod == 1.0); // the first moving frame is drawn as asked; it was late, so...
+    double lod = moving.lod;
+    for (int i = 0; i < 8; ++i) {
+        moving = frameAt(page, 32 + i, true, seq);
+        CHECK(moving.lod == std::min(64.0, 2.0 * lod));
+        CHECK(moving.degraded);
+        lod = moving.lod;
+    }
+    CHECK(lod == 64.0);
+    // ...and draws fewer slices than the camera stopped at the same place.
+    const Seen coarse = frameAt(page, 45, true, seq);
+    const Seen stoppedThere = frameAt(page, 45, false, seq);
+    CHECK(coarse.slices < stoppedThere.slices);
+    CHECK(stoppedThere.lod == 1.0);
+    CHECK_FALSE(stoppedThere.degraded);
+
+    // The switch: moving frames at full quality while degrading is off.
+    page.send(R"({"type":"quality","degrade":false})");
+    for (int i = 0; i < 3; ++i) {
+        const Seen full = frameAt(page, 46 + i, true, seq);
+        CHECK(full.lod == 1.0);
+        CHECK_FALSE(full.degraded);
+    }
+    // On again: the coarse level reached before is where moving frames go on.
+    page.send(R"({"type":"quality","degrade":true})");
+    CHECK(frameAt(page, 50, true, seq).lod == 64.0);
+    CHECK(view.failure == nullptr);
+}
