@@ -39,6 +39,9 @@ struct Options {
     std::string host = "127.0.0.1", mode = "raycast";
     int port = 8080, width = 1280, height = 720, frames = 120, stops = 5;
     int serverPid = 0; ///< the view's process, for its CPU time (0: not measured)
+    /// The phases' cameras say they are moving, as a page's do while input goes on
+    /// (the view may then draw fewer slices where a frame is late); --moving 0: not.
+    bool moving = true;
 };
 
 /// The CPU seconds (user and system, all threads) process `pid` has used,
@@ -103,11 +106,11 @@ class Session {
     }
 
     /// Sends `c` and waits for its frame; returns the stats with latencyMs and arrival added.
-    Json frameOf(const Camera& c) {
+    Json frameOf(const Camera& c, bool moving = false) {
         ++seq_;
         const auto sent = Clock::now();
         send(Json{{"type", "camera"}, {"azimuth", c.azimuth}, {"elevation", c.elevation}, {"distance", c.distance},
-                  {"panX", c.panX}, {"panY", c.panY}, {"seq", seq_}});
+                  {"panX", c.panX}, {"panY", c.panY}, {"seq", seq_}, {"moving", moving}});
         for (;;) {
             const Message m = next();
             if (!m.frame) {
@@ -172,12 +175,12 @@ class Session {
 
 void runPhase(Session& s, const std::string& phase, int frames, const std::function<Camera(double)>& path,
               const Options& o) {
-    std::vector<double> latency, render, encode, bytes, interval;
+    std::vector<double> latency, render, encode, bytes, interval, slices, sliceLod;
     auto last = Clock::now();
     const auto start = last;
     const double cpuBefore = processCpuSeconds(o.serverPid);
     for (int i = 0; i < frames; ++i) {
-        const Json f = s.frameOf(path(frames > 1 ? double(i) / double(frames - 1) : 0.0));
+        const Json f = s.frameOf(path(frames > 1 ? double(i) / double(frames - 1) : 0.0), o.moving);
         const auto now = Clock::now();
         if (i > 0) interval.push_back(std::chrono::duration<double, std::milli>(now - last).count());
         last = now;
@@ -185,6 +188,8 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
         render.push_back(f["renderMs"]);
         encode.push_back(f["encodeMs"]);
         bytes.push_back(f["receivedBytes"]);
+        slices.push_back(f.value("slices", 0.0));
+        if (f["sliceLod"].is_number()) sliceLod.push_back(f["sliceLod"]);
     }
     double meanBytes = 0.0;
     for (double b : bytes) meanBytes += b / double(bytes.size());
@@ -211,6 +216,9 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
                        {"encodeMs", percentiles(encode)},
                        {"bytes", percentiles(bytes)},
                        {"mbitPerSecondAt30", meanBytes * 8.0 * 30.0 / 1e6},
+                       {"moving", o.moving},
+                       {"slices", percentiles(slices)},
+                       {"sliceLod", sliceLod.empty() ? Json() : percentiles(sliceLod)},
                        {"serverCpu", serverCpu}};
     std::printf("%s\n", line.dump().c_str());
     std::fflush(stdout);
@@ -264,7 +272,7 @@ void runStopPhase(Session& s, int stops, const Options& o) {
 }
 
 int usage(const char* why) {
-    std::fprintf(stderr, "yv_view_bench: %s\nusage: yv_view_bench [--host H] [--port P] [--size WxH] [--frames N] [--mode M] [--stops K] [--server-pid PID]\n", why);
+    std::fprintf(stderr, "yv_view_bench: %s\nusage: yv_view_bench [--host H] [--port P] [--size WxH] [--frames N] [--mode M] [--stops K] [--server-pid PID] [--moving 0|1]\n", why);
     return 2;
 }
 
@@ -282,6 +290,7 @@ int main(int argc, char** argv) {
         else if (a == "--mode") o.mode = v;
         else if (a == "--stops") o.stops = std::atoi(v.c_str());
         else if (a == "--server-pid") o.serverPid = std::atoi(v.c_str());
+        else if (a == "--moving") o.moving = v != "0";
         else if (a == "--size") {
             if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2) return usage("--size WIDTHxHEIGHT");
         } else return usage(("an unknown option " + a).c_str());
