@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <set>
 #include <unistd.h>
 
@@ -149,6 +150,109 @@ TEST_CASE("inspect render: the brick atlas holds every brick where its indirecti
         float expectedMax = 0.0f;
         for (const LevelBrick& b : bricks) expectedMax = std::max(expectedMax, *std::max_element(b.density.begin(), b.density.end()));
         CHECK(atlas.densityMax() == expectedMax);
+    }
+}
+
+namespace {
+
+/// An atlas's textures read back: per plan brick, its 512 density halves and colours, in texture order.
+struct AtlasTexels {
+    std::map<std::uint64_t, std::vector<std::uint16_t>> density;
+    std::map<std::uint64_t, std::vector<std::uint8_t>> colour;
+};
+
+AtlasTexels readAtlas(const BrickAtlas& atlas, const LevelPlan& plan, bool orientation) {
+    const glm::ivec3 texels = atlas.slotsPerAxis() * kBrickSize;
+    const std::size_t count = std::size_t(texels.x) * std::size_t(texels.y) * std::size_t(texels.z);
+    std::vector<std::uint16_t> density(count);
+    std::vector<std::uint8_t> colour(4 * count);
+    std::vector<std::uint32_t> slots(std::size_t(plan.brickDims.x) * plan.brickDims.y * plan.brickDims.z);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(atlas.densityTexture(), 0, GL_RED, GL_HALF_FLOAT, GLsizei(density.size() * 2), density.data());
+    if (orientation)
+        glGetTextureImage(atlas.orientationTexture(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(colour.size()), colour.data());
+    glGetTextureImage(atlas.indirectionTexture(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(slots.size() * 4), slots.data());
+    REQUIRE(glGetError() == GL_NO_ERROR);
+    AtlasTexels out;
+    const glm::ivec3 slotsPerAxis = atlas.slotsPerAxis();
+    for (const glm::ivec3& c : plan.bricks) {
+        const std::uint32_t slot = slots[std::size_t(c.x + plan.brickDims.x * (c.y + plan.brickDims.y * c.z))];
+        REQUIRE(slot >= 1);
+        const std::uint32_t s = slot - 1;
+        const glm::ivec3 at = glm::ivec3(int(s % std::uint32_t(slotsPerAxis.x)),
+                                         int(s / std::uint32_t(slotsPerAxis.x) % std::uint32_t(slotsPerAxis.y)),
+                                         int(s / std::uint32_t(slotsPerAxis.x * slotsPerAxis.y))) * kBrickSize;
+        std::vector<std::uint16_t>& d = out.density[brickKey(c)];
+        std::vector<std::uint8_t>& rgba = out.colour[brickKey(c)];
+        for (int v = 0; v < 512; ++v) {
+            const glm::ivec3 p = at + glm::ivec3(v % 8, v / 8 % 8, v / 64);
+            const std::size_t t = std::size_t(p.x) + std::size_t(texels.x) * (std::size_t(p.y) + std::size_t(texels.y) * std::size_t(p.z));
+            d.push_back(density[t]);
+            if (orientation)
+                for (int k = 0; k < 4; ++k) rgba.push_back(colour[4 * t + std::size_t(k)]);
+        }
+    }
+    return out;
+}
+
+} // namespace
+
+TEST_CASE("inspect render: level 0 loaded at once, on the source's threads, gives the atlas brick-by-brick loading gives",
+          "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    GlContext context;
+    // 150 random bricks, some voxels inactive, in an atlas 8 slots a row (a 64-texel side): 19 rows over 3 layers.
+    BrickVolume volume;
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(0.0f, 1.2f);
+    for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 5; ++y)
+            for (int x = 0; x < 10; ++x) {
+                if ((x + 2 * y + 3 * z) % 4 == 3) continue;
+                VoxelBrick b;
+                b.key = brickKey({x + 3, y, z + 1});
+                for (int v = 0; v < 512; ++v) {
+                    if (u(rng) < 0.3f) continue;
+                    b.density[std::size_t(v)] = u(rng);
+                    b.orientation[std::size_t(v)] = glm::normalize(glm::vec3(u(rng) - 0.6f, u(rng) - 0.6f, u(rng) + 0.1f));
+                    b.activeMask[std::size_t(v) / 64] |= std::uint64_t(1) << (v % 64);
+                }
+                volume.bricks.push_back(b);
+            }
+    std::sort(volume.bricks.begin(), volume.bricks.end(), [](const VoxelBrick& a, const VoxelBrick& b) { return a.key < b.key; });
+    const auto source = memorySource(volume);
+    const VoxelBox box = source->bounds();
+    for (bool orientation : {false, true}) {
+        INFO("orientation " << orientation);
+        const LevelPlan plan = planLevel(*source, box, 1ull << 30, atlasBytesPerVoxel(orientation), 64);
+        REQUIRE(plan.level == 0);
+        REQUIRE(plan.bricks.size() == 150);
+        BrickAtlas oneByOne(plan, orientation, 64), atOnce(plan, orientation, 64);
+        REQUIRE(atOnce.slotsPerAxis() == glm::ivec3(8, 8, 3));
+        streamLevelBricks(*source, box, plan, orientation, [&](const LevelBrick& b) { oneByOne.upload(b); });
+        oneByOne.finish();
+        atOnce.uploadLevelZero(*source, box);
+        CHECK(atOnce.bricksUploaded() == 150);
+        CHECK(atOnce.densityMax() == oneByOne.densityMax());
+        const AtlasTexels a = readAtlas(oneByOne, plan, orientation), b = readAtlas(atOnce, plan, orientation);
+        REQUIRE(a.density.size() == 150);
+        std::size_t wrongDensity = 0, colourOff = 0;
+        for (const auto& [key, texels] : a.density) {
+            wrongDensity += texels != b.density.at(key);
+            const std::vector<std::uint8_t>& ca = a.colour.at(key);
+            const std::vector<std::uint8_t>& cb = b.colour.at(key);
+            REQUIRE(ca.size() == cb.size());
+            // |axis| against (density |axis|) / density: a level apart at most where the quotient rounds across.
+            for (std::size_t i = 0; i < ca.size(); ++i) colourOff += std::abs(int(ca[i]) - int(cb[i])) > 1;
+        }
+        CHECK(wrongDensity == 0);
+        CHECK(colourOff == 0);
+        // And the voxels are there: the densities of one brick, as halves.
+        const VoxelBrick& first = volume.bricks.front();
+        const std::vector<std::uint16_t>& texels = b.density.at(brickKey(brickCoord(first.key) - plan.originVoxel / kBrickSize));
+        for (int v = 0; v < 512; ++v)
+            CHECK(texels[std::size_t(v % 8 * 64 + v / 8 % 8 * 8 + v / 64)] ==
+                  imath_float_to_half(first.isActive(v) ? first.density[std::size_t(v)] : 0.0f));
     }
 }
 

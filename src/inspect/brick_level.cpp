@@ -105,6 +105,22 @@ LevelPlan planLevel(const VolumeSource& source, const VoxelBox& clip, std::uint6
                 std::to_string(smallest) + "): raise --gpu-budget");
 }
 
+void forEachLevelZeroBrick(const VolumeSource& source, const VoxelBox& clip, const LevelPlan& plan,
+                           const std::function<void(std::size_t index, const SourceBrick&)>& visit) {
+    YV_CHECK(plan.level == 0);
+    glm::ivec3 lo, hi;
+    clipBricks(clip, lo, hi);
+    const glm::ivec3 origin = plan.originVoxel / kBrickSize;
+    const auto before = [](glm::ivec3 a, glm::ivec3 b) { return relativeKey(a) < relativeKey(b); };
+    source.forEachBrickConcurrently(lo, hi, [&](const SourceBrick& b) {
+        // plan.bricks is sorted by key: a brick's index is found where it lies.
+        const glm::ivec3 c = b.coord - origin;
+        const auto at = std::lower_bound(plan.bricks.begin(), plan.bricks.end(), c, before);
+        YV_CHECK(at != plan.bricks.end() && *at == c);
+        visit(std::size_t(at - plan.bricks.begin()), b);
+    });
+}
+
 void streamLevelBricks(const VolumeSource& source, const VoxelBox& clip, const LevelPlan& plan, bool withOrientation,
                        const std::function<void(const LevelBrick&)>& visit) {
     glm::ivec3 lo, hi;

@@ -49,6 +49,12 @@ struct LevelBrick {
     std::array<glm::vec3, 512> axisColour{}; ///< |axis|, density-weighted mean over the level voxel's cube
 };
 
+/// The bricks of a level-0 plan (`plan.level` 0, stored or not) inside
+/// `clip`, each with its index in `plan.bricks`, on the source's threads:
+/// `visit` is called concurrently, one call per brick.
+void forEachLevelZeroBrick(const VolumeSource& source, const VoxelBox& clip, const LevelPlan& plan,
+                           const std::function<void(std::size_t index, const SourceBrick&)>& visit);
+
 /// Streams the plan's bricks to `visit`, in any order: each brick of a
 /// stored level as it is read (the colour of a stored coarse level is its
 /// principal axis, |axis|), or, at a level reduced from level 0, each level

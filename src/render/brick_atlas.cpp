@@ -1,18 +1,30 @@
 #include "render/brick_atlas.h"
 
+#include "core/default_init_allocator.h"
 #include "core/error.h"
+#include "core/huge_pages.h"
 #include "core/trace.h"
 #include "gpu/gl_program.h"
 
 #include <Imath/half.h>
+#include <tbb/combinable.h>
 #include <glm/common.hpp>
 #include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 namespace yv {
+
+namespace {
+
+/// A level's texels on the host, filled by several threads at once.
+template <typename T>
+using Staging = std::vector<T, DefaultInitAllocator<T, HugePageAllocator<T>>>;
+
+} // namespace
 
 int atlasBytesPerVoxel(bool withOrientation) { return withOrientation ? 6 : 2; }
 
@@ -86,28 +98,85 @@ void BrickAtlas::upload(const LevelBrick& brick) {
 void BrickAtlas::uploadRow() {
     const std::uint64_t filled = used_ - rowStart_;
     if (filled == 0) return;
+    uploadRowTexels(rowStart_ / std::uint64_t(slots_.x), filled, rowDensity_.data(),
+                    withOrientation_ ? rowOrientation_.data() : nullptr);
+    rowStart_ = used_;
+}
+
+void BrickAtlas::uploadRowTexels(std::uint64_t row, std::uint64_t filled, const std::uint16_t* density,
+                                 const std::uint8_t* colour) {
     const TraceSpan span("upload a row of bricks");
-    const std::uint64_t row = rowStart_ / std::uint64_t(slots_.x);
     const int y = int(row % std::uint64_t(slots_.y)) * kBrickSize, z = int(row / std::uint64_t(slots_.y)) * kBrickSize;
     const GLsizei width = GLsizei(filled) * kBrickSize;
     // A last row partly filled: the block's rows keep their full length.
     glPixelStorei(GL_UNPACK_ROW_LENGTH, slots_.x * kBrickSize);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
-    glTextureSubImage3D(density_.id(), 0, 0, y, z, width, kBrickSize, kBrickSize, GL_RED, GL_HALF_FLOAT, rowDensity_.data());
-    if (withOrientation_) {
+    glTextureSubImage3D(density_.id(), 0, 0, y, z, width, kBrickSize, kBrickSize, GL_RED, GL_HALF_FLOAT, density);
+    if (colour) {
         glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
         glTextureSubImage3D(orientation_.id(), 0, 0, y, z, width, kBrickSize, kBrickSize, GL_RGBA, GL_UNSIGNED_BYTE,
-                            rowOrientation_.data());
+                            colour);
     }
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    rowStart_ = used_;
+}
+
+void BrickAtlas::uploadLevelZero(const VolumeSource& source, const VoxelBox& clip) {
+    YV_CHECK(plan_.level == 0 && used_ == 0);
+    const std::uint64_t n = plan_.bricks.size(), perRow = std::uint64_t(slots_.x);
+    const std::uint64_t rows = (n + perRow - 1) / perRow;
+    const std::size_t rowTexels = std::size_t(perRow) * kBrickSize, rowBlock = rowTexels * 64;
+    // Every row's texels, as upload() lays one out, rows one after another;
+    // pages left untouched until the threads that fill them fault them in.
+    Staging<std::uint16_t> density;
+    Staging<std::uint8_t> colour;
+    {
+        const TraceSpan span("convert the level's bricks");
+        density.resize(std::size_t(rows) * rowBlock);
+        if (withOrientation_) colour.resize(4 * std::size_t(rows) * rowBlock);
+        const glm::ivec3 d = plan_.brickDims;
+        tbb::combinable<float> maxima([] { return 0.0f; });
+        forEachLevelZeroBrick(source, clip, plan_, [&](std::size_t s, const SourceBrick& b) {
+            const glm::ivec3 c = plan_.bricks[s];
+            slotOf_[std::size_t(c.x) + std::size_t(d.x) * (std::size_t(c.y) + std::size_t(d.y) * std::size_t(c.z))] =
+                std::uint32_t(s + 1);
+            const std::size_t base = std::size_t(s / perRow) * rowBlock + std::size_t(s % perRow) * kBrickSize;
+            float& most = maxima.local();
+            for (int z = 0; z < kBrickSize; ++z)
+                for (int y = 0; y < kBrickSize; ++y)
+                    for (int x = 0; x < kBrickSize; ++x) {
+                        const int from = brickOffset(x, y, z);
+                        const std::size_t t = base + std::size_t(x) + rowTexels * std::size_t(y + kBrickSize * z);
+                        density[t] = imath_float_to_half(b.density[from]);
+                        most = std::max(most, b.density[from]);
+                        if (withOrientation_) {
+                            const glm::vec3 a = b.orientation && b.density[from] != 0.0f
+                                                    ? glm::clamp(glm::abs(b.orientation[from]), 0.0f, 1.0f)
+                                                    : glm::vec3(0.0f);
+                            colour[4 * t + 0] = std::uint8_t(std::lround(255.0f * a.x));
+                            colour[4 * t + 1] = std::uint8_t(std::lround(255.0f * a.y));
+                            colour[4 * t + 2] = std::uint8_t(std::lround(255.0f * a.z));
+                            colour[4 * t + 3] = 255;
+                        }
+                    }
+        });
+        densityMax_ = maxima.combine([](float a, float b) { return std::max(a, b); });
+    }
+    used_ = rowStart_ = n;
+    for (std::uint64_t r = 0; r < rows; ++r)
+        uploadRowTexels(r, std::min(perRow, n - r * perRow), density.data() + r * rowBlock,
+                        withOrientation_ ? colour.data() + 4 * r * rowBlock : nullptr);
+    uploadIndirection();
 }
 
 void BrickAtlas::finish() {
     uploadRow();
     std::vector<std::uint16_t>().swap(rowDensity_);
     std::vector<std::uint8_t>().swap(rowOrientation_);
+    uploadIndirection();
+}
+
+void BrickAtlas::uploadIndirection() {
     const glm::ivec3 d = plan_.brickDims;
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage3D(indirection_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED_INTEGER, GL_UNSIGNED_INT, slotOf_.data());

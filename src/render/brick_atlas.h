@@ -30,6 +30,11 @@ class BrickAtlas {
     void upload(const LevelBrick& brick);
     /// Uploads the last row of slots and the indirection texture; call once every brick is in.
     void finish();
+    /// Every brick of a level-0 plan at once, in place of upload() and
+    /// finish(): read from `source` inside `clip` on the source's threads,
+    /// made halves and colours there (slot i holds plan.bricks[i]), then
+    /// uploaded a row of slots a call. The same texels as upload() makes.
+    void uploadLevelZero(const VolumeSource& source, const VoxelBox& clip);
 
     const LevelPlan& plan() const { return plan_; }
     glm::ivec3 slotsPerAxis() const { return slots_; }
@@ -50,6 +55,9 @@ class BrickAtlas {
     std::uint64_t used_ = 0;
     float densityMax_ = 0.0f;
     void uploadRow();
+    void uploadIndirection();
+    /// Row `row` of slots from texels laid out as upload() lays a row out.
+    void uploadRowTexels(std::uint64_t row, std::uint64_t filled, const std::uint16_t* density, const std::uint8_t* colour);
 
     std::vector<std::uint32_t> slotOf_; ///< the indirection grid on the host, uploaded by finish()
     /// The row of slots being filled, as the texels it covers (slots_.x * 8 x 8 x 8):

@@ -36,11 +36,14 @@ AtlasLoad BrickCache::load(const GlContext& gl, const VolumeSource& source, cons
     e.atlas = std::make_unique<BrickAtlas>(plan, withOrientation, gl.info().max3dTextureSize);
     {
         const TraceSpan streaming("read and upload the level's bricks");
-        streamLevelBricks(source, box, plan, withOrientation, [&](const LevelBrick& b) { e.atlas->upload(b); });
-    }
-    {
-        const TraceSpan finishing("finish the atlas");
-        e.atlas->finish();
+        // Level 0 in parallel, straight from the source's bricks; a coarser level as its bricks are summed.
+        if (plan.level == 0) {
+            e.atlas->uploadLevelZero(source, box);
+        } else {
+            streamLevelBricks(source, box, plan, withOrientation, [&](const LevelBrick& b) { e.atlas->upload(b); });
+            const TraceSpan finishing("finish the atlas");
+            e.atlas->finish();
+        }
     }
     e.load = AtlasLoad{e.atlas.get(), plan.level, plan.stored && plan.level > 0, plan.fineBricks, plan.bricks.size(),
                        plan.gpuBytes, false};
