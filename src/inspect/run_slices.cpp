@@ -101,6 +101,7 @@ RunSlices loadRunSlices(const std::string& input, const RunSlicesOptions& option
         out.notes.push_back("slice placement not recorded (older run or foreign file): one slice per " +
                             std::string(supersample > 1 ? "supersampled " : "") + "voxel assumed");
     if (opt.slicesPerSegment <= 0 && opt.spacing <= 0.0) opt.spacing = defaultSliceSpacing(out.grid.voxelSize, std::max(1, supersample));
+    out.recorded = rec;
     try {
         out.plan = planSlices(garment, opt);
     } catch (const Error& e) {

@@ -7,6 +7,7 @@
 #include "garment/slices.h"
 #include "plan/grid.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct RunSlices {
     VoxelGrid grid;                 ///< the volume's grid (origin and voxel size)
     std::string garmentPath;
     std::vector<std::string> notes; ///< what was assumed, one line each
+    /// What the run recorded, as text: core/run_metadata.h's fields (and a
+    /// .vdb's other file metadata, such as "reduce").
+    std::map<std::string, std::string> recorded;
 };
 
 /// The slices of the run that made `input` (a work directory or a .vdb).

@@ -40,9 +40,8 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
             // Voxelize what the camera sees, where the garment is known; after
             // the scene, so its runs stop before the scratch directory goes.
             std::optional<ViewVoxelizer> voxelizer;
-            if (scene.volume().garment && scene.volume().grid) {
-                VoxelizeJob base = request.voxelize;
-                base.input = request.input;
+            if (scene.volume().voxelizeJob && scene.volume().grid) {
+                VoxelizeJob base = *scene.volume().voxelizeJob;
                 ViewVoxelizer::Listener listener{[&] { hub->redrawAll(); },
                                                  [&](const std::string& text) { hub->broadcast(Outgoing{text, nullptr}); }};
                 voxelizer.emplace(std::move(base), scene.volume().scratch, request.saveDir, std::move(listener));

@@ -230,7 +230,7 @@ ViewFrame ViewScene::render(const ViewState& state) {
 std::string ViewScene::voxelizeInView(const ViewState& state, int maxSideVoxels) {
     if (!voxelizer_ || !volume_.grid)
         throw Error("voxelizing what the camera sees needs the garment: view the .bcc (yarnvox view GARMENT.bcc "
-                    "[voxelize options]) rather than a volume made from it");
+                    "[voxelize options]), or a .vdb or work directory whose run's garment is still where it names");
     const int width = volumeWidth(*this, state);
     std::string why;
     std::optional<ViewVoxelization> plan =

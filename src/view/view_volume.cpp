@@ -1,6 +1,7 @@
 #include "view/view_volume.h"
 
 #include "core/error.h"
+#include "inspect/slice_instances.h"
 #include "inspect/run_slices.h"
 #include "pipeline/voxelize_run.h"
 
@@ -8,6 +9,7 @@
 #include <bit>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <system_error>
 
 namespace yv {
@@ -47,25 +49,43 @@ std::uint64_t countActiveVoxels(const VolumeSource& source) {
     return total.load();
 }
 
-/// The garment's slices of the run that made `volumePath`, in its voxel coordinates.
-std::optional<SliceInstances> runSlicesOf(const std::string& volumePath, const std::string& garment, const Tell& note) {
+/// The run that made `volumePath`: its garment's slices, grid and record.
+/// None, with a note, where its garment cannot be found (`garment` given: an error).
+std::optional<RunSlices> runOf(const std::string& volumePath, const std::string& garment, const Tell& note) {
     try {
         RunSlicesOptions options;
         options.garment = garment;
-        const RunSlices run = loadRunSlices(volumePath, options);
-        return sliceInstances(run.plan, run.grid);
+        return loadRunSlices(volumePath, options);
     } catch (const Error& e) {
         if (!garment.empty()) throw;
-        note(std::string("no slices mode: ") + e.what());
+        note(std::string("no slices mode and no voxelizing what the camera sees: ") + e.what());
         return std::nullopt;
     }
+}
+
+std::string recordedText(const RunSlices& run, const std::string& key) {
+    const auto it = run.recorded.find(key);
+    return it == run.recorded.end() ? std::string() : it->second;
+}
+
+double recordedNumber(const RunSlices& run, const std::string& key, double fallback, const std::string& where) {
+    const std::string text = recordedText(run, key);
+    if (text.empty()) return fallback;
+    try {
+        std::size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size()) return v;
+    } catch (const std::exception&) {
+    }
+    throw Error(where + ": the recorded " + key + " '" + text + "' is not a number");
 }
 
 } // namespace
 
 ViewVolume::ViewVolume(ViewVolume&& other) noexcept
     : source(std::move(other.source)), slices(std::move(other.slices)), garment(other.garment),
-      activeVoxels(other.activeVoxels), grid(other.grid), twist(other.twist), name(std::move(other.name)), scratch(std::move(other.scratch)) {
+      activeVoxels(other.activeVoxels), grid(other.grid), twist(other.twist), voxelizeJob(std::move(other.voxelizeJob)),
+      name(std::move(other.name)), scratch(std::move(other.scratch)) {
     other.scratch.clear();
 }
 
@@ -97,14 +117,59 @@ ViewVolume openViewVolume(const std::string& path, const VoxelizeJob& job, const
         v.activeVoxels = report.activeVoxels;
         v.grid = VoxelGrid{report.origin, report.voxelSize, report.dims};
         v.twist = job.twist;
-        v.slices = runSlicesOf(run.output, path, note);
+        v.voxelizeJob = run;
+        v.voxelizeJob->input = path;
+        v.voxelizeJob->output.clear();
+        if (const std::optional<RunSlices> slices = runOf(run.output, path, note))
+            v.slices = sliceInstances(slices->plan, slices->grid);
     } else {
         v.source = openVolumeSource(path);
         if (v.source->occupiedBricks().empty()) throw Error(path + ": nothing to view: the volume has no active voxels");
         v.activeVoxels = countActiveVoxels(*v.source);
-        v.slices = runSlicesOf(path, "", note);
+        if (const std::optional<RunSlices> run = runOf(path, "", note)) {
+            v.slices = sliceInstances(run->plan, run->grid);
+            // Where its garment is found, the view voxelizes as its run did, on the run's grid.
+            VoxelGrid grid = run->grid;
+            const VoxelBox bounds = v.source->bounds();
+            const int resolution = int(recordedNumber(*run, "resolution", 0.0, path));
+            grid.dims = glm::max(glm::max(bounds.max, glm::ivec3(resolution > 0 ? resolution : 1)), glm::ivec3(1));
+            v.grid = grid;
+            v.voxelizeJob = recordedVoxelizeJob(*run, job, path);
+            v.twist = v.voxelizeJob->twist;
+            v.scratch = makeScratch();
+        }
     }
     return v;
+}
+
+VoxelizeJob recordedVoxelizeJob(const RunSlices& run, const VoxelizeJob& view, const std::string& volumePath) {
+    VoxelizeJob job;
+    // The machine's side of the view's options.
+    job.backend = view.backend;
+    job.device = view.device;
+    job.fragmentCapacity = view.fragmentCapacity;
+    job.precision = view.precision;
+    job.compression = view.compression;
+    job.quiet = true;
+    // The garment's side, as the run recorded it.
+    job.input = run.garmentPath;
+    const std::string crossSection = recordedText(run, "cross_section");
+    if (!crossSection.empty()) job.crossSection = crossSection;
+    job.yarnRadius = recordedNumber(run, "yarn_radius", 0.0, volumePath);
+    job.twist = recordedNumber(run, "twist", 0.0, volumePath);
+    job.supersample = std::max(1, int(recordedNumber(run, "supersample", 1.0, volumePath)));
+    job.slicesPerSegment = int(recordedNumber(run, "slices_per_segment", 0.0, volumePath));
+    job.spacing = recordedNumber(run, "slice_spacing_option", 0.0, volumePath);
+    const std::string overlap = recordedText(run, "overlap"), reduce = recordedText(run, "reduce");
+    if (!overlap.empty() && overlap != "clamp" && overlap != "sum")
+        throw Error(volumePath + ": the recorded overlap '" + overlap + "' is neither clamp nor sum");
+    if (!reduce.empty() && reduce != "mean" && reduce != "max")
+        throw Error(volumePath + ": the recorded reduce '" + reduce + "' is neither mean nor max");
+    job.overlap = overlap == "sum" ? Overlap::Sum : Overlap::Clamp;
+    job.reduce = reduce == "max" ? Reduce::Max : Reduce::Mean;
+    const std::string albedo = recordedText(run, "albedo");
+    job.albedo = albedo == "1" || albedo == "true";
+    return job;
 }
 
 } // namespace yv

@@ -4,6 +4,7 @@
 // slices in the volume's voxel coordinates. Nothing here is reloaded per frame.
 #pragma once
 
+#include "inspect/run_slices.h"
 #include "inspect/slice_instances.h"
 #include "inspect/volume_source.h"
 #include "core/voxel_grid.h"
@@ -29,6 +30,11 @@ struct ViewVolume {
     /// The yarn twist the garment was sliced and voxelized with, radians per
     /// world unit (a garment given; 0 otherwise).
     double twist = 0.0;
+    /// How what the camera sees is voxelized (its input the garment): a
+    /// garment given, with the view's options; a .vdb or work directory
+    /// whose run's garment is found, with the options that run recorded.
+    /// None: the view cannot voxelize.
+    std::optional<VoxelizeJob> voxelizeJob;
     std::string name; ///< the input's file name, for the page's title
     std::filesystem::path scratch; ///< where a garment's voxelization lies while the view runs ("" when none)
 
@@ -39,13 +45,22 @@ struct ViewVolume {
     ~ViewVolume(); ///< removes `scratch`
 };
 
-/// Opens `path`: a work directory or a .vdb (its slices too, where the run
-/// that made it names a garment that is still there), or a .bcc garment,
+/// Opens `path`: a work directory or a .vdb (its slices, grid and options
+/// too, where the run that made it names a garment that is still there: the
+/// view then voxelizes what the camera sees as that run would, with the
+/// device, backend and budgets of `job`), or a .bcc garment,
 /// voxelized first as `voxelize` (with `job`'s options, its input and output
 /// set here) would, into a scratch .vdb removed when the view ends. Must run
 /// on the thread that will render (a voxelization makes a GL context of its
 /// own and leaves none current). Notes go to `note`. Throws yv::Error naming
 /// `path` (missing, not a volume, an empty volume, a voxelization refused).
 ViewVolume openViewVolume(const std::string& path, const VoxelizeJob& job, const Tell& note);
+
+/// The job that voxelizes again as the run recorded in `run` did (its
+/// garment, cross-section, yarn radius, twist, supersampling, slice
+/// placement, reduce and overlap, colour), on `view`'s device, backend,
+/// precision and budgets. Throws yv::Error naming `volumePath` for a
+/// recorded value it cannot read.
+VoxelizeJob recordedVoxelizeJob(const RunSlices& run, const VoxelizeJob& view, const std::string& volumePath);
 
 } // namespace yv
