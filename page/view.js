@@ -129,6 +129,8 @@
   const twistOf = (lean) => lean / hello.yarnRadius;
   // The lean shown: the page's, else the garment's own.
   const leanNow = () => (look.tw !== null ? look.tw : hello.twist * hello.yarnRadius);
+  // A garment's slices and voxels may be blended in one picture (not two volumes).
+  const blends = () => hello && hello.sideBySide && !hello.beside;
   const twistable = () => hello && hello.twist !== null && hello.twist !== undefined && hello.yarnRadius > 0;
 
   function sendLook() {
@@ -178,7 +180,8 @@
   function showOverlay(s) {
     const net = view.latencyMs === null ? '' : '   input to picture ' + view.latencyMs.toFixed(1) + ' ms' +
       ' (network and waiting ' + Math.max(0, view.latencyMs - s.renderMs - s.encodeMs).toFixed(1) + ' ms)';
-    const which = hello && hello.sideBySide ? (s.blend ? 'slices and ' + s.mode + ' blended' : 'left: slices, right: ' + s.mode) : s.mode;
+    const which = hello && hello.beside ? 'left: ' + hello.name + ', right: ' + hello.beside + ', ' + s.mode
+      : hello && hello.sideBySide ? (s.blend ? 'slices and ' + s.mode + ' blended' : 'left: slices, right: ' + s.mode) : s.mode;
     overlay.textContent =
       (hello ? hello.name + '   ' : '') + which + '   ' + s.width + 'x' + s.height + '   frame ' + s.frame + '\n' +
       'render ' + s.renderMs.toFixed(1) + ' ms (draw ' + s.drawMs.toFixed(1) + ')   encode ' + s.encodeMs.toFixed(1) +
@@ -226,7 +229,7 @@
       if (!m.transferPresets.includes(look.tf)) look.tf = m.transfer;
       sendSize();
       send({ type: 'mode', mode });
-      if (hello.sideBySide) send({ type: 'layout', blend });
+      if (blends()) send({ type: 'layout', blend });
       if (!degrade) send({ type: 'quality', degrade });
       sendLook();
       flush();
@@ -309,7 +312,7 @@
   // True once the picture shown is of the latest camera, mode and size asked for (tests wait on it).
   view.settled = () => view.stats !== null && view.shownSeq === seq && view.shownMode === mode &&
     !moving && view.stats.degrade === degrade &&
-    (!hello || !hello.sideBySide || view.stats.blend === blend) &&
+    (!blends() || view.stats.blend === blend) &&
     (!hello || (view.stats.transfer === look.tf && Math.abs(view.stats.opacity - Math.pow(2, look.op)) < 1e-9 &&
                 (!twistable() || look.tw === null || Math.abs(view.stats.twist - twistOf(look.tw)) < 1e-9))) &&
     view.size && view.stats.width === view.size[0] && view.stats.height === view.size[1];
@@ -370,7 +373,7 @@
     if (e.key === 'a') { view.autoVoxelize = !view.autoVoxelize; showNotice('voxelize on stop: ' + (view.autoVoxelize ? 'on' : 'off')); }
     if (e.key === 's') send({ type: 'save-view', workDir: false });
     if (e.key === 'p') takeScreenshot();
-    if (e.key === 'b' && hello && hello.sideBySide) { blend = !blend; send({ type: 'layout', blend }); writeHash(); }
+    if (e.key === 'b' && blends()) { blend = !blend; send({ type: 'layout', blend }); writeHash(); }
     if (e.key === 'g') {
       degrade = !degrade;
       send({ type: 'quality', degrade });

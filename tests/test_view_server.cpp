@@ -240,6 +240,10 @@ TEST_CASE("yarnvox view refuses a port in use, a missing file and a bad option i
     const auto size = yv::test::runYarnvox("view " + bcc.string() + " --port 0 --size 8x8");
     CHECK(size.exitCode == 1);
     CHECK(size.output.find("--size '8x8'") != std::string::npos);
+    const auto beside = yv::test::runYarnvox("view " + bcc.string() + " --port 0 --beside " + (scratch.path / "gone.vdb").string());
+    CHECK(beside.exitCode == 1);
+    CHECK(beside.output.find("--beside " + (scratch.path / "gone.vdb").string() + ": no such file or directory") != std::string::npos);
+    CHECK(std::count(beside.output.begin(), beside.output.end(), '\n') == 1);
     const auto bind = yv::test::runYarnvox("view " + bcc.string() + " --bind localhost-ish --port 0");
     CHECK(bind.exitCode == 1);
     CHECK(bind.output.find("--bind 'localhost-ish': not an IP address") != std::string::npos);

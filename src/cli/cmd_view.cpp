@@ -125,6 +125,9 @@ void addViewCommand(CLI::App& app) {
            "fewer slices (a coarser level of detail) until the camera stops (default 8: half a frame at 60 a "
            "second; the page's g key turns this off)")
         ->check(finiteRange(0.0, 1e6));
+    cmd->add_option("--beside", a->request.beside,
+                    "A second .vdb, work directory or garment, drawn on the right in the same mode with the same "
+                    "camera (where both record where they lie, the same place in the world)");
     cmd->add_option("--save-dir", a->request.saveDir,
                     "A garment: where the s and W keys save the view's voxelization (a .vdb, a work directory)")
         ->capture_default_str();

@@ -36,6 +36,18 @@ Camera viewCamera(const VoxelBox& box, const ViewCamera& v, int width, int heigh
 
 double viewRadius(const VoxelBox& box) { return std::max(0.5 * glm::length(glm::dvec3(box.max - box.min)), 0.5); }
 
+Camera enclosing(const Camera& camera, const VoxelBox& box) {
+    const glm::dvec3 lo(box.min), hi(box.max);
+    const double radius = std::max(0.5 * glm::length(hi - lo), 0.5);
+    const double d = glm::length(camera.eye - 0.5 * (lo + hi));
+    const double n = std::max(d - radius, 1e-3 * std::max(d, radius)), f = d + radius;
+    // glm::perspective's depth terms; the field of view, aspect and any pan stay.
+    Camera c = camera;
+    c.projection[2][2] = -(f + n) / (f - n);
+    c.projection[3][2] = -2.0 * f * n / (f - n);
+    return c;
+}
+
 Camera mapCamera(const Camera& camera, double scale, const glm::dvec3& offset) {
     if (scale == 1.0 && offset == glm::dvec3(0.0)) return camera;
     Camera c = camera;

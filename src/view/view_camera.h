@@ -21,4 +21,10 @@ double viewRadius(const VoxelBox& box);
 /// same picture of a volume whose voxels are `scale` times finer.
 Camera mapCamera(const Camera& camera, double scale, const glm::dvec3& offset);
 
+/// The same camera with its near and far planes around `box`'s bounding
+/// sphere, as frameBox's are around its own: a volume mapped from a finer
+/// one (scale < 1) reaches past the planes that framed the finer one, and
+/// the ray caster's box faces would be cut off there.
+Camera enclosing(const Camera& camera, const VoxelBox& box);
+
 } // namespace yv

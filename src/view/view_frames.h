@@ -1,10 +1,12 @@
 // The render thread's FrameSource: a view state drawn by the scene, encoded
 // as JPEG, and the stats text the page's overlay shows before it; the
 // server's first words to a page (hello). Text messages, server to page:
-//   {"type":"hello", "modes":[...], "mode", "sideBySide", "name", "renderer", "activeVoxels",
+//   {"type":"hello", "modes":[...], "mode", "sideBySide", "name", "beside" (the second volume's name, or null),
+//    "renderer", "activeVoxels",
 //    "voxelSize" (world units; null where the volume's place in the world is not known), "width", "height"}
 //   {"type":"stats", "frame", "seq", "mode", "blend", "width", "height", "renderMs", "drawMs", "encodeMs", "bytes",
-//    "activeVoxels", "level", "slices", "gpuBytes", "gpuFreeBytes" (-1: unknown), "detail",
+//    "activeVoxels", "level", "slices", "sliceLod" (null: no slices drawn), "moving", "degrade", "degraded",
+//    "gpuBytes", "gpuFreeBytes" (-1: unknown), "detail",
 //    "pixelSize" (a pixel's width at the point looked at), "pixelUnits" ("world" or "voxels")}   (a binary JPEG message follows)
 //   {"type":"notice", "text"}                         (a refusal, or what could not be drawn)
 //   {"type":"screenshot", ...the stats' fields}       (a binary JPEG message follows)

@@ -17,6 +17,8 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
              const std::function<bool()>& stopWanted, const std::function<void(const std::string&)>& log) {
     std::error_code ec;
     if (!std::filesystem::exists(request.input, ec)) throw Error(request.input + ": no such file or directory");
+    if (!request.beside.empty() && !std::filesystem::exists(request.beside, ec))
+        throw Error("--beside " + request.beside + ": no such file or directory");
     if (!std::filesystem::is_directory(request.saveDir, ec))
         throw Error("--save-dir " + request.saveDir + ": no such directory (the view's voxelizations are saved there)");
     // The hub outlives the server: a session closed as the server goes leaves it.
@@ -30,8 +32,10 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
         bool serving = false;
         try {
             // The scene and its GL context live and die on this thread.
-            ViewScene scene(openViewVolume(request.input, request.voxelize, log), request.device, request.gpuBudgetBytes,
-                            request.slices);
+            ViewVolume volume = openViewVolume(request.input, request.voxelize, log);
+            std::optional<ViewVolume> beside;
+            if (!request.beside.empty()) beside.emplace(openViewVolume(request.beside, request.voxelize, log));
+            ViewScene scene(std::move(volume), request.device, request.gpuBudgetBytes, request.slices, std::move(beside));
             ViewFrames frames(scene, request.jpegQuality, request.maxSideVoxels, log);
             ViewState initial = request.initial;
             initial.mode = scene.modes().front();

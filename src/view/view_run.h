@@ -16,6 +16,7 @@ namespace yv {
 
 struct ViewRequest {
     std::string input;         ///< a .vdb, a work directory or a .bcc garment
+    std::string beside;        ///< --beside: a second one, drawn on the right with the same camera ("" none)
     ViewServerOptions server;  ///< --bind, --port
     int device = -1;           ///< --device: EGL device index (-1: the first GPU, else llvmpipe)
     ViewState initial;         ///< --size; a new page's camera and mode until it sends its own

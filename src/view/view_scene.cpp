@@ -39,7 +39,7 @@ RealBox worldOf(const RealBox& box, const VoxelGrid& grid) {
 
 /// The width of the ray cast's part of a frame: its right half beside the slices, else all of it.
 int volumeWidth(const ViewScene& scene, const ViewState& state) {
-    return scene.sideBySide() && !state.blend ? state.width - state.width / 2 : state.width;
+    return scene.sideBySide() && !(state.blend && scene.blends()) ? state.width - state.width / 2 : state.width;
 }
 
 } // namespace
@@ -52,7 +52,14 @@ struct ViewScene::DetailLayer {
     VolumeLayer layer; ///< last: its renderers go before the atlases they draw
 };
 
-ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewSliceQuality slices)
+/// The second volume's atlases, its own: two volumes' loads would evict each other from one cache.
+struct ViewScene::BesideLayer {
+    BrickCache cache;
+    VolumeLayer layer; ///< last: its renderers go before the atlases they draw
+};
+
+ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewSliceQuality slices,
+                     std::optional<ViewVolume> beside)
     : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes),
       sliceQuality_(slices), movingSliceLod_(slices.lodPixels) {
     const GlContext& gl = context_.gl();
@@ -60,10 +67,34 @@ ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes
     if (const long long free = gl.queryFreeMemoryBytes(); free > 0) budget_ = std::min(budget_, std::uint64_t(free) / 2);
     // The atlas without orientation colours, loaded now: a level the budget cannot hold fails before serving.
     const AtlasLoad plain = context_.bricks().load(gl, *volume_.source, box_, budget_, false);
+    float densityMax = plain.atlas->densityMax();
+    bool orientation = volume_.source->hasOrientation();
+    if (beside) {
+        beside_ = std::make_unique<ViewVolume>(std::move(*beside));
+        besideLayer_ = std::make_unique<BesideLayer>();
+        VolumeLayer& layer = besideLayer_->layer;
+        layer.source = beside_->source.get();
+        layer.cache = &besideLayer_->cache;
+        layer.box = layer.source->bounds();
+        if (volume_.grid && beside_->grid) {
+            // Both say where they lie: the same place in the world (as a view's run is mapped).
+            layer.scale = volume_.grid->voxelSize / beside_->grid->voxelSize;
+            layer.offset = (volume_.grid->origin - beside_->grid->origin) / beside_->grid->voxelSize;
+        } else {
+            // Each framed alike in its own box: centre on centre, longest side on longest side.
+            const glm::dvec3 from = glm::dvec3(box_.max - box_.min), to = glm::dvec3(layer.box.max - layer.box.min);
+            layer.scale = std::max({to.x, to.y, to.z}) / std::max({from.x, from.y, from.z});
+            layer.offset = 0.5 * glm::dvec3(layer.box.min + layer.box.max) - layer.scale * 0.5 * glm::dvec3(box_.min + box_.max);
+        }
+        const AtlasLoad other = layer.cache->load(gl, *layer.source, layer.box, budget_, false);
+        densityMax = std::min(densityMax, other.atlas->densityMax());
+        orientation = orientation && layer.source->hasOrientation();
+    }
+    // The modes both volumes have.
     for (RenderKind kind : kVolumeModes) {
-        if (kind == RenderKind::Orientation && !volume_.source->hasOrientation()) continue;
+        if (kind == RenderKind::Orientation && !orientation) continue;
         // A surface above every density drawn would be an empty picture that looks like a failure.
-        if (kind == RenderKind::Isosurface && plain.atlas->densityMax() < 0.5f) continue;
+        if (kind == RenderKind::Isosurface && densityMax < 0.5f) continue;
         modes_.push_back(renderKindName(kind));
     }
     if (volume_.slices && !sideBySide()) modes_.push_back(renderKindName(RenderKind::Slices));
@@ -74,6 +105,7 @@ ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes
 
 ViewScene::~ViewScene() {
     context_.gl(); // the layers' textures go with the context current
+    besideLayer_.reset();
     if (detail_) {
         const std::string path = detail_->run.vdbPath;
         detail_.reset();
@@ -144,8 +176,8 @@ void ViewScene::adaptMovingSliceLod(double seconds) {
 }
 
 void ViewScene::drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
-                         ViewFrame& frame) {
-    VolumeLayer& layer = layerFor(mode, state.camera, width, height);
+                         ViewFrame& frame, VolumeLayer* chosen) {
+    VolumeLayer& layer = chosen ? *chosen : layerFor(mode, state.camera, width, height);
     Renderer& renderer = rendererFor(layer, mode, frame);
     const bool slices = mode == renderKindName(RenderKind::Slices);
     if (slices) {
@@ -159,7 +191,9 @@ void ViewScene::drawInto(const ViewState& state, const std::string& mode, int wi
         look = {state.transfer, state.opacity};
     }
     RenderReport report;
-    drawFrames(renderer, mapCamera(viewCamera(box_, state.camera, width, height), layer.scale, layer.offset), 1, report);
+    Camera camera = mapCamera(viewCamera(box_, state.camera, width, height), layer.scale, layer.offset);
+    if (besideLayer_ && &layer == &besideLayer_->layer) camera = enclosing(camera, layer.box);
+    drawFrames(renderer, camera, 1, report);
     frame.drawSeconds += report.frameSeconds + report.sortSeconds;
     frame.slices += report.slices;
     if (slices && state.moving && state.degrade) adaptMovingSliceLod(report.frameSeconds + report.sortSeconds);
@@ -207,7 +241,12 @@ ViewFrame ViewScene::render(const ViewState& state) {
     ViewFrame frame;
     takeFinishedDetail(frame);
     frame.image = RgbImage(state.width, state.height);
-    if (sideBySide() && state.blend) {
+    if (beside_) {
+        // Two volumes, one camera: the first on the left, the second on the right, in the same mode.
+        const int left = state.width / 2;
+        drawInto(state, state.mode, left, state.height, frame.image, 0, frame);
+        drawInto(state, state.mode, state.width - left, state.height, frame.image, left, frame, &besideLayer_->layer);
+    } else if (sideBySide() && state.blend) {
         // One picture: both drawn whole, the voxels' over the slices at half weight.
         RgbImage slices(state.width, state.height);
         drawInto(state, renderKindName(RenderKind::Slices), state.width, state.height, slices, 0, frame);

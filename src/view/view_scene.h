@@ -2,7 +2,10 @@
 // frames (the bricks loaded into the atlas once, the slices uploaded once),
 // and one frame drawn from a view state. A garment's frame is two pictures
 // side by side with one camera: its slices on the left, the ray cast (or the
-// mode chosen) of its voxelization on the right. Everything here runs on the
+// mode chosen) of its voxelization on the right. A view of two volumes
+// (--beside) draws the second on the right in the same mode, from the
+// same camera: the same place in the world where both say where they lie,
+// else each framed alike in its own box. Everything here runs on the
 // one render thread that made the scene (the GL context is current there).
 #pragma once
 
@@ -19,6 +22,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,13 +87,20 @@ class ViewScene {
     /// calling thread and loads the atlas (the level `gpuBudgetBytes` holds).
     /// The slices are drawn as `slices` says. Throws yv::Error (no GL
     /// context, a budget that holds no level).
-    ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewSliceQuality slices = {});
+    /// `beside`: a second volume drawn on the right (its atlas loaded now too).
+    ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewSliceQuality slices = {},
+              std::optional<ViewVolume> beside = std::nullopt);
     ~ViewScene();
 
     /// The modes one key away, in key order ("raycast" first).
     const std::vector<std::string>& modes() const { return modes_; }
-    bool sideBySide() const { return volume_.garment && volume_.slices.has_value(); }
+    /// Two pictures side by side: a garment's slices and its voxels, or two volumes.
+    bool sideBySide() const { return beside_ != nullptr || (volume_.garment && volume_.slices.has_value()); }
+    /// The ray cast may be blended over the slices (a garment's view, no second volume).
+    bool blends() const { return beside_ == nullptr && sideBySide(); }
     const ViewVolume& volume() const { return volume_; }
+    /// The second volume, drawn on the right (nullptr: none).
+    const ViewVolume* beside() const { return beside_.get(); }
     /// The GL renderer's name.
     const std::string& renderer() const { return rendererName_; }
     /// The transfer-function presets a page may pick (transferFunctionPresets()).
@@ -137,11 +148,13 @@ class ViewScene {
         std::map<std::string, std::pair<std::string, double>> looks; ///< by mode: the transfer function its renderer has
     };
     struct DetailLayer;
+    struct BesideLayer;
 
     Renderer& rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame);
     VolumeLayer& layerFor(const std::string& mode, const ViewCamera& view, int width, int height);
+    /// Draws `mode` of `layer` (by default the volume opened, or the view's run where it holds what the camera sees).
     void drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
-                  ViewFrame& frame);
+                  ViewFrame& frame, VolumeLayer* layer = nullptr);
     const TransferFunction& transferFunction(const ViewState& state);
     /// The slices' level of detail for `state`, and (once drawn in `seconds`) the next moving frame's.
     double sliceLodFor(const ViewState& state) const;
@@ -160,6 +173,8 @@ class ViewScene {
     VolumeLayer opened_;
     ViewVoxelizer* voxelizer_ = nullptr;
     std::unique_ptr<DetailLayer> detail_; ///< after the context: its textures go first
+    std::unique_ptr<ViewVolume> beside_;
+    std::unique_ptr<BesideLayer> besideLayer_; ///< after the context: its textures go first
 };
 
 } // namespace yv
