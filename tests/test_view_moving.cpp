@@ -39,8 +39,8 @@ TEST_CASE("View: frames late while the camera moves draw fewer slices, a stopped
     // Every moving frame counts as late (its slices may take no time at all):
     // what follows does not hang on how fast this machine draws.
     ServedView view(false, [](yv::ViewRequest& r) {
-        r.slices.lodPixels = 1.0;
-        r.slices.movingSeconds = 0.0;
+        r.quality.lodPixels = 1.0;
+        r.quality.movingSeconds = 0.0;
         r.initial.width = 256;
         r.initial.height = 128;
     });
@@ -80,4 +80,52 @@ TEST_CASE("View: frames late while the camera moves draw fewer slices, a stopped
     page.send(R"({"type":"quality","degrade":true})");
     CHECK(frameAt(page, 50, true, seq).lod == 64.0);
     CHECK(view.failure == nullptr);
+}
+
+TEST_CASE("View: a moving camera's late frames draw the volume a level coarser, the stopped camera the budget's level",
+          "[view][gl]") {
+    YV_REQUIRE_GL();
+    ServedView view(true, [](yv::ViewRequest& r) {
+        r.quality.movingSeconds = 0.0; // every moving frame is late
+        r.initial.width = 192;
+        r.initial.height = 128;
+    });
+    Page page(view.port.get_future().get());
+    std::uint64_t seq = 0;
+    const auto frame = [&](double azimuth, bool moving) {
+        page.sendCamera(azimuth, 20, 2.5, ++seq, moving);
+        return page.frameOf(seq);
+    };
+    const auto [still, stillPicture] = frame(30, false);
+    CHECK(still["level"] == 0);
+    CHECK(still["coarserLevels"] == 0);
+    // The first moving frame is drawn at the budget's level and was late; the next ones coarser, a level a frame, up to 3.
+    CHECK(frame(31, true).first["coarserLevels"] == 0);
+    int last = 0;
+    for (int i = 0; i < 4; ++i) {
+        const Json stats = frame(32 + i, true).first;
+        INFO(stats.dump());
+        CHECK(stats["coarserLevels"] == std::min(3, i + 1));
+        CHECK(stats["degraded"] == true);
+        CHECK(stats["level"].get<int>() > 0);
+        CHECK(stats["level"].get<int>() >= last);
+        last = stats["level"];
+    }
+    // A coarser level is a different picture of the same garment; stopped, the budget's level again, the same picture.
+    const auto [coarse, coarsePicture] = frame(30, true);
+    CHECK(coarse["level"].get<int>() > 0);
+    const auto [stopped, stoppedPicture] = frame(30, false);
+    CHECK(stopped["level"] == 0);
+    CHECK(stopped["degraded"] == false);
+    double difference = 0.0, again = 0.0;
+    for (std::size_t i = 0; i < stillPicture.pixels.size(); ++i) {
+        difference += std::abs(int(coarsePicture.pixels[i]) - int(stillPicture.pixels[i]));
+        again += std::abs(int(stoppedPicture.pixels[i]) - int(stillPicture.pixels[i]));
+    }
+    CHECK(difference / double(stillPicture.pixels.size()) > 0.5);
+    CHECK(again / double(stillPicture.pixels.size()) < 0.5);
+    // Degrading off: moving frames at the budget's level.
+    page.send(R"({"type":"quality","degrade":false})");
+    CHECK(frame(40, true).first["level"] == 0);
+    CHECK(!view.failure);
 }

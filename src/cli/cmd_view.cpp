@@ -114,16 +114,16 @@ void addViewCommand(CLI::App& app) {
     cmd->add_option("--quality", a->request.jpegQuality, "JPEG quality of the frames, 1 to 100")
         ->capture_default_str()
         ->check(wholeNumber(1, 100));
-    cmd->add_option("--slice-lod", a->request.slices.lodPixels,
+    cmd->add_option("--slice-lod", a->request.quality.lodPixels,
                     "The slices' level of detail, in pixels: where a yarn's slices lie closer on screen, one slab is "
                     "drawn for 2, 4, ... 64 consecutive slices, none longer than this (0: every slice)")
         ->capture_default_str()
         ->check(finiteRange(0.0, 1e6));
     cmd->add_option_function<double>(
-           "--moving-slices-ms", [a](double ms) { a->request.slices.movingSeconds = ms / 1e3; },
-           "While the camera moves, the milliseconds the slices' part of a frame may take: a later frame draws "
-           "fewer slices (a coarser level of detail) until the camera stops (default 8: half a frame at 60 a "
-           "second; the page's g key turns this off)")
+           "--moving-ms", [a](double ms) { a->request.quality.movingSeconds = ms / 1e3; },
+           "While the camera moves, the milliseconds each half of a frame (the slices, the volume) may take: a "
+           "later frame draws fewer slices or a coarser level of the volume until the camera stops (default 8: "
+           "half a frame at 60 a second; the page's g key turns this off)")
         ->check(finiteRange(0.0, 1e6));
     cmd->add_option("--beside", a->request.beside,
                     "A second .vdb, work directory or garment, drawn on the right in the same mode with the same "

@@ -64,6 +64,7 @@ Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* typ
                                   {"moving", state.moving},
                                   {"degrade", state.degrade},
                                   {"degraded", frame.degraded},
+                                  {"coarserLevels", frame.coarserLevels},
                                   {"gpuBytes", frame.gpuBytes},
                                   {"gpuFreeBytes", frame.gpuFreeBytes},
                                   {"detail", detail},

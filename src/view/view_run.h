@@ -22,7 +22,7 @@ struct ViewRequest {
     ViewState initial;         ///< --size; a new page's camera and mode until it sends its own
     VoxelizeJob voxelize;      ///< how a garment is voxelized (its input and output are set by the view)
     std::uint64_t gpuBudgetBytes = 512ull << 20;
-    ViewSliceQuality slices;   ///< --slice-lod, --moving-slices-ms
+    ViewQuality quality;       ///< --slice-lod, --moving-ms
     int jpegQuality = 85;      ///< --quality
     std::string saveDir = "."; ///< --save-dir: where the view's voxelizations are saved
     int maxSideVoxels = 1024;  ///< --view-voxels: a view voxelization's longest side, in voxels

@@ -58,10 +58,10 @@ struct ViewScene::BesideLayer {
     VolumeLayer layer; ///< last: its renderers go before the atlases they draw
 };
 
-ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewSliceQuality slices,
+ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewQuality quality,
                      std::optional<ViewVolume> beside)
     : volume_(std::move(volume)), box_(volume_.source->bounds()), context_(device), budget_(gpuBudgetBytes),
-      sliceQuality_(slices), movingSliceLod_(slices.lodPixels) {
+      quality_(quality), movingSliceLod_(quality.lodPixels) {
     const GlContext& gl = context_.gl();
     rendererName_ = gl.info().renderer;
     if (const long long free = gl.queryFreeMemoryBytes(); free > 0) budget_ = std::min(budget_, std::uint64_t(free) / 2);
@@ -114,22 +114,33 @@ ViewScene::~ViewScene() {
     }
 }
 
-Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame) {
-    if (auto it = layer.renderers.find(mode); it != layer.renderers.end()) return *it->second;
+Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame, int coarser) {
+    const std::string key = coarser == 0 ? mode : mode + "@" + std::to_string(coarser);
+    if (auto it = layer.renderers.find(key); it != layer.renderers.end()) return *it->second;
     RenderRequest request;
     request.kind = parseRenderKind(mode);
     RenderInput input;
     if (request.kind == RenderKind::Slices) {
         request.slices = &*volume_.slices;
-        request.sliceLodPixels = sliceQuality_.lodPixels;
+        request.sliceLodPixels = quality_.lodPixels;
         input.slices = &*volume_.slices;
     } else {
         const bool orientation = request.kind == RenderKind::Orientation;
         // The cache keeps two atlases, plain and with orientation: the renderers' stay alive.
         const auto loading = std::chrono::steady_clock::now();
-        const AtlasLoad load = layer.cache->load(context_.gl(), *layer.source, layer.box, budget_, orientation);
+        AtlasLoad load = layer.cache->load(context_.gl(), *layer.source, layer.box, budget_, orientation);
+        if (coarser > 0) {
+            // A quarter of the bytes a step: about a level each (a garment's surface of bricks shrinks
+            // by four to eight a level).
+            if (!layer.coarse) layer.coarse = std::make_unique<BrickCache>();
+            const std::uint64_t bytes = std::max<std::uint64_t>(load.gpuBytes >> (2 * coarser), 1);
+            load = layer.coarse->load(context_.gl(), *layer.source, layer.box, bytes, orientation);
+            if (!load.fromCache)
+                for (auto it = layer.renderers.begin(); it != layer.renderers.end();)
+                    it = it->first.find('@') != std::string::npos ? layer.renderers.erase(it) : std::next(it);
+        }
         frame.atlasSeconds += secondsSince(loading);
-        layer.atlases[mode] = load;
+        layer.atlases[key] = load;
         input.atlas = load.atlas;
     }
     const auto making = std::chrono::steady_clock::now();
@@ -137,7 +148,8 @@ Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, Vi
     frame.rendererSeconds += secondsSince(making);
     traceSpanSince("make a renderer", making);
     Renderer& renderer = *made;
-    layer.renderers[mode] = std::move(made);
+    layer.renderers[key] = std::move(made);
+    layer.looks.erase(key); // a new renderer has the default look
     return renderer;
 }
 
@@ -161,15 +173,15 @@ const TransferFunction& ViewScene::transferFunction(const ViewState& state) {
 }
 
 double ViewScene::sliceLodFor(const ViewState& state) const {
-    return state.moving && state.degrade ? std::max(movingSliceLod_, sliceQuality_.lodPixels) : sliceQuality_.lodPixels;
+    return state.moving && state.degrade ? std::max(movingSliceLod_, quality_.lodPixels) : quality_.lodPixels;
 }
 
 void ViewScene::adaptMovingSliceLod(double seconds) {
     constexpr double kCoarsest = 64.0; // SliceRenderer's slabs span at most 64 slices
-    const double finest = sliceQuality_.lodPixels;
-    if (seconds > sliceQuality_.movingSeconds) {
+    const double finest = quality_.lodPixels;
+    if (seconds > quality_.movingSeconds) {
         movingSliceLod_ = std::min(kCoarsest, std::max(1.0, 2.0 * movingSliceLod_));
-    } else if (seconds < sliceQuality_.movingSeconds / 4.0 && movingSliceLod_ > finest) {
+    } else if (seconds < quality_.movingSeconds / 4.0 && movingSliceLod_ > finest) {
         // Halved back while early; below a pixel, the level asked for.
         movingSliceLod_ = movingSliceLod_ / 2.0 < std::max(finest, 1.0) ? finest : movingSliceLod_ / 2.0;
     }
@@ -178,15 +190,27 @@ void ViewScene::adaptMovingSliceLod(double seconds) {
 void ViewScene::drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
                          ViewFrame& frame, VolumeLayer* chosen) {
     VolumeLayer& layer = chosen ? *chosen : layerFor(mode, state.camera, width, height);
-    Renderer& renderer = rendererFor(layer, mode, frame);
     const bool slices = mode == renderKindName(RenderKind::Slices);
+    const bool degrading = state.moving && state.degrade;
+    int coarser = !slices && degrading ? movingCoarser_ : 0;
+    Renderer* chosenRenderer = nullptr;
+    try {
+        chosenRenderer = &rendererFor(layer, mode, frame, coarser);
+    } catch (const Error&) {
+        if (coarser == 0) throw;
+        // No coarser level fits (a volume of a few bricks): the budget's level.
+        coarser = movingCoarser_ = 0;
+        chosenRenderer = &rendererFor(layer, mode, frame);
+    }
+    Renderer& renderer = *chosenRenderer;
+    const std::string key = coarser == 0 ? mode : mode + "@" + std::to_string(coarser);
     if (slices) {
         // The twist is in world units; the slices lie in the volume's voxels.
         if (twistable()) renderer.setTwist(state.twist * volume_.grid->voxelSize);
         frame.sliceLod = sliceLodFor(state);
-        frame.degraded = frame.sliceLod != sliceQuality_.lodPixels;
+        frame.degraded = frame.degraded || frame.sliceLod != quality_.lodPixels;
         renderer.setSliceLod(frame.sliceLod);
-    } else if (auto& look = layer.looks[mode]; look != std::make_pair(state.transfer, state.opacity)) {
+    } else if (auto& look = layer.looks[key]; look != std::make_pair(state.transfer, state.opacity)) {
         renderer.setTransferFunction(transferFunction(state));
         look = {state.transfer, state.opacity};
     }
@@ -196,8 +220,16 @@ void ViewScene::drawInto(const ViewState& state, const std::string& mode, int wi
     drawFrames(renderer, camera, 1, report);
     frame.drawSeconds += report.frameSeconds + report.sortSeconds;
     frame.slices += report.slices;
-    if (slices && state.moving && state.degrade) adaptMovingSliceLod(report.frameSeconds + report.sortSeconds);
-    if (const auto it = layer.atlases.find(mode); it != layer.atlases.end()) {
+    if (slices && degrading) adaptMovingSliceLod(report.frameSeconds + report.sortSeconds);
+    if (!slices) {
+        frame.coarserLevels = coarser;
+        frame.degraded = frame.degraded || coarser > 0;
+        // Late: a level coarser next time; well early: a level finer.
+        const double seconds = report.frameSeconds + report.sortSeconds;
+        if (degrading && seconds > quality_.movingSeconds) movingCoarser_ = std::min(kMaxMovingCoarser, coarser + 1);
+        else if (degrading && seconds < quality_.movingSeconds / 4.0) movingCoarser_ = std::max(0, coarser - 1);
+    }
+    if (const auto it = layer.atlases.find(key); it != layer.atlases.end()) {
         frame.level = it->second.level;
         frame.gpuBytes += it->second.gpuBytes;
     }

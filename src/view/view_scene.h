@@ -50,16 +50,20 @@ struct ViewState {
     bool operator==(const ViewState&) const = default;
 };
 
-/// How a garment's slices are drawn in the view.
-struct ViewSliceQuality {
+/// How the view draws: the slices' level of detail, and what a moving camera may give up.
+/// The most levels a moving frame's volume is drawn coarser than the budget's.
+constexpr int kMaxMovingCoarser = 3;
+
+struct ViewQuality {
     /// --slice-lod: the level of detail, in pixels (SliceSettings::lodPixels),
     /// of every frame once the camera stops.
     double lodPixels = kDefaultSliceLodPixels;
-    /// --moving-slices-ms: while the camera moves (and the page lets frames
-    /// degrade), the slices' part of a frame may take this long; a frame that
-    /// took longer doubles the level of detail of the next (1, 2, 4, ... 64
-    /// pixels: fewer slabs), one that took under a quarter of it halves it
-    /// back towards lodPixels. Half of a frame at 60 a second by default.
+    /// --moving-ms: while the camera moves (and the page lets frames
+    /// degrade), each half of a frame may take this long: slices that took
+    /// longer double the level of detail of the next frame's (1, 2, 4, ...
+    /// 64 pixels: fewer slabs), a volume that took longer is drawn a level
+    /// coarser next (up to kMaxMovingCoarser); a part that took under a
+    /// quarter of it goes back a step. Half of a frame at 60 a second by default.
     double movingSeconds = 0.008;
 };
 
@@ -71,9 +75,11 @@ struct ViewFrame {
     int level = 0;              ///< the level of detail drawn
     std::uint64_t slices = 0, gpuBytes = 0;
     /// The slices' level of detail drawn, in pixels (-1: no slices drawn), and
-    /// whether it was coarser than ViewSliceQuality::lodPixels because the camera moved.
+    /// whether it was coarser than ViewQuality::lodPixels because the camera moved.
     double sliceLod = -1.0;
     bool degraded = false;
+    /// Levels of detail the volume was drawn coarser than the GPU budget holds, because the camera moved.
+    int coarserLevels = 0;
     std::uint64_t detail = 0;   ///< the view voxelization drawn (its id; 0: the volume opened)
     long long gpuFreeBytes = -1; ///< the GPU's free memory after the frame (-1: the driver does not say)
     /// Where a frame that first draws a volume or mode spent its setup (0 otherwise):
@@ -85,10 +91,10 @@ class ViewScene {
   public:
     /// Takes the opened volume; makes the GL context on `device` on the
     /// calling thread and loads the atlas (the level `gpuBudgetBytes` holds).
-    /// The slices are drawn as `slices` says. Throws yv::Error (no GL
+    /// Frames are drawn as `quality` says. Throws yv::Error (no GL
     /// context, a budget that holds no level).
     /// `beside`: a second volume drawn on the right (its atlas loaded now too).
-    ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewSliceQuality slices = {},
+    ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes, ViewQuality quality = {},
               std::optional<ViewVolume> beside = std::nullopt);
     ~ViewScene();
 
@@ -146,11 +152,16 @@ class ViewScene {
         std::map<std::string, std::unique_ptr<Renderer>> renderers;
         std::map<std::string, AtlasLoad> atlases; ///< by mode: the one its renderer draws
         std::map<std::string, std::pair<std::string, double>> looks; ///< by mode: the transfer function its renderer has
+        /// Atlases of coarser levels drawn while the camera moves, apart from
+        /// the fine ones: a new one drops every coarse renderer of the layer
+        /// (the cache may have let go of the atlas one drew).
+        std::unique_ptr<BrickCache> coarse;
     };
     struct DetailLayer;
     struct BesideLayer;
 
-    Renderer& rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame);
+    /// The renderer of `mode` on `layer`, its atlas `coarser` levels coarser than the budget's (0: the budget's).
+    Renderer& rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame, int coarser = 0);
     VolumeLayer& layerFor(const std::string& mode, const ViewCamera& view, int width, int height);
     /// Draws `mode` of `layer` (by default the volume opened, or the view's run where it holds what the camera sees).
     void drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
@@ -165,8 +176,9 @@ class ViewScene {
     VoxelBox box_;
     RenderContext context_;
     std::uint64_t budget_;
-    ViewSliceQuality sliceQuality_;
+    ViewQuality quality_;
     double movingSliceLod_; ///< the level of detail moving frames draw at, adapted to their time
+    int movingCoarser_ = 0; ///< levels coarser moving frames draw the volume at, adapted to their time
     std::map<std::pair<std::string, double>, TransferFunction> transfers_; ///< by (preset, opacity), as made
     std::string rendererName_;
     std::vector<std::string> modes_;
