@@ -19,6 +19,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <functional>
@@ -165,5 +166,37 @@ struct Page {
         }
     }
 };
+
+/// Reads frames until a voxelize message in `state` has arrived at index
+/// `from` or later, and returns its index (or the view's watchdog ends the
+/// wait); a failed run fails the test. The answer to a request and the
+/// worker's "running" may come in either order.
+inline std::size_t waitForVoxelize(Page& page, const std::string& state, std::uint64_t& seq, std::size_t from) {
+    for (;;) {
+        for (std::size_t i = from; i < page.voxelizeMessages.size(); ++i) {
+            const Json& m = page.voxelizeMessages[i];
+            INFO(m.dump());
+            REQUIRE(m["state"] != "failed");
+            if (m["state"] == state) return i;
+        }
+        page.sendCamera(30, 20, 0.5, ++seq); // the same camera: keeps frames coming
+        page.frameOf(seq);
+    }
+}
+
+/// A command the view gives (its words) as one line.
+inline std::string joined(const Json& words) {
+    std::string text;
+    for (const auto& w : words) text += (text.empty() ? "" : " ") + w.get<std::string>();
+    return text;
+}
+
+/// The mean absolute difference of two pictures' bytes.
+inline double meanDifference(const yv::RgbImage& a, const yv::RgbImage& b) {
+    REQUIRE(a.pixels.size() == b.pixels.size());
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
+    return sum / double(a.pixels.size());
+}
 
 } // namespace yv::test

@@ -79,6 +79,49 @@ struct GlVolume {
     }
 };
 
+
+/// An atlas's textures read back: per plan brick, its 512 density halves and colours, in texture order.
+struct AtlasTexels {
+    std::map<std::uint64_t, std::vector<std::uint16_t>> density;
+    std::map<std::uint64_t, std::vector<std::uint8_t>> colour;
+    std::map<std::uint64_t, std::uint32_t> slot; ///< the indirection's entry (slot + 1)
+};
+
+AtlasTexels readAtlas(const BrickAtlas& atlas, const LevelPlan& plan, bool orientation) {
+    const glm::ivec3 texels = atlas.slotsPerAxis() * kBrickSize;
+    const std::size_t count = std::size_t(texels.x) * std::size_t(texels.y) * std::size_t(texels.z);
+    std::vector<std::uint16_t> density(count);
+    std::vector<std::uint8_t> colour(4 * count);
+    std::vector<std::uint32_t> slots(std::size_t(plan.brickDims.x) * plan.brickDims.y * plan.brickDims.z);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(atlas.densityTexture(), 0, GL_RED, GL_HALF_FLOAT, GLsizei(density.size() * 2), density.data());
+    if (orientation)
+        glGetTextureImage(atlas.orientationTexture(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(colour.size()), colour.data());
+    glGetTextureImage(atlas.indirectionTexture(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(slots.size() * 4), slots.data());
+    REQUIRE(glGetError() == GL_NO_ERROR);
+    AtlasTexels out;
+    const glm::ivec3 slotsPerAxis = atlas.slotsPerAxis();
+    for (const glm::ivec3& c : plan.bricks) {
+        const std::uint32_t slot = slots[std::size_t(c.x + plan.brickDims.x * (c.y + plan.brickDims.y * c.z))];
+        REQUIRE(slot >= 1);
+        out.slot[brickKey(c)] = slot;
+        const std::uint32_t s = slot - 1;
+        const glm::ivec3 at = glm::ivec3(int(s % std::uint32_t(slotsPerAxis.x)),
+                                         int(s / std::uint32_t(slotsPerAxis.x) % std::uint32_t(slotsPerAxis.y)),
+                                         int(s / std::uint32_t(slotsPerAxis.x * slotsPerAxis.y))) * kBrickSize;
+        std::vector<std::uint16_t>& d = out.density[brickKey(c)];
+        std::vector<std::uint8_t>& rgba = out.colour[brickKey(c)];
+        for (int v = 0; v < 512; ++v) {
+            const glm::ivec3 p = at + glm::ivec3(v % 8, v / 8 % 8, v / 64);
+            const std::size_t t = std::size_t(p.x) + std::size_t(texels.x) * (std::size_t(p.y) + std::size_t(texels.y) * std::size_t(p.z));
+            d.push_back(density[t]);
+            if (orientation)
+                for (int k = 0; k < 4; ++k) rgba.push_back(colour[4 * t + std::size_t(k)]);
+        }
+    }
+    return out;
+}
+
 } // namespace
 
 TEST_CASE("inspect render: the brick atlas holds every brick where its indirection says, over rows of slots and a last row "
@@ -113,34 +156,18 @@ TEST_CASE("inspect render: the brick atlas holds every brick where its indirecti
         std::shuffle(bricks.begin(), bricks.end(), rng); // in any order
         for (const LevelBrick& b : bricks) atlas.upload(b);
         atlas.finish();
-        const glm::ivec3 texels = atlas.slotsPerAxis() * kBrickSize;
-        const std::size_t count = std::size_t(texels.x) * std::size_t(texels.y) * std::size_t(texels.z);
-        std::vector<std::uint16_t> density(count);
-        std::vector<std::uint8_t> colour(4 * count);
-        std::vector<std::uint32_t> slots(std::size_t(plan.brickDims.x) * plan.brickDims.y * plan.brickDims.z);
-        glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        glGetTextureImage(atlas.densityTexture(), 0, GL_RED, GL_HALF_FLOAT, GLsizei(density.size() * 2), density.data());
-        if (orientation)
-            glGetTextureImage(atlas.orientationTexture(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(colour.size()), colour.data());
-        glGetTextureImage(atlas.indirectionTexture(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(slots.size() * 4), slots.data());
-        REQUIRE(glGetError() == GL_NO_ERROR);
+        const AtlasTexels read = readAtlas(atlas, plan, orientation);
         std::set<std::uint32_t> used;
         std::size_t wrongDensity = 0, wrongColour = 0;
         for (const LevelBrick& b : bricks) {
-            const std::uint32_t slot = slots[std::size_t(b.coord.x + plan.brickDims.x * (b.coord.y + plan.brickDims.y * b.coord.z))];
-            REQUIRE(slot >= 1);
-            REQUIRE(slot <= 150);
-            used.insert(slot);
-            const std::uint32_t s = slot - 1;
-            const glm::ivec3 at = glm::ivec3(int(s % 8u), int(s / 8u % std::uint32_t(atlas.slotsPerAxis().y)),
-                                             int(s / (8u * std::uint32_t(atlas.slotsPerAxis().y)))) * kBrickSize;
+            const std::uint64_t key = brickKey(b.coord);
+            REQUIRE(read.slot.at(key) <= 150);
+            used.insert(read.slot.at(key));
             for (int v = 0; v < 512; ++v) {
-                const glm::ivec3 p = at + glm::ivec3(v % 8, v / 8 % 8, v / 64);
-                const std::size_t t = std::size_t(p.x) + std::size_t(texels.x) * (std::size_t(p.y) + std::size_t(texels.y) * std::size_t(p.z));
-                wrongDensity += density[t] != imath_float_to_half(b.density[std::size_t(v)]);
+                wrongDensity += read.density.at(key)[std::size_t(v)] != imath_float_to_half(b.density[std::size_t(v)]);
                 if (orientation)
                     for (int c = 0; c < 3; ++c)
-                        wrongColour += colour[4 * t + std::size_t(c)] !=
+                        wrongColour += read.colour.at(key)[4 * std::size_t(v) + std::size_t(c)] !=
                                        std::uint8_t(std::lround(255.0f * std::clamp(b.axisColour[std::size_t(v)][c], 0.0f, 1.0f)));
             }
         }
@@ -152,50 +179,6 @@ TEST_CASE("inspect render: the brick atlas holds every brick where its indirecti
         CHECK(atlas.densityMax() == expectedMax);
     }
 }
-
-namespace {
-
-/// An atlas's textures read back: per plan brick, its 512 density halves and colours, in texture order.
-struct AtlasTexels {
-    std::map<std::uint64_t, std::vector<std::uint16_t>> density;
-    std::map<std::uint64_t, std::vector<std::uint8_t>> colour;
-};
-
-AtlasTexels readAtlas(const BrickAtlas& atlas, const LevelPlan& plan, bool orientation) {
-    const glm::ivec3 texels = atlas.slotsPerAxis() * kBrickSize;
-    const std::size_t count = std::size_t(texels.x) * std::size_t(texels.y) * std::size_t(texels.z);
-    std::vector<std::uint16_t> density(count);
-    std::vector<std::uint8_t> colour(4 * count);
-    std::vector<std::uint32_t> slots(std::size_t(plan.brickDims.x) * plan.brickDims.y * plan.brickDims.z);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glGetTextureImage(atlas.densityTexture(), 0, GL_RED, GL_HALF_FLOAT, GLsizei(density.size() * 2), density.data());
-    if (orientation)
-        glGetTextureImage(atlas.orientationTexture(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(colour.size()), colour.data());
-    glGetTextureImage(atlas.indirectionTexture(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(slots.size() * 4), slots.data());
-    REQUIRE(glGetError() == GL_NO_ERROR);
-    AtlasTexels out;
-    const glm::ivec3 slotsPerAxis = atlas.slotsPerAxis();
-    for (const glm::ivec3& c : plan.bricks) {
-        const std::uint32_t slot = slots[std::size_t(c.x + plan.brickDims.x * (c.y + plan.brickDims.y * c.z))];
-        REQUIRE(slot >= 1);
-        const std::uint32_t s = slot - 1;
-        const glm::ivec3 at = glm::ivec3(int(s % std::uint32_t(slotsPerAxis.x)),
-                                         int(s / std::uint32_t(slotsPerAxis.x) % std::uint32_t(slotsPerAxis.y)),
-                                         int(s / std::uint32_t(slotsPerAxis.x * slotsPerAxis.y))) * kBrickSize;
-        std::vector<std::uint16_t>& d = out.density[brickKey(c)];
-        std::vector<std::uint8_t>& rgba = out.colour[brickKey(c)];
-        for (int v = 0; v < 512; ++v) {
-            const glm::ivec3 p = at + glm::ivec3(v % 8, v / 8 % 8, v / 64);
-            const std::size_t t = std::size_t(p.x) + std::size_t(texels.x) * (std::size_t(p.y) + std::size_t(texels.y) * std::size_t(p.z));
-            d.push_back(density[t]);
-            if (orientation)
-                for (int k = 0; k < 4; ++k) rgba.push_back(colour[4 * t + std::size_t(k)]);
-        }
-    }
-    return out;
-}
-
-} // namespace
 
 TEST_CASE("inspect render: level 0 loaded at once, on the source's threads, gives the atlas brick-by-brick loading gives",
           "[inspect][gl]") {

@@ -16,6 +16,7 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 using yv::test::Page;
 using yv::test::ServedView;
+using yv::test::meanDifference;
 
 namespace {
 
@@ -27,13 +28,6 @@ yv::RgbImage half(const yv::RgbImage& image, bool right) {
         for (int x = 0; x < w; ++x)
             for (int c = 0; c < 3; ++c) out.at(x, y)[c] = image.at(x0 + x, y)[c];
     return out;
-}
-
-double meanDifference(const yv::RgbImage& a, const yv::RgbImage& b) {
-    REQUIRE(a.pixels.size() == b.pixels.size());
-    double sum = 0.0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
-    return sum / double(a.pixels.size());
 }
 
 /// Where the garment is in a picture: the mean of its lit pixels, and how many.

@@ -15,30 +15,6 @@ using Json = nlohmann::json;
 using yv::test::Page;
 using yv::test::ServedView;
 
-namespace {
-
-std::string joined(const Json& words) {
-    std::string text;
-    for (const auto& w : words) text += (text.empty() ? "" : " ") + w.get<std::string>();
-    return text;
-}
-
-/// Frames of the same camera until a voxelize message in `state` arrives (failed ones fail the test).
-Json waitFor(Page& page, const std::string& state, std::uint64_t& seq, std::size_t from) {
-    for (;;) {
-        for (std::size_t i = from; i < page.voxelizeMessages.size(); ++i) {
-            const Json& m = page.voxelizeMessages[i];
-            INFO(m.dump());
-            REQUIRE(m["state"] != "failed");
-            if (m["state"] == state) return m;
-        }
-        page.sendCamera(30, 20, 0.5, ++seq);
-        page.frameOf(seq);
-    }
-}
-
-} // namespace
-
 TEST_CASE("View: a .vdb whose garment is found voxelizes what the camera sees as its run did, equal to yarnvox voxelize "
           "of the box with the run's options",
           "[view][gl]") {
@@ -62,7 +38,7 @@ TEST_CASE("View: a .vdb whose garment is found voxelizes what the camera sees as
     CHECK(page.frameOf(seq).first["pixelUnits"] == "world");
 
     page.send(R"({"type":"voxelize-view"})");
-    const Json asked = waitFor(page, "asked", seq, 0);
+    const Json asked = page.voxelizeMessages[yv::test::waitForVoxelize(page, "asked", seq, 0)];
     Json stats;
     for (;;) {
         page.sendCamera(30, 20, 0.5, ++seq);
@@ -71,7 +47,7 @@ TEST_CASE("View: a .vdb whose garment is found voxelizes what the camera sees as
     }
     const Json detail = stats["detail"];
     CHECK(std::stod(detail["voxelSize"].get<std::string>()) < page.hello["voxelSize"].get<double>());
-    const std::string command = joined(detail["command"]);
+    const std::string command = yv::test::joined(detail["command"]);
     INFO(command);
     // The run's options, read back from the .vdb, are in the command.
     CHECK(command.find("plain.bcc") != std::string::npos);
@@ -81,7 +57,7 @@ TEST_CASE("View: a .vdb whose garment is found voxelizes what the camera sees as
     CHECK(command.find("--bbox-world " + asked["bboxWorld"].get<std::string>()) != std::string::npos);
 
     page.send(R"({"type":"save-view"})");
-    const Json saved = waitFor(page, "saved", seq, 0);
+    const Json saved = page.voxelizeMessages[yv::test::waitForVoxelize(page, "saved", seq, 0)];
     const fs::path cliVdb = view.scratch.path / "cli.vdb";
     REQUIRE(yv::test::runYarnvox(command + " --quiet -o " + cliVdb.string()).exitCode == 0);
     const yv::test::BoxTestVoxels shown = yv::test::readActiveVoxels(saved["vdb"].get<std::string>());

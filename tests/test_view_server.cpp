@@ -33,14 +33,7 @@ namespace {
 
 using yv::test::Page;
 using yv::test::ServedView;
-
-/// The mean absolute difference of two pictures' bytes.
-double meanDifference(const yv::RgbImage& a, const yv::RgbImage& b) {
-    REQUIRE(a.pixels.size() == b.pixels.size());
-    double sum = 0.0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
-    return sum / double(a.pixels.size());
-}
+using yv::test::meanDifference;
 
 /// Pixels brighter than black in `image`'s columns [x0, x1).
 int litPixels(const yv::RgbImage& image, int x0, int x1) {

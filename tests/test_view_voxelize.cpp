@@ -16,40 +16,9 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 using yv::test::Page;
 using yv::test::ServedView;
-
-namespace {
-
-/// Reads frames until a voxelize message in `state` has arrived at index
-/// `from` or later, and returns its index (or the view's watchdog ends the
-/// wait). The answer to a request and the worker's "running" may come in
-/// either order.
-std::size_t waitForVoxelize(Page& page, const std::string& state, std::uint64_t& seq, std::size_t from) {
-    for (;;) {
-        for (std::size_t i = from; i < page.voxelizeMessages.size(); ++i) {
-            const Json& m = page.voxelizeMessages[i];
-            INFO(m.dump());
-            REQUIRE(m["state"] != "failed");
-            if (m["state"] == state) return i;
-        }
-        page.sendCamera(30, 20, 0.5, ++seq); // the same camera: keeps frames coming
-        page.frameOf(seq);
-    }
-}
-
-std::string joined(const Json& words) {
-    std::string text;
-    for (const auto& w : words) text += (text.empty() ? "" : " ") + w.get<std::string>();
-    return text;
-}
-
-double meanDifference(const yv::RgbImage& a, const yv::RgbImage& b) {
-    REQUIRE(a.pixels.size() == b.pixels.size());
-    double sum = 0.0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
-    return sum / double(a.pixels.size());
-}
-
-} // namespace
+using yv::test::joined;
+using yv::test::waitForVoxelize;
+using yv::test::meanDifference;
 
 TEST_CASE("View: what the camera sees is voxelized finer, drawn in place, and saved equal to yarnvox voxelize of its box",
           "[view][gl]") {
