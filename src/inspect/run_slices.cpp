@@ -59,17 +59,20 @@ Recorded vdbRecord(const std::string& path, VoxelGrid& grid) {
     return out;
 }
 
-double recordedNumber(const Recorded& r, const std::string& key, double fallback, const std::string& where) {
-    const auto it = r.find(key);
-    if (it == r.end()) return fallback;
-    try {
-        return std::stod(it->second);
-    } catch (const std::exception&) {
-        throw Error(where + ": the recorded " + key + " '" + it->second + "' is not a number");
-    }
-}
-
 } // namespace
+
+double recordedNumber(const std::map<std::string, std::string>& recorded, const std::string& key, double fallback,
+                      const std::string& where) {
+    const auto it = recorded.find(key);
+    if (it == recorded.end()) return fallback;
+    try {
+        std::size_t used = 0;
+        const double v = std::stod(it->second, &used);
+        if (used == it->second.size()) return v;
+    } catch (const std::exception&) {
+    }
+    throw Error(where + ": the recorded " + key + " '" + it->second + "' is not a number");
+}
 
 RunSlices loadRunSlices(const std::string& input, const RunSlicesOptions& options) {
     RunSlices out;

@@ -29,6 +29,12 @@ struct RunSlices {
     std::map<std::string, std::string> recorded;
 };
 
+/// The number the run recorded under `key` (RunSlices::recorded), or
+/// `fallback` where it recorded none. Throws yv::Error naming `where` when
+/// the text is not a number, all of it.
+double recordedNumber(const std::map<std::string, std::string>& recorded, const std::string& key, double fallback,
+                      const std::string& where);
+
 /// The slices of the run that made `input` (a work directory or a .vdb).
 /// Throws yv::Error naming `input` when no garment can be found (a foreign
 /// .vdb without --garment, a garment file that moved) or none of the yarn

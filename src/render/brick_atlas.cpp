@@ -24,6 +24,19 @@ namespace {
 template <typename T>
 using Staging = std::vector<T, DefaultInitAllocator<T, HugePageAllocator<T>>>;
 
+/// One voxel's texels: density as a half (rounded to nearest even; handed
+/// floats for a 16-bit texture, NVIDIA's driver converts them on a slow path,
+/// about 5 us a brick on the H200) and, where `colour` is given, |axis| as RGBA8.
+void writeTexel(std::uint16_t* density, std::uint8_t* colour, std::size_t t, float d, glm::vec3 axisColour) {
+    density[t] = imath_float_to_half(d);
+    if (!colour) return;
+    const glm::vec3 a = glm::clamp(axisColour, 0.0f, 1.0f);
+    colour[4 * t + 0] = std::uint8_t(std::lround(255.0f * a.x));
+    colour[4 * t + 1] = std::uint8_t(std::lround(255.0f * a.y));
+    colour[4 * t + 2] = std::uint8_t(std::lround(255.0f * a.z));
+    colour[4 * t + 3] = 255;
+}
+
 } // namespace
 
 int atlasBytesPerVoxel(bool withOrientation) { return withOrientation ? 6 : 2; }
@@ -60,7 +73,7 @@ void BrickAtlas::upload(const LevelBrick& brick) {
     const glm::ivec3 c = brick.coord, d = plan_.brickDims;
     if (glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, d)))
         throw Error("brick atlas: a brick outside the level's grid");
-    std::uint32_t& slot = slotOf_[std::size_t(c.x) + std::size_t(d.x) * (std::size_t(c.y) + std::size_t(d.y) * std::size_t(c.z))];
+    std::uint32_t& slot = slotOf_[indirectionIndex(c)];
     if (slot != 0u) throw Error("brick atlas: a brick given twice");
     if (used_ >= std::uint64_t(slots_.x) * std::uint64_t(slots_.y) * std::uint64_t(slots_.z))
         throw Error("brick atlas: more bricks than the level plan counted");
@@ -72,25 +85,16 @@ void BrickAtlas::upload(const LevelBrick& brick) {
         if (withOrientation_) rowOrientation_.assign(4 * rowTexels * 64, 0);
     }
     // The brick's voxels (x fastest) into its place along the row: texel
-    // (8 slot + x, y, z) of a block slots_.x * 8 wide and 8 high. Halves
-    // made here (rounded to nearest even) and copied as they are: handed
-    // floats for a 16-bit texture, NVIDIA's driver converts them on a slow
-    // path (about 5 us a brick on the H200).
+    // (8 slot + x, y, z) of a block slots_.x * 8 wide and 8 high.
     const std::size_t x0 = std::size_t(s - rowStart_) * kBrickSize;
+    std::uint8_t* colour = withOrientation_ ? rowOrientation_.data() : nullptr;
     for (int z = 0; z < kBrickSize; ++z)
         for (int y = 0; y < kBrickSize; ++y)
             for (int x = 0; x < kBrickSize; ++x) {
                 const std::size_t v = std::size_t(x + kBrickSize * (y + kBrickSize * z));
                 const std::size_t t = x0 + std::size_t(x) + rowTexels * std::size_t(y + kBrickSize * z);
-                rowDensity_[t] = imath_float_to_half(brick.density[v]);
+                writeTexel(rowDensity_.data(), colour, t, brick.density[v], brick.axisColour[v]);
                 densityMax_ = std::max(densityMax_, brick.density[v]);
-                if (withOrientation_) {
-                    const glm::vec3 a = glm::clamp(brick.axisColour[v], 0.0f, 1.0f);
-                    rowOrientation_[4 * t + 0] = std::uint8_t(std::lround(255.0f * a.x));
-                    rowOrientation_[4 * t + 1] = std::uint8_t(std::lround(255.0f * a.y));
-                    rowOrientation_[4 * t + 2] = std::uint8_t(std::lround(255.0f * a.z));
-                    rowOrientation_[4 * t + 3] = 255;
-                }
             }
     if (used_ - rowStart_ == std::uint64_t(slots_.x)) uploadRow();
 }
@@ -134,12 +138,10 @@ void BrickAtlas::uploadLevelZero(const VolumeSource& source, const VoxelBox& cli
         const TraceSpan span("convert the level's bricks");
         density.resize(std::size_t(rows) * rowBlock);
         if (withOrientation_) colour.resize(4 * std::size_t(rows) * rowBlock);
-        const glm::ivec3 d = plan_.brickDims;
         tbb::combinable<float> maxima([] { return 0.0f; });
+        std::uint8_t* colours = withOrientation_ ? colour.data() : nullptr;
         forEachLevelZeroBrick(source, clip, plan_, [&](std::size_t s, const SourceBrick& b) {
-            const glm::ivec3 c = plan_.bricks[s];
-            slotOf_[std::size_t(c.x) + std::size_t(d.x) * (std::size_t(c.y) + std::size_t(d.y) * std::size_t(c.z))] =
-                std::uint32_t(s + 1);
+            slotOf_[indirectionIndex(plan_.bricks[s])] = std::uint32_t(s + 1);
             const std::size_t base = std::size_t(s / perRow) * rowBlock + std::size_t(s % perRow) * kBrickSize;
             float& most = maxima.local();
             for (int z = 0; z < kBrickSize; ++z)
@@ -147,17 +149,11 @@ void BrickAtlas::uploadLevelZero(const VolumeSource& source, const VoxelBox& cli
                     for (int x = 0; x < kBrickSize; ++x) {
                         const int from = brickOffset(x, y, z);
                         const std::size_t t = base + std::size_t(x) + rowTexels * std::size_t(y + kBrickSize * z);
-                        density[t] = imath_float_to_half(b.density[from]);
+                        // |axis| where there is density, as the level sums make it.
+                        const glm::vec3 axis = b.orientation && b.density[from] != 0.0f ? glm::abs(b.orientation[from])
+                                                                                        : glm::vec3(0.0f);
+                        writeTexel(density.data(), colours, t, b.density[from], axis);
                         most = std::max(most, b.density[from]);
-                        if (withOrientation_) {
-                            const glm::vec3 a = b.orientation && b.density[from] != 0.0f
-                                                    ? glm::clamp(glm::abs(b.orientation[from]), 0.0f, 1.0f)
-                                                    : glm::vec3(0.0f);
-                            colour[4 * t + 0] = std::uint8_t(std::lround(255.0f * a.x));
-                            colour[4 * t + 1] = std::uint8_t(std::lround(255.0f * a.y));
-                            colour[4 * t + 2] = std::uint8_t(std::lround(255.0f * a.z));
-                            colour[4 * t + 3] = 255;
-                        }
                     }
         });
         densityMax_ = maxima.combine([](float a, float b) { return std::max(a, b); });

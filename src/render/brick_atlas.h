@@ -56,10 +56,14 @@ class BrickAtlas {
     float densityMax_ = 0.0f;
     void uploadRow();
     void uploadIndirection();
+    /// Where level brick `c` is in slotOf_ (x fastest).
+    std::size_t indirectionIndex(glm::ivec3 c) const {
+        return std::size_t(c.x) + std::size_t(plan_.brickDims.x) * (std::size_t(c.y) + std::size_t(plan_.brickDims.y) * std::size_t(c.z));
+    }
     /// Row `row` of slots from texels laid out as upload() lays a row out.
     void uploadRowTexels(std::uint64_t row, std::uint64_t filled, const std::uint16_t* density, const std::uint8_t* colour);
 
-    std::vector<std::uint32_t> slotOf_; ///< the indirection grid on the host, uploaded by finish()
+    std::vector<std::uint32_t> slotOf_; ///< the indirection grid on the host, uploaded by uploadIndirection()
     /// The row of slots being filled, as the texels it covers (slots_.x * 8 x 8 x 8):
     /// density as halves, orientation as RGBA8.
     std::vector<std::uint16_t> rowDensity_;

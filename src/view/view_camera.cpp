@@ -37,9 +37,8 @@ Camera viewCamera(const VoxelBox& box, const ViewCamera& v, int width, int heigh
 double viewRadius(const VoxelBox& box) { return std::max(0.5 * glm::length(glm::dvec3(box.max - box.min)), 0.5); }
 
 Camera enclosing(const Camera& camera, const VoxelBox& box) {
-    const glm::dvec3 lo(box.min), hi(box.max);
-    const double radius = std::max(0.5 * glm::length(hi - lo), 0.5);
-    const double d = glm::length(camera.eye - 0.5 * (lo + hi));
+    const double radius = viewRadius(box);
+    const double d = glm::length(camera.eye - 0.5 * glm::dvec3(box.min + box.max));
     const double n = std::max(d - radius, 1e-3 * std::max(d, radius)), f = d + radius;
     // glm::perspective's depth terms; the field of view, aspect and any pan stay.
     Camera c = camera;

@@ -37,6 +37,11 @@ RealBox worldOf(const RealBox& box, const VoxelGrid& grid) {
     return {grid.origin + box.min * grid.voxelSize, grid.origin + box.max * grid.voxelSize};
 }
 
+/// A layer's renderer (and its atlas and look) of `mode`, `coarser` levels coarser than the budget's.
+std::string rendererKey(const std::string& mode, int coarser) {
+    return coarser == 0 ? mode : mode + "@" + std::to_string(coarser);
+}
+
 /// The width of the ray cast's part of a frame: its right half beside the slices, else all of it.
 int volumeWidth(const ViewScene& scene, const ViewState& state) {
     return scene.sideBySide() && !(state.blend && scene.blends()) ? state.width - state.width / 2 : state.width;
@@ -115,7 +120,7 @@ ViewScene::~ViewScene() {
 }
 
 Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame, int coarser) {
-    const std::string key = coarser == 0 ? mode : mode + "@" + std::to_string(coarser);
+    const std::string key = rendererKey(mode, coarser);
     if (auto it = layer.renderers.find(key); it != layer.renderers.end()) return *it->second;
     RenderRequest request;
     request.kind = parseRenderKind(mode);
@@ -203,7 +208,7 @@ void ViewScene::drawInto(const ViewState& state, const std::string& mode, int wi
         chosenRenderer = &rendererFor(layer, mode, frame);
     }
     Renderer& renderer = *chosenRenderer;
-    const std::string key = coarser == 0 ? mode : mode + "@" + std::to_string(coarser);
+    const std::string key = rendererKey(mode, coarser);
     if (slices) {
         // The twist is in world units; the slices lie in the volume's voxels.
         if (twistable()) renderer.setTwist(state.twist * volume_.grid->voxelSize);

@@ -9,7 +9,6 @@
 #include <bit>
 #include <cstdio>
 #include <cstdlib>
-#include <exception>
 #include <system_error>
 
 namespace yv {
@@ -68,18 +67,6 @@ std::string recordedText(const RunSlices& run, const std::string& key) {
     return it == run.recorded.end() ? std::string() : it->second;
 }
 
-double recordedNumber(const RunSlices& run, const std::string& key, double fallback, const std::string& where) {
-    const std::string text = recordedText(run, key);
-    if (text.empty()) return fallback;
-    try {
-        std::size_t used = 0;
-        const double v = std::stod(text, &used);
-        if (used == text.size()) return v;
-    } catch (const std::exception&) {
-    }
-    throw Error(where + ": the recorded " + key + " '" + text + "' is not a number");
-}
-
 } // namespace
 
 ViewVolume::ViewVolume(ViewVolume&& other) noexcept
@@ -131,7 +118,7 @@ ViewVolume openViewVolume(const std::string& path, const VoxelizeJob& job, const
             // Where its garment is found, the view voxelizes as its run did, on the run's grid.
             VoxelGrid grid = run->grid;
             const VoxelBox bounds = v.source->bounds();
-            const int resolution = int(recordedNumber(*run, "resolution", 0.0, path));
+            const int resolution = int(recordedNumber(run->recorded, "resolution", 0.0, path));
             grid.dims = glm::max(glm::max(bounds.max, glm::ivec3(resolution > 0 ? resolution : 1)), glm::ivec3(1));
             v.grid = grid;
             v.voxelizeJob = recordedVoxelizeJob(*run, job, path);
@@ -155,11 +142,11 @@ VoxelizeJob recordedVoxelizeJob(const RunSlices& run, const VoxelizeJob& view, c
     job.input = run.garmentPath;
     const std::string crossSection = recordedText(run, "cross_section");
     if (!crossSection.empty()) job.crossSection = crossSection;
-    job.yarnRadius = recordedNumber(run, "yarn_radius", 0.0, volumePath);
-    job.twist = recordedNumber(run, "twist", 0.0, volumePath);
-    job.supersample = std::max(1, int(recordedNumber(run, "supersample", 1.0, volumePath)));
-    job.slicesPerSegment = int(recordedNumber(run, "slices_per_segment", 0.0, volumePath));
-    job.spacing = recordedNumber(run, "slice_spacing_option", 0.0, volumePath);
+    job.yarnRadius = recordedNumber(run.recorded, "yarn_radius", 0.0, volumePath);
+    job.twist = recordedNumber(run.recorded, "twist", 0.0, volumePath);
+    job.supersample = std::max(1, int(recordedNumber(run.recorded, "supersample", 1.0, volumePath)));
+    job.slicesPerSegment = int(recordedNumber(run.recorded, "slices_per_segment", 0.0, volumePath));
+    job.spacing = recordedNumber(run.recorded, "slice_spacing_option", 0.0, volumePath);
     const std::string overlap = recordedText(run, "overlap"), reduce = recordedText(run, "reduce");
     if (!overlap.empty() && overlap != "clamp" && overlap != "sum")
         throw Error(volumePath + ": the recorded overlap '" + overlap + "' is neither clamp nor sum");
