@@ -1,16 +1,11 @@
 // `yarnvox view` end to end without a browser: the server run in-process on
 // a small generated garment (llvmpipe), a WebSocket client speaking the
-// protocol with Beast, JPEG frames decoded and compared for different
+// protocol (served_view.h), JPEG frames decoded and compared for different
 // cameras; a garbage message is refused, logged, and the page and the server
 // go on. And the command's refusals before serving, and its stop on SIGTERM.
 #include "core/error.h"
 #include "served_view.h"
 
-#include <boost/asio/connect.hpp>
-#include <boost/asio/ip/tcp.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
-#include <boost/beast/websocket.hpp>
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -24,9 +19,6 @@
 #include <thread>
 
 namespace fs = std::filesystem;
-namespace beast = boost::beast;
-namespace net = boost::asio;
-using tcp = net::ip::tcp;
 using Json = nlohmann::json;
 
 namespace {
@@ -118,16 +110,13 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
     page.sendCamera(60, 50);
     bool shot = false;
     for (int i = 0; i < 4 && !shot; ++i) {
-        beast::flat_buffer b;
-        page.ws.read(b);
-        if (!page.ws.got_text()) continue;
-        const Json m = Json::parse(beast::buffers_to_string(b.data()));
+        const yv::test::PageMessage message = page.read();
+        if (!message.text) continue;
+        const Json m = Json::parse(message.bytes);
         if (m["type"] != "screenshot") continue;
-        beast::flat_buffer picture;
-        page.ws.read(picture);
-        REQUIRE(!page.ws.got_text());
-        const auto* p = static_cast<const std::uint8_t*>(picture.data().data());
-        const yv::RgbImage big = yv::decodeJpeg(std::vector<std::uint8_t>(p, p + picture.size()));
+        const yv::test::PageMessage picture = page.read();
+        REQUIRE(!picture.text);
+        const yv::RgbImage big = yv::decodeJpeg(std::vector<std::uint8_t>(picture.bytes.begin(), picture.bytes.end()));
         CHECK(big.width == 1536);
         CHECK(big.height == 768);
         CHECK(litPixels(big, 0, 768) > 100 * 64);
@@ -146,8 +135,7 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
     Page other(port);
     other.sendCamera(0, 1);
     other.frameOf(1);
-    other.ws.binary(true);
-    other.ws.write(net::buffer(std::string("\x01\x02", 2)));
+    other.sendBinary(std::string("\x01\x02", 2));
     other.send(std::string(4096, ' '));
     page.sendCamera(90, 7);
     CHECK(page.frameOf(7).second.width == 128);
@@ -192,24 +180,17 @@ TEST_CASE("View: the page is served over HTTP on the same port", "[view][gl]") {
     YV_REQUIRE_GL();
     ServedView view;
     const int port = view.port.get_future().get();
-    net::io_context io;
-    beast::tcp_stream stream(io);
-    tcp::resolver resolver(io);
-    stream.connect(resolver.resolve("127.0.0.1", std::to_string(port)));
-    for (const char* target : {"/", "/view.js", "/nothing"}) {
-        beast::http::request<beast::http::string_body> request(beast::http::verb::get, target, 11);
-        request.set(beast::http::field::host, "127.0.0.1");
-        beast::http::write(stream, request);
-        beast::flat_buffer buffer;
-        beast::http::response<beast::http::string_body> response;
-        beast::http::read(stream, buffer, response);
+    const std::vector<std::string> targets = {"/", "/view.js", "/nothing"};
+    const std::vector<yv::test::HttpReply> replies = yv::test::httpGet(port, targets);
+    REQUIRE(replies.size() == targets.size());
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+        const std::string& target = targets[i];
         INFO(target);
-        if (std::string(target) == "/nothing") {
-            CHECK(response.result() == beast::http::status::not_found);
+        if (target == "/nothing") {
+            CHECK(replies[i].status == 404);
         } else {
-            CHECK(response.result() == beast::http::status::ok);
-            CHECK(response.body().find(std::string(target) == "/" ? "<script src=\"view.js\">" : "new WebSocket(") !=
-                  std::string::npos);
+            CHECK(replies[i].status == 200);
+            CHECK(replies[i].body.find(target == "/" ? "<script src=\"view.js\">" : "new WebSocket(") != std::string::npos);
         }
     }
 }
