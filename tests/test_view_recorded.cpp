@@ -4,9 +4,12 @@
 // to `yarnvox voxelize` with the command the view gives; a .vdb whose
 // garment is gone is drawn as before and says why it cannot voxelize.
 #include "bbox_runs.h"
+#include "inspect/run_slices.h"
 #include "served_view.h"
+#include "view/view_volume.h"
 
 #include <catch2/catch.hpp>
+#include <png.h>
 
 #include <string>
 
@@ -98,4 +101,44 @@ TEST_CASE("View: a .vdb whose garment is gone is drawn, measures in voxels and s
     CHECK(page.notices[0].find("needs the garment") != std::string::npos);
     CHECK(view.logged("no voxelizing what the camera sees"));
     CHECK(!view.failure);
+}
+
+TEST_CASE("View: a .vdb or work directory made with --albedo voxelizes the view with its colour, one without it without",
+          "[view]") {
+    yv::test::ScratchDir scratch("yv_view_albedo");
+    const fs::path bcc = scratch.path / "plain.bcc";
+    REQUIRE(yv::test::runYarnvox("gen --pattern plain --crossings 4 --quiet -o " + bcc.string()).exitCode == 0);
+    // A colour cross-section: one colour over the unit disk.
+    const int size = 16;
+    std::vector<std::uint8_t> pixels(std::size_t(size) * size * 4);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const double u = (x + 0.5) / size * 2 - 1, v = (y + 0.5) / size * 2 - 1;
+            std::uint8_t* p = &pixels[(std::size_t(y) * size + x) * 4];
+            p[0] = 200, p[1] = 40, p[2] = 90, p[3] = u * u + v * v < 1.0 ? 255 : 0;
+        }
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = image.height = std::uint32_t(size);
+    image.format = PNG_FORMAT_RGBA;
+    const fs::path png = scratch.path / "red.png";
+    REQUIRE(png_image_write_to_file(&image, png.c_str(), 0, pixels.data(), 0, nullptr));
+
+    const std::string common = "voxelize " + bcc.string() + " --cross-section " + png.string() + " --resolution 24 --quiet ";
+    const fs::path coloured = scratch.path / "coloured.vdb", work = scratch.path / "coloured.work",
+                   plain = scratch.path / "plain.vdb";
+    REQUIRE(yv::test::runYarnvox(common + "--albedo -o " + coloured.string()).exitCode == 0);
+    REQUIRE(yv::test::runYarnvox(common + "--albedo --work-dir " + work.string() + " -o " +
+                                 (scratch.path / "from-work.vdb").string())
+                .exitCode == 0);
+    REQUIRE(yv::test::runYarnvox(common + "-o " + plain.string()).exitCode == 0);
+
+    const yv::VoxelizeJob view;
+    for (const fs::path& path : {coloured, work, plain}) {
+        INFO(path);
+        const yv::VoxelizeJob job = yv::recordedVoxelizeJob(yv::loadRunSlices(path.string(), {}), view, path.string());
+        CHECK(job.albedo == (path != plain));
+        CHECK(job.crossSection == png.string());
+        CHECK(job.input == bcc.string());
+    }
 }

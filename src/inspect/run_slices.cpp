@@ -52,6 +52,9 @@ Recorded vdbRecord(const std::string& path, VoxelGrid& grid) {
                 out[it->first] = it->second->str();
             }
         }
+        // A .vdb says it has albedo by an item describing the grid's colour
+        // (vdb/file_metadata.cpp); the manifest records the flag, as 1 or 0.
+        if (out.count("albedo")) out["albedo"] = "1";
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": not an OpenVDB file OpenVDB can read (" + e.what() + ")");
     }
