@@ -24,7 +24,7 @@ class MemoryDestination : public RegionDestination {
                   assembler_.add(packed, regionName(id));
               },
               setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), writerThreads()),
-          sink_(writer_) {}
+          sink_(writer_, setup.job.cancel.get()) {}
 
     const std::vector<ZoomRegion>& regionOrder() const override { return regions_; }
     RegionSink& sink() override { return sink_; }

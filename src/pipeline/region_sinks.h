@@ -7,6 +7,7 @@
 #include "store/brick_store.h"
 #include "store/region_writer.h"
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -18,7 +19,9 @@ namespace yv {
 /// on its threads and puts them into the .vdb's leaves or a work directory.
 class QueueSink : public RegionSink {
   public:
-    explicit QueueSink(RegionWriter& writer) : writer_(writer) {}
+    /// `cancel`: where set, the run may be given up (VoxelizeJob::cancel).
+    explicit QueueSink(RegionWriter& writer, const std::atomic<bool>* cancel = nullptr)
+        : writer_(writer), cancel_(cancel) {}
     void consume(const ZoomRegion& r, PackedBricks&& bricks) override {
         writer_.submitResolved(r.id, r.min, r.max, std::move(bricks));
         ++consumed;
@@ -28,19 +31,21 @@ class QueueSink : public RegionSink {
         ++consumed;
     }
     PackedBricks emptyPackedBricks() override { return writer_.recycledPackedBricks(); }
-    /// SIGINT or SIGTERM: stop at this region boundary.
-    bool stopRequested() override { return interruptSignal() != 0; }
+    /// SIGINT or SIGTERM, or the run given up: stop at this region boundary.
+    bool stopRequested() override { return interruptSignal() != 0 || (cancel_ && cancel_->load()); }
     std::uint64_t consumed = 0; ///< regions handed to the writer
 
   private:
     RegionWriter& writer_;
+    const std::atomic<bool>* cancel_;
 };
 
 /// Feeds a work directory; on --resume, skips regions whose files are
 /// complete and verified.
 class StoreSink : public QueueSink {
   public:
-    StoreSink(BrickStore& store, RegionWriter& writer, bool resume) : QueueSink(writer), store_(store), resume_(resume) {}
+    StoreSink(BrickStore& store, RegionWriter& writer, bool resume, const std::atomic<bool>* cancel = nullptr)
+        : QueueSink(writer, cancel), store_(store), resume_(resume) {}
     bool alreadyDone(const ZoomRegion& r) override {
         if (!resume_) return false;
         switch (store_.verifyRegion(r.id, r.min, r.max)) {

@@ -41,6 +41,10 @@ LodRequest lodOf(const VoxelizeJob& job) {
     return job.lod;
 }
 
+void throwIfCancelled(const VoxelizeJob& job, const std::string& where) {
+    if (job.cancel && job.cancel->load()) throw RunCancelled("given up " + where + ": nothing was written");
+}
+
 const char* toString(BackendRequest b) {
     switch (b) {
     case BackendRequest::Gl: return "gl";

@@ -6,8 +6,10 @@
 #include "core/sampling.h"
 #include "plan/box_request.h"
 #include "vdb/lod_request.h"
+#include "core/error.h"
 #include "vdb/vdb_writer.h"
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -61,6 +63,12 @@ struct VoxelizeJob {
     /// from them rather than reading its .vdb back. Runs through a work dir
     /// keep nothing.
     std::shared_ptr<KeptBricks> keepBricks;
+    /// Where set, the caller may give the run up by setting it (the live
+    /// view, when a newer view is asked for): the run stops at its next zoom
+    /// region boundary and throws RunCancelled before the .vdb is written;
+    /// a run into the .vdb alone leaves nothing, one through a work dir the
+    /// regions written so far (a resume goes on from them).
+    std::shared_ptr<const std::atomic<bool>> cancel;
     bool quiet = false, verbose = false;                ///< --quiet, --verbose
     /// Under mpirun: this rank voxelizes the garment by itself, as one
     /// process would (whole garments handed out to ranks), on its own GPU.
@@ -70,6 +78,15 @@ struct VoxelizeJob {
     /// shared by the ranks of an MPI run) rather than straight into the .vdb.
     bool throughWorkDir(bool sharedByRanks) const { return !workDir.empty() || keepWorkDir || resume || sharedByRanks; }
 };
+
+/// A run given up through VoxelizeJob::cancel: nothing written.
+class RunCancelled : public Error {
+  public:
+    explicit RunCancelled(const std::string& what) : Error(what) {}
+};
+
+/// Throws RunCancelled, saying `where`, when `job` has been given up.
+void throwIfCancelled(const VoxelizeJob& job, const std::string& where);
 
 /// Every rule between a job's options, each stated here once, checked
 /// before any work: where the results go (-o and --stats writable and

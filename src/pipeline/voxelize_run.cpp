@@ -149,6 +149,7 @@ SparseRun runSparse(const VoxelizeJob& job, Backend backend, const SlicedGarment
     const ZoomPlan zoom =
         planZoomWhilePreparing(*rasterizer, sliced, grid, job.supersample, settings.clip, group, zoomPlanSeconds);
     timer.lap("plan");
+    throwIfCancelled(job, "before its regions");
     if (job.verbose)
         tell("plan: " + std::to_string(zoom.regions.size()) + " zoom regions, " + numberText(zoom.estimatedFragments) +
              " fragments expected, budget " + std::to_string(rasterizer->fragmentBudget()) + " per pass");
@@ -166,6 +167,8 @@ SparseRun runSparse(const VoxelizeJob& job, Backend backend, const SlicedGarment
     StageSeconds stages = rasterizer->voxelizeParts();
     const std::jthread freeing = freeInBackground(std::move(rasterizer)); // while the output is written
     run.totals = destination->collect();
+    throwIfCancelled(job, "after " + std::to_string(run.totals ? run.totals->regionsRasterized : 0) + " of " +
+                              std::to_string(zoom.regions.size()) + " regions");
     if (!run.totals) return run;
     run.voxelizeSeconds = timer.lap("voxelize");
     // The stages so far, and the parts of the voxelize stage that the

@@ -10,7 +10,7 @@ std::string workDirOf(const VoxelizeJob& job) { return job.workDir.empty() ? job
 
 WorkDirDestination::WorkDirDestination(const DestinationSetup& setup)
     : WorkDirDestination(setup, std::make_unique<BrickStore>(workDirOf(setup.job), setup.manifest, setup.job.resume)) {
-    sink_ = std::make_unique<StoreSink>(*store_, *writer_, job_.resume);
+    sink_ = std::make_unique<StoreSink>(*store_, *writer_, job_.resume, job_.cancel.get());
 }
 
 WorkDirDestination::WorkDirDestination(const DestinationSetup& setup, std::unique_ptr<BrickStore> store)

@@ -11,7 +11,8 @@
 //   {"type":"notice", "text"}                         (a refusal, or what could not be drawn)
 //   {"type":"screenshot", ...the stats' fields}       (a binary JPEG message follows)
 //   {"type":"voxelize", "state", ...}                 (voxelize what the camera sees: asked,
-//                                                       already, running, failed, saving, saved)
+//                                                       already, running, dropped (given up for a
+//                                                       newer view), failed, saving, saved)
 // A frame's "detail" is null, or the view voxelization taken last: "id",
 // "voxelSize", "bboxWorld", "activeVoxels", "seconds", "command", and
 // "shown" (this frame draws it).

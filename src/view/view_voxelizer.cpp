@@ -105,8 +105,11 @@ bool ViewVoxelizer::request(const ViewVoxelization& plan, const std::optional<Vi
         if (running_ == plan || last_ == plan) return false;
         for (const Task& t : waiting_)
             if (t.kind == Task::Kind::Voxelize && t.plan == plan) return false;
-        // The newest view wins over every pass of one not yet started.
+        // The newest view wins over every pass of one not yet started, and
+        // over the passes under way (they stop at their next region).
         std::erase_if(waiting_, [](const Task& t) { return t.kind == Task::Kind::Voxelize; });
+        for (const auto& cancel : {runningCancel_, firstPassCancel_})
+            if (cancel) cancel->store(true);
         const double asked = now();
         for (const ViewVoxelization* pass : {first ? &*first : nullptr, &plan}) {
             if (!pass) continue;
@@ -114,6 +117,7 @@ bool ViewVoxelizer::request(const ViewVoxelization& plan, const std::optional<Vi
             task.plan = *pass;
             task.id = nextId_++;
             task.askedAt = asked;
+            task.cancel = std::make_shared<std::atomic<bool>>(false);
             waiting_.push_back(std::move(task));
         }
     }
@@ -153,31 +157,42 @@ void ViewVoxelizer::work() {
             if (stopping_) return;
             task = std::move(waiting_.front());
             waiting_.erase(waiting_.begin());
-            if (task.kind == Task::Kind::Voxelize && !task.plan.firstPass) running_ = task.plan;
+            if (task.kind == Task::Kind::Voxelize) {
+                (task.plan.firstPass ? firstPassCancel_ : runningCancel_) = task.cancel;
+                if (!task.plan.firstPass) running_ = task.plan;
+            }
         }
         if (task.kind == Task::Kind::Voxelize && task.plan.firstPass) {
             // The coarse pass runs beside the final one (a GL context of its
             // own; the GPU and cores have room for both), so it costs the
             // final pass nothing; the one before it is done or nearly.
             if (firstPass_.joinable()) firstPass_.join();
-            firstPass_ = std::thread([this, task] {
-                try {
-                    voxelize(task);
-                } catch (const Error& e) {
-                    listener_.tell(failedText(task.id, e.what()));
-                }
-            });
+            firstPass_ = std::thread([this, task] { voxelizeOrDrop(task); });
             continue;
         }
-        try {
-            if (task.kind == Task::Kind::Voxelize) voxelize(task);
-            else saveRun(task);
-        } catch (const Error& e) {
-            listener_.tell(failedText(task.id, e.what()));
+        if (task.kind == Task::Kind::Voxelize) {
+            voxelizeOrDrop(task);
+        } else {
+            try {
+                saveRun(task);
+            } catch (const Error& e) {
+                listener_.tell(failedText(task.id, e.what()));
+            }
         }
         const std::lock_guard lock(mutex_);
         running_.reset();
+        runningCancel_.reset();
         if (interruptSignal() != 0) return; // Ctrl-C: the view is stopping
+    }
+}
+
+void ViewVoxelizer::voxelizeOrDrop(const Task& task) {
+    try {
+        voxelize(task);
+    } catch (const RunCancelled& e) {
+        listener_.tell(nlohmann::json{{"type", "voxelize"}, {"state", "dropped"}, {"id", task.id}, {"text", e.what()}}.dump());
+    } catch (const Error& e) {
+        listener_.tell(failedText(task.id, e.what()));
     }
 }
 
@@ -192,6 +207,7 @@ void ViewVoxelizer::voxelize(const Task& task) {
     VoxelizeJob job = jobFor(task.plan);
     job.output = (scratch_ / ("view-" + std::to_string(task.id) + ".vdb")).string();
     job.keepBricks = std::make_shared<KeptBricks>();
+    job.cancel = task.cancel;
     const VoxelizeReport report = runVoxelize(job, [](const std::string&) {});
     DetailRun run;
     run.id = task.id;

@@ -8,10 +8,11 @@
 // and `inspect` read. A large run comes in two passes, a coarse one beside
 // the one asked for (view_region.h's refinePass), each taken as it
 // finishes (the coarse one only while no later run has been), so the view
-// refines where it looks. A request made while a run is under way waits
-// (the newest replaces any pass of an older one not yet started, so a
-// camera that moves on skips the fine pass of where it was); a pass is
-// never stopped half-way but by Ctrl-C, which stops the whole view.
+// refines where it looks. A request for another view replaces every pass
+// of an older one not yet started and gives up the passes under way at
+// their next zoom region boundary (VoxelizeJob::cancel: they write
+// nothing, and the pages hear "dropped"), so a camera that moves on waits
+// for no run of where it was. Saves are never given up.
 #pragma once
 
 #include "core/kept_bricks.h"
@@ -19,6 +20,7 @@
 #include "pipeline/voxelize_job.h"
 #include "view/view_region.h"
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <filesystem>
@@ -86,8 +88,12 @@ class ViewVoxelizer {
         DetailRun run; ///< what a save saves
         std::uint64_t id = 0;
         double askedAt = 0.0;
+        /// A voxelize pass's: set when a newer view is asked for.
+        std::shared_ptr<std::atomic<bool>> cancel;
     };
     void work();
+    /// Runs a voxelize pass; a pass given up says "dropped" to the pages.
+    void voxelizeOrDrop(const Task& task);
     void voxelize(const Task& task);
     void saveRun(const Task& task);
     VoxelizeJob jobFor(const ViewVoxelization& plan) const;
@@ -99,6 +105,8 @@ class ViewVoxelizer {
     std::condition_variable wake_;
     std::vector<Task> waiting_;
     std::optional<ViewVoxelization> running_, last_;
+    /// The give-up flags of the passes under way (the final pass, the coarse one beside it).
+    std::shared_ptr<std::atomic<bool>> runningCancel_, firstPassCancel_;
     std::optional<DetailRun> finished_;
     std::uint64_t nextId_ = 1;
     std::uint64_t publishedId_ = 0; ///< the newest run handed to takeFinished
