@@ -3,6 +3,9 @@
 // in both halves; the same garment voxelized at another resolution lies in
 // the same place of the other half (both record where they lie in the
 // world), drawn from its own voxels.
+#include "inspect/brick_level.h"
+#include "inspect/volume_source.h"
+#include "render/brick_atlas.h"
 #include "served_view.h"
 
 #include <catch2/catch.hpp>
@@ -117,4 +120,32 @@ TEST_CASE("View: the same garment at another resolution lies in the same place o
         CHECK(meanDifference(half(picture, false), half(picture, true)) > 0.5);
     }
     CHECK(!view.failure);
+}
+
+TEST_CASE("View: two volumes side by side share the GPU budget, half each", "[view][gl]") {
+    YV_REQUIRE_GL();
+    // A budget that holds the volume's finest level once and a half: alone
+    // it is drawn at level 0, beside another each half holds a coarser one.
+    std::uint64_t budget = 0;
+    int levelAtHalf = -1;
+    const auto atBudget = [&](bool beside) {
+        ServedView view(true, [&](yv::ViewRequest& r) {
+            const std::unique_ptr<yv::VolumeSource> source = yv::openVolumeSource(r.input);
+            const int bytesPerVoxel = yv::atlasBytesPerVoxel(false);
+            const std::uint64_t finest = yv::planLevel(*source, source->bounds(), ~0ull, bytesPerVoxel, 1 << 14).gpuBytes;
+            budget = finest + finest / 2;
+            levelAtHalf = yv::planLevel(*source, source->bounds(), budget / 2, bytesPerVoxel, 1 << 14).level;
+            r.gpuBudgetBytes = budget;
+            if (beside) r.beside = r.input;
+        });
+        Page page(view.port.get_future().get());
+        page.sendCamera(30, 20, 2.5, 1);
+        const Json stats = page.frameOf(1).first;
+        INFO(stats.dump());
+        CHECK(!view.failure);
+        return stats["level"].get<int>();
+    };
+    CHECK(atBudget(false) == 0);
+    CHECK(levelAtHalf >= 1);
+    CHECK(atBudget(true) == levelAtHalf);
 }

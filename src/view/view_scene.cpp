@@ -70,6 +70,9 @@ ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes
     const GlContext& gl = context_.gl();
     rendererName_ = gl.info().renderer;
     if (const long long free = gl.queryFreeMemoryBytes(); free > 0) budget_ = std::min(budget_, std::uint64_t(free) / 2);
+    // Two volumes share the budget (each its own atlases): half each, so two
+    // need no more of the GPU than one did.
+    if (beside) budget_ /= 2;
     // The atlas without orientation colours, loaded now: a level the budget cannot hold fails before serving.
     const AtlasLoad plain = context_.bricks().load(gl, *volume_.source, box_, budget_, false);
     float densityMax = plain.atlas->densityMax();
