@@ -4,6 +4,7 @@
 // for, says "dropped", and runs the newer one.
 #include "bcc.h"
 #include "core/error.h"
+#include "garment/slices.h"
 #include "pipeline/voxelize_run.h"
 #include "run_cli.h"
 #include "test_helpers.h"
@@ -28,11 +29,10 @@ namespace {
 /// A small generated garment and its world bounds, as --bbox-world text.
 struct TestGarment {
     fs::path bcc;
-    glm::dvec3 min{1e300}, max{-1e300};
+    glm::dvec3 min{0.0}, max{0.0};
     explicit TestGarment(const fs::path& dir) : bcc(dir / "plain.bcc") {
         REQUIRE(yv::test::runYarnvox("gen --pattern plain --crossings 16 --quiet -o " + bcc.string()).exitCode == 0);
-        for (const yv::Yarn& y : yv::readBcc(bcc.string()).yarns)
-            for (const auto& p : y.points) min = glm::min(min, glm::dvec3(p)), max = glm::max(max, glm::dvec3(p));
+        yv::curveBounds(yv::readBcc(bcc.string()), min, max);
     }
     /// The garment's box grown by `margin` on every side.
     std::string boxText(double margin) const {

@@ -9,7 +9,6 @@
 #include "view/view_volume.h"
 
 #include <catch2/catch.hpp>
-#include <png.h>
 
 #include <string>
 
@@ -108,21 +107,7 @@ TEST_CASE("View: a .vdb or work directory made with --albedo voxelizes the view 
     yv::test::ScratchDir scratch("yv_view_albedo");
     const fs::path bcc = scratch.path / "plain.bcc";
     REQUIRE(yv::test::runYarnvox("gen --pattern plain --crossings 4 --quiet -o " + bcc.string()).exitCode == 0);
-    // A colour cross-section: one colour over the unit disk.
-    const int size = 16;
-    std::vector<std::uint8_t> pixels(std::size_t(size) * size * 4);
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            const double u = (x + 0.5) / size * 2 - 1, v = (y + 0.5) / size * 2 - 1;
-            std::uint8_t* p = &pixels[(std::size_t(y) * size + x) * 4];
-            p[0] = 200, p[1] = 40, p[2] = 90, p[3] = u * u + v * v < 1.0 ? 255 : 0;
-        }
-    png_image image{};
-    image.version = PNG_IMAGE_VERSION;
-    image.width = image.height = std::uint32_t(size);
-    image.format = PNG_FORMAT_RGBA;
-    const fs::path png = scratch.path / "red.png";
-    REQUIRE(png_image_write_to_file(&image, png.c_str(), 0, pixels.data(), 0, nullptr));
+    const fs::path png = yv::test::writeTwoColourPng(scratch.path / "colour.png", 16);
 
     const std::string common = "voxelize " + bcc.string() + " --cross-section " + png.string() + " --resolution 24 --quiet ";
     const fs::path coloured = scratch.path / "coloured.vdb", work = scratch.path / "coloured.work",

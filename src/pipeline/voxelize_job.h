@@ -3,10 +3,10 @@
 // every rule between them, and the pipeline (voxelize_run.h) only reads it.
 #pragma once
 
+#include "core/error.h"
 #include "core/sampling.h"
 #include "plan/box_request.h"
 #include "vdb/lod_request.h"
-#include "core/error.h"
 #include "vdb/vdb_writer.h"
 
 #include <atomic>

@@ -37,9 +37,9 @@ fs::path savedName(const fs::path& dir, const std::string& input, std::uint64_t 
     return dir / (fs::path(input).stem().string() + "-view-" + std::to_string(id));
 }
 
-/// The pages' message for a task that failed.
-std::string failedText(std::uint64_t id, const char* what) {
-    return nlohmann::json{{"type", "voxelize"}, {"state", "failed"}, {"id", id}, {"text", what}}.dump();
+/// The pages' message for a task that ended without its result: "failed" or "dropped".
+std::string endedText(std::uint64_t id, const char* state, const char* what) {
+    return nlohmann::json{{"type", "voxelize"}, {"state", state}, {"id", id}, {"text", what}}.dump();
 }
 
 /// Box after box of one garment: read once, and its slices planned once per slice spacing.
@@ -176,7 +176,7 @@ void ViewVoxelizer::work() {
             try {
                 saveRun(task);
             } catch (const Error& e) {
-                listener_.tell(failedText(task.id, e.what()));
+                listener_.tell(endedText(task.id, "failed", e.what()));
             }
         }
         const std::lock_guard lock(mutex_);
@@ -190,9 +190,9 @@ void ViewVoxelizer::voxelizeOrDrop(const Task& task) {
     try {
         voxelize(task);
     } catch (const RunCancelled& e) {
-        listener_.tell(nlohmann::json{{"type", "voxelize"}, {"state", "dropped"}, {"id", task.id}, {"text", e.what()}}.dump());
+        listener_.tell(endedText(task.id, "dropped", e.what()));
     } catch (const Error& e) {
-        listener_.tell(failedText(task.id, e.what()));
+        listener_.tell(endedText(task.id, "failed", e.what()));
     }
 }
 

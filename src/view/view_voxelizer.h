@@ -105,7 +105,8 @@ class ViewVoxelizer {
     std::condition_variable wake_;
     std::vector<Task> waiting_;
     std::optional<ViewVoxelization> running_, last_;
-    /// The give-up flags of the passes under way (the final pass, the coarse one beside it).
+    /// The give-up flags of the final pass under way (reset when it ends) and
+    /// of the last coarse pass taken (setting a finished pass's flag does nothing).
     std::shared_ptr<std::atomic<bool>> runningCancel_, firstPassCancel_;
     std::optional<DetailRun> finished_;
     std::uint64_t nextId_ = 1;
