@@ -132,6 +132,9 @@ std::string glString(GLenum name) {
 struct GlContext::Impl {
     EGLDisplay display = EGL_NO_DISPLAY; // set only once acquired
     EGLContext context = EGL_NO_CONTEXT;
+    /// What the context was made with, so that a sharing one is made alike.
+    EGLConfig config = EGL_NO_CONFIG_KHR;
+    std::vector<EGLint> attribs;
     GlInfo info;
 
     ~Impl() {
@@ -155,6 +158,11 @@ struct GlContext::Impl {
     /// Creates the 4.5 core context on the already acquired `display` and
     /// makes it current; `where` names the display in error messages.
     void createContext(const std::string& where, EGLint eglMajor, EGLint eglMinor, bool debug);
+    /// Records the current context, so that destroying one made later hands the thread back to it.
+    void pushCurrent() const {
+        std::lock_guard lock(gStackMutex);
+        gContextStack.emplace_back(display, context);
+    }
 };
 
 void GlContext::Impl::createContext(const std::string& where, EGLint eglMajor, EGLint eglMinor,
@@ -199,9 +207,13 @@ void GlContext::Impl::createContext(const std::string& where, EGLint eglMajor, E
     EGLint lastError = EGL_SUCCESS;
     for (EGLConfig cfg : configs) {
         context = eglCreateContext(display, cfg, EGL_NO_CONTEXT, attribs.data());
-        if (context != EGL_NO_CONTEXT) break;
+        if (context != EGL_NO_CONTEXT) {
+            config = cfg;
+            break;
+        }
         lastError = eglGetError();
     }
+    this->attribs = attribs;
     if (context == EGL_NO_CONTEXT)
         fail("eglCreateContext for OpenGL 4.5 core failed on " + where + " (" +
              eglErrorName(lastError) + "; " + driverHint + ")");
@@ -334,8 +346,28 @@ GlContext::GlContext(const GlContextOptions& options) : impl_(std::make_unique<I
         m.info.platform = GlPlatform::Surfaceless;
         m.createContext("the EGL surfaceless platform", eglMajor, eglMinor, options.debug);
     }
-    std::lock_guard lock(gStackMutex);
-    gContextStack.emplace_back(m.display, m.context);
+    m.pushCurrent();
+}
+
+GlContext::GlContext(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+std::unique_ptr<GlContext> GlContext::makeSharing() const {
+    auto impl = std::make_unique<Impl>();
+    EGLint major = 0, minor = 0;
+    if (!acquireDisplay(impl_->display, &major, &minor))
+        fail("cannot make a second GL context: the display does not initialise again (" + eglErrorName(eglGetError()) + ")");
+    impl->display = impl_->display;
+    impl->config = impl_->config;
+    impl->attribs = impl_->attribs;
+    impl->info = impl_->info;
+    if (!eglBindAPI(EGL_OPENGL_API)) fail("cannot make a second GL context: eglBindAPI failed");
+    impl->context = eglCreateContext(impl->display, impl->config, impl_->context, impl->attribs.data());
+    if (impl->context == EGL_NO_CONTEXT)
+        fail("cannot make a GL context sharing the first (" + eglErrorName(eglGetError()) + ")");
+    if (!eglMakeCurrent(impl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl->context))
+        fail("cannot make the sharing GL context current (" + eglErrorName(eglGetError()) + ")");
+    impl->pushCurrent();
+    return std::unique_ptr<GlContext>(new GlContext(std::move(impl)));
 }
 
 GlContext::~GlContext() = default;

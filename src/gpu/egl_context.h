@@ -65,8 +65,14 @@ class GlContext {
     /// True when a context can be created here (for tests that skip cleanly).
     static bool available();
 
+    /// A second context on this one's display and device that shares its
+    /// objects (programs, buffers, textures), current on the calling thread:
+    /// work for this context done on another thread. Throws yv::Error.
+    std::unique_ptr<GlContext> makeSharing() const;
+
   private:
     struct Impl;
+    explicit GlContext(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
 
