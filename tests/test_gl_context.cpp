@@ -1,6 +1,7 @@
 #include "core/error.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_program.h"
+#include "gpu/gl_voxelizer.h"
 #include "test_helpers.h"
 
 #include <catch2/catch.hpp>
@@ -229,6 +230,51 @@ TEST_CASE("a context made and released on a thread of its own is made current on
     }).join();
     CHECK(onOther != 0);
     ctx->makeCurrent();
+}
+
+TEST_CASE("a sharing context's program runs on the first context, on that context's buffers", "[gl]") {
+    YV_REQUIRE_GL();
+    yv::GlContext ctx;
+    constexpr GLuint n = 300;
+    GLuint bufs[3] = {};
+    glCreateBuffers(3, bufs);
+    const GLuint zero = 0;
+    glNamedBufferStorage(bufs[0], n * sizeof(GLuint), nullptr, 0);
+    glNamedBufferStorage(bufs[1], sizeof(GLuint), &zero, 0);
+    glNamedBufferStorage(bufs[2], sizeof(GLuint), &zero, 0);
+    // Compiled on a thread of its own, in a context sharing the first's objects.
+    GLuint prog = 0;
+    std::thread([&] {
+        std::unique_ptr<yv::GlContext> sharing = ctx.makeSharing();
+        CHECK(eglGetCurrentContext() != EGL_NO_CONTEXT);
+        prog = inlineComputeProgram(kCountingShader);
+        glFinish();
+    }).join();
+    REQUIRE(prog != 0);
+    ctx.makeCurrent();
+    REQUIRE(glIsProgram(prog) == GL_TRUE);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bufs[0]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, bufs[1]);
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, bufs[2]);
+    glUseProgram(prog);
+    glUniform1ui(glGetUniformLocation(prog, "n"), n);
+    glDispatchCompute((n + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    GLuint counter = 0, sum = 0;
+    glGetNamedBufferSubData(bufs[1], 0, sizeof sum, &sum);
+    glGetNamedBufferSubData(bufs[2], 0, sizeof counter, &counter);
+    REQUIRE_NOTHROW(yv::checkGlError("sharing context's program"));
+    CHECK(counter == n);
+    CHECK(sum == n * (n - 1) / 2);
+    glDeleteBuffers(3, bufs);
+    glDeleteProgram(prog);
+}
+
+TEST_CASE("the GL backend's programs compiled before a run are embedded shaders that compile", "[gl]") {
+    YV_REQUIRE_GL();
+    yv::GlContext ctx;
+    REQUIRE_NOTHROW(yv::compileInvariantPrograms());
+    REQUIRE_NOTHROW(yv::checkGlError("programs without variants"));
 }
 
 TEST_CASE("a context that cannot be made is an Error, not a crash", "[gl]") {

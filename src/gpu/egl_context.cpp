@@ -135,6 +135,10 @@ struct GlContext::Impl {
     /// What the context was made with, so that a sharing one is made alike.
     EGLConfig config = EGL_NO_CONFIG_KHR;
     std::vector<EGLint> attribs;
+    /// Made on the thread that had the one before it current (RAII nesting):
+    /// destroyed, it hands the thread back to that one. A sharing context,
+    /// made for another thread, leaves its thread with none.
+    bool nested = true;
     GlInfo info;
 
     ~Impl() {
@@ -143,7 +147,7 @@ struct GlContext::Impl {
             {
                 std::lock_guard lock(gStackMutex);
                 std::erase(gContextStack, std::pair{display, context});
-                if (!gContextStack.empty()) previous = gContextStack.back();
+                if (nested && !gContextStack.empty()) previous = gContextStack.back();
             }
             if (eglGetCurrentContext() == context) {
                 eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
@@ -158,11 +162,6 @@ struct GlContext::Impl {
     /// Creates the 4.5 core context on the already acquired `display` and
     /// makes it current; `where` names the display in error messages.
     void createContext(const std::string& where, EGLint eglMajor, EGLint eglMinor, bool debug);
-    /// Records the current context, so that destroying one made later hands the thread back to it.
-    void pushCurrent() const {
-        std::lock_guard lock(gStackMutex);
-        gContextStack.emplace_back(display, context);
-    }
 };
 
 void GlContext::Impl::createContext(const std::string& where, EGLint eglMajor, EGLint eglMinor,
@@ -346,7 +345,8 @@ GlContext::GlContext(const GlContextOptions& options) : impl_(std::make_unique<I
         m.info.platform = GlPlatform::Surfaceless;
         m.createContext("the EGL surfaceless platform", eglMajor, eglMinor, options.debug);
     }
-    m.pushCurrent();
+    std::lock_guard lock(gStackMutex);
+    gContextStack.emplace_back(m.display, m.context);
 }
 
 GlContext::GlContext(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -366,7 +366,7 @@ std::unique_ptr<GlContext> GlContext::makeSharing() const {
         fail("cannot make a GL context sharing the first (" + eglErrorName(eglGetError()) + ")");
     if (!eglMakeCurrent(impl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl->context))
         fail("cannot make the sharing GL context current (" + eglErrorName(eglGetError()) + ")");
-    impl->pushCurrent();
+    impl->nested = false;
     return std::unique_ptr<GlContext>(new GlContext(std::move(impl)));
 }
 

@@ -334,6 +334,15 @@ void GlBackend::Impl::noteTotals() {
     counters_.fragmentCapacity = budget_.capacity;
 }
 
+void compileInvariantPrograms() {
+    const TraceSpan span("compile the programs without variants");
+    std::vector<GlProgram> programs;
+    for (const char* name : {"buffer_clear.comp", "brick_flag.comp", "brick_scan.comp", "brick_resolve_scan.comp",
+                             "sample_dispatch.comp", "slice_setup.comp"})
+        programs.push_back(GlProgram::compute(name));
+    for (const GlProgram& p : programs) p.waitLinked();
+}
+
 GlBackend::GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                      const GlVoxelizeSettings& settings, std::unique_ptr<GlContext> context) {
     YV_CHECK(context);

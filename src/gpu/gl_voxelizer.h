@@ -100,6 +100,15 @@ struct GlVoxelizeCounters {
     std::uint64_t readbackBytes = 0;    ///< bytes copied from the GPU to the host (counts and bricks)
 };
 
+/// Compiles the backend's programs that take no variant's #defines, on the
+/// current context, and waits for them. NVIDIA's driver starts its compiler
+/// at a process's first compile (0.35 s on the H200 with no shader cache)
+/// and compiles one program after another whatever the threads
+/// (bench/compile_threads.cpp): a run calls this while another thread reads
+/// and slices the garment, and the backend's own compiles of these programs
+/// are then the driver's cache hits.
+void compileInvariantPrograms();
+
 /// The GL backend on a live context: budgets from the queried limits, then
 /// zoom regions one after another, each through the passes of
 /// raster_pass.h, sample_pass.h, brick_pass.h and brick_readback.h. A region

@@ -1,6 +1,7 @@
 #include "pipeline/backend_choice.h"
 
 #include "core/trace.h"
+#include "gpu/gl_voxelizer.h"
 
 #include <chrono>
 #include <cstdlib>
@@ -21,6 +22,7 @@ GlStart startGl(const VoxelizeJob& job, int spreadIndex) {
         gl.error = std::current_exception();
     }
     gl.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (gl.context && gl.context->info().hardware()) compileInvariantPrograms();
     return gl;
 }
 
