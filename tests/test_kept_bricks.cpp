@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -166,4 +167,36 @@ TEST_CASE("Kept bricks: a run through a work directory keeps none", "[view][pipe
     yv::runVoxelize(job, [](const std::string&) {});
     CHECK(fs::exists(job.output));
     CHECK(job.keepBricks->brickCount() == 0);
+}
+
+TEST_CASE("Kept bricks: a run with no output keeps the bricks a run with one writes, and writes nothing (CPU and GL)",
+          "[view][pipeline]") {
+    const yv::test::ScratchDir dir{"yv_kept_only"};
+    const fs::path garment = smallGarment(dir);
+    for (const yv::BackendRequest backend : {yv::BackendRequest::Cpu, yv::BackendRequest::Gl}) {
+        if (backend == yv::BackendRequest::Gl) {
+            YV_REQUIRE_GL();
+        }
+        INFO("backend " << yv::toString(backend));
+        const fs::path vdb = dir.path / (std::string(yv::toString(backend)) + ".vdb");
+        const yv::VoxelizeJob written = keepingJob(garment, vdb, backend);
+        yv::runVoxelize(written, [](const std::string&) {});
+        yv::VoxelizeJob only = keepingJob(garment, "", backend);
+        REQUIRE(only.bricksOnly());
+        const std::set<fs::path> before(fs::directory_iterator(dir.path), fs::directory_iterator());
+        const yv::VoxelizeReport report = yv::runVoxelize(only, [](const std::string&) {});
+        CHECK(std::set<fs::path>(fs::directory_iterator(dir.path), fs::directory_iterator()) == before);
+        REQUIRE(only.keepBricks->brickCount() == report.bricks);
+        REQUIRE(report.bricks > 0);
+        const std::unique_ptr<yv::VolumeSource> kept = yv::keptBricksSource(only.keepBricks);
+        checkSame(seenAll(*kept), seenAll(*yv::openVdbSource(vdb.string())));
+    }
+    // Nothing to keep them in, or a work dir to write: refused before any work.
+    yv::VoxelizeJob noKeep = keepingJob(garment, "", yv::BackendRequest::Cpu);
+    noKeep.keepBricks.reset();
+    CHECK_THROWS_AS(yv::runVoxelize(noKeep, [](const std::string&) {}), yv::Error);
+    yv::VoxelizeJob workDir = keepingJob(garment, "", yv::BackendRequest::Cpu);
+    workDir.workDir = (dir.path / "only.work").string();
+    CHECK_THROWS_WITH(yv::runVoxelize(workDir, [](const std::string&) {}), Catch::Contains("without a work dir"));
+    CHECK_FALSE(fs::exists(workDir.workDir));
 }

@@ -1,10 +1,12 @@
 #include "gpu/gl_program.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 #include "gpu/shader_sources.h"
 
 #include <epoxy/egl.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -101,7 +103,10 @@ GlShader startShaderStage(GLenum stage, const std::string& name, const std::vect
     if (!shader) throw Error("shader " + name + ": glCreateShader failed (no current GL context?)");
     const char* p = src.c_str();
     glShaderSource(shader.id(), 1, &p, nullptr);
+    // Traced by name: a first run with no shader cache waits on the driver's compiler.
+    const auto start = std::chrono::steady_clock::now();
     glCompileShader(shader.id());
+    if (traceEnabled()) traceSpanSince("compile " + name, start);
     return shader;
 }
 
@@ -124,7 +129,9 @@ GlShader compileShaderStage(GLenum stage, const std::string& name, const std::ve
 GlProgram GlProgram::link(std::vector<Stage> stages, const std::string& names) {
     GlProgram program(glCreateProgram());
     for (const Stage& s : stages) glAttachShader(program.id_, s.shader.id());
+    const auto start = std::chrono::steady_clock::now();
     glLinkProgram(program.id_);
+    if (traceEnabled()) traceSpanSince("link " + names, start);
     // The stages stay until the check: a failed compile's log is theirs.
     program.pending_ = std::make_unique<Pending>(Pending{std::move(stages), names});
     return program;
@@ -134,7 +141,9 @@ void GlProgram::waitLinked() const {
     if (!pending_) return;
     const std::unique_ptr<Pending> pending = std::move(pending_);
     GLint ok = GL_FALSE;
+    const auto start = std::chrono::steady_clock::now();
     glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+    if (traceEnabled()) traceSpanSince("wait for the link of " + pending->names, start);
     if (!ok) {
         for (const Stage& s : pending->stages) checkShaderStage(s.shader, s.name);
         throw Error("shader " + pending->names + ": link failed:\n" + programLog(id_));

@@ -1,4 +1,5 @@
 // Regions straight into the .vdb's leaves: no work dir, nothing to resume.
+// A run that writes no file (VoxelizeJob::bricksOnly) keeps its bricks alone.
 #include "pipeline/region_destination.h"
 
 #include "core/error.h"
@@ -7,24 +8,28 @@
 #include "pipeline/region_sinks.h"
 #include "vdb/merge.h"
 
+#include <optional>
+
 namespace yv {
 namespace {
 
 class MemoryDestination : public RegionDestination {
   public:
     explicit MemoryDestination(const DestinationSetup& setup)
-        : job_(setup.job), regions_(setup.regions), assembler_(setup.job.output, setup.grid, setup.settings.reduce, setup.writeOptions),
+        : job_(setup.job), regions_(setup.regions),
           writer_(
               [this](std::uint64_t id, std::vector<VoxelBrick>&& resolved) {
                   if (job_.keepBricks) job_.keepBricks->add(resolved);
-                  assembler_.add(resolved, regionName(id));
+                  if (assembler_) assembler_->add(resolved, regionName(id));
               },
               [this](std::uint64_t id, const PackedBricks& packed) {
                   if (job_.keepBricks) job_.keepBricks->add(packed);
-                  assembler_.add(packed, regionName(id));
+                  if (assembler_) assembler_->add(packed, regionName(id));
               },
               setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), writerThreads()),
-          sink_(writer_, setup.job.cancel.get()) {}
+          sink_(writer_, setup.job.cancel.get()) {
+        if (!job_.bricksOnly()) assembler_.emplace(job_.output, setup.grid, setup.settings.reduce, setup.writeOptions);
+    }
 
     const std::vector<ZoomRegion>& regionOrder() const override { return regions_; }
     RegionSink& sink() override { return sink_; }
@@ -49,8 +54,9 @@ class MemoryDestination : public RegionDestination {
                   const RefuseEmpty& refuseEmpty) override {
         meta.regions = recordedRegions(written_); // as a merge of the same regions records them
         refuseEmpty(totals.activeVoxels);
+        if (!assembler_) return; // the bricks kept are the run's result
         try {
-            assembler_.write(meta);
+            assembler_->write(meta);
         } catch (const Interrupted&) {
             throw Interrupted("interrupted by " + interruptSignalName() +
                               " while writing the .vdb: nothing was written or kept (a run with --work-dir DIR "
@@ -66,7 +72,8 @@ class MemoryDestination : public RegionDestination {
 
     const VoxelizeJob& job_;
     const std::vector<ZoomRegion>& regions_;
-    VdbAssembler assembler_;
+    /// Declared before the writer, whose threads add to it: they are joined first.
+    std::optional<VdbAssembler> assembler_; ///< none where the run writes no file
     RegionWriter writer_;
     QueueSink sink_;
     std::vector<RegionInfo> written_; ///< what the writer put into the leaves, by region

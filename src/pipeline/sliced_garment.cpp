@@ -99,8 +99,10 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
     const RunScale scale{s.radius.radius, s.radius.description, voxelSize, scaleOption(job), job.supersample, job.spacing};
     for (const std::string& w : checkRunScale(scale, s.xs)) tell("warning: " + w);
     // The whole garment's bound says nothing of a --bbox run's box (a cuff at
-    // a resolution the garment could never have): checkOutputFits covers it.
-    if (!job.box) checkDiskNeeds(job, throughWorkDir, s.garment(), s.radius.radius, voxelSize, scale.voxelSource);
+    // a resolution the garment could never have): checkOutputFits covers it. A
+    // run that keeps its bricks in memory writes nothing.
+    if (!job.box && !job.bricksOnly())
+        checkDiskNeeds(job, throughWorkDir, s.garment(), s.radius.radius, voxelSize, scale.voxelSource);
 
     s.explicitSpacing = job.slicesPerSegment > 0 || job.spacing > 0.0;
     s.sliceOptions.slicesPerSegment = job.slicesPerSegment;

@@ -8,7 +8,9 @@ namespace yv {
 
 void checkJob(const VoxelizeJob& job, bool sharedByRanks) {
     // Where the results go is checked before minutes of work, not after.
-    checkOutputPath(job.output, "-o", {job.input});
+    if (job.bricksOnly() && (job.throughWorkDir(sharedByRanks) || job.method == VoxelizeMethod::Dense))
+        throw Error("a run that keeps its bricks in memory and writes no file needs the sparse method without a work dir");
+    if (!job.bricksOnly()) checkOutputPath(job.output, "-o", {job.input});
     if (!job.statsPath.empty()) {
         checkOutputPath(job.statsPath, "--stats", {job.input, job.output});
         if (job.statsPath == job.output)

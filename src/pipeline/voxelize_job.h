@@ -59,10 +59,13 @@ struct VoxelizeJob {
     /// kept for) runs of the same file and slice options: the live view's runs.
     std::shared_ptr<SlicePlanCache> sliceCache;
     /// Where set, a run whose regions go straight into the .vdb (no work
-    /// dir) also keeps its resolved bricks here: the live view draws a run
-    /// from them rather than reading its .vdb back. Runs through a work dir
-    /// keep nothing.
+    /// dir) also keeps its resolved bricks here. With no output (an empty
+    /// `output`) the run writes nothing and keeps only these: the live view
+    /// draws its runs from them and voxelizes again into a file only when
+    /// one is saved. Runs through a work dir keep nothing.
     std::shared_ptr<KeptBricks> keepBricks;
+    /// No file is written: the bricks are kept, and nothing else (see keepBricks).
+    bool bricksOnly() const { return output.empty() && keepBricks; }
     /// Where set, the caller may give the run up by setting it (the live
     /// view, when a newer view is asked for): the run stops at its next zoom
     /// region boundary and throws RunCancelled before the .vdb is written;

@@ -84,9 +84,9 @@ RefuseEmpty refuseEmptyFor(const VoxelizeJob& job, const SlicedGarment& sliced, 
     return [&job, &sliced, voxelSize = grid.voxelSize](std::uint64_t activeVoxels) {
         if (activeVoxels == 0)
             throw Error(job.input + ": no yarn reached a voxel's samples" + (job.box ? " in " + job.box->named() : "") +
-                        " (" + sliced.radius.description +
-                        ", voxel size " + numberText(voxelSize) + "): the volume would be empty, " + job.output +
-                        " was not written (a finer --resolution, a higher --supersample, or --cross-section disk)");
+                        " (" + sliced.radius.description + ", voxel size " + numberText(voxelSize) +
+                        "): the volume would be empty, " + (job.output.empty() ? "nothing was kept" : job.output + " was not written") +
+                        " (a finer --resolution, a higher --supersample, or --cross-section disk)");
     };
 }
 
@@ -238,10 +238,11 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
     VolumeMetadata meta = describeRun(job, backend, sliced, box);
     VdbWriteTimings writeTimings;
     const VdbWriteOptions writeOptions = writeOptionsFor(job, grid, sliced, writeTimings);
-    checkOutputFits(job, job.throughWorkDir(group != nullptr), sliced, grid,
-                    {job.precision == VdbPrecision::Half, writeOptions.albedo, writeOptions.lodLevels,
-                     writeOptions.lodFirstLevel},
-                    box ? std::optional<double>(box->yarnLength) : std::nullopt);
+    if (!job.bricksOnly()) // nothing goes to disk otherwise
+        checkOutputFits(job, job.throughWorkDir(group != nullptr), sliced, grid,
+                        {job.precision == VdbPrecision::Half, writeOptions.albedo, writeOptions.lodLevels,
+                         writeOptions.lodFirstLevel},
+                        box ? std::optional<double>(box->yarnLength) : std::nullopt);
 
     RunTotals totals;
     double voxelizeSeconds = 0.0;

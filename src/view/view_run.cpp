@@ -42,13 +42,13 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
             initial.twist = scene.twist();
             hub.emplace(ViewControls{scene.modes(), scene.transferPresets(), scene.twistable()}, initial);
             // Voxelize what the camera sees, where the garment is known; after
-            // the scene, so its runs stop before the scratch directory goes.
+            // the scene, so its runs stop before the scene (which they redraw) goes.
             std::optional<ViewVoxelizer> voxelizer;
             if (scene.volume().voxelizeJob && scene.volume().grid) {
                 VoxelizeJob base = *scene.volume().voxelizeJob;
                 ViewVoxelizer::Listener listener{[&] { hub->redrawAll(); },
                                                  [&](const std::string& text) { hub->broadcast(Outgoing{text, nullptr}); }};
-                voxelizer.emplace(std::move(base), scene.volume().scratch, request.saveDir, std::move(listener));
+                voxelizer.emplace(std::move(base), request.saveDir, std::move(listener));
                 scene.attachVoxelizer(&*voxelizer);
             }
             opened.set_value(helloText(scene, initial));

@@ -16,7 +16,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <system_error>
 
 namespace yv {
@@ -114,12 +113,7 @@ ViewScene::ViewScene(ViewVolume volume, int device, std::uint64_t gpuBudgetBytes
 ViewScene::~ViewScene() {
     context_.gl(); // the layers' textures go with the context current
     besideLayer_.reset();
-    if (detail_) {
-        const std::string path = detail_->run.vdbPath;
-        detail_.reset();
-        std::error_code ignored;
-        std::filesystem::remove(path, ignored);
-    }
+    detail_.reset();
 }
 
 Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame, int coarser) {
@@ -253,8 +247,7 @@ void ViewScene::takeFinishedDetail(ViewFrame& frame) {
     const auto start = std::chrono::steady_clock::now();
     auto next = std::make_unique<DetailLayer>();
     next->run = std::move(*run);
-    // The bricks the run kept, else (a run that kept none) its .vdb read back.
-    next->source = next->run.bricks ? keptBricksSource(next->run.bricks) : openVdbSource(next->run.vdbPath);
+    next->source = keptBricksSource(next->run.bricks);
     frame.openSeconds = secondsSince(start);
     traceSpanSince("open a view voxelization", start);
     next->layer.source = next->source.get();
@@ -265,12 +258,7 @@ void ViewScene::takeFinishedDetail(ViewFrame& frame) {
     const VoxelGrid& fine = next->run.grid;
     next->layer.scale = opened.voxelSize / fine.voxelSize;
     next->layer.offset = (opened.origin - fine.origin) / fine.voxelSize;
-    std::string replaced = detail_ ? detail_->run.vdbPath : std::string();
     detail_ = std::move(next);
-    if (!replaced.empty()) {
-        std::error_code ignored;
-        std::filesystem::remove(replaced, ignored);
-    }
 }
 
 ViewFrame ViewScene::render(const ViewState& state) {

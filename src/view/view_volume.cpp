@@ -123,7 +123,6 @@ ViewVolume openViewVolume(const std::string& path, const VoxelizeJob& job, const
             v.grid = grid;
             v.voxelizeJob = recordedVoxelizeJob(*run, job, path);
             v.twist = v.voxelizeJob->twist;
-            v.scratch = makeScratch();
         }
     }
     return v;

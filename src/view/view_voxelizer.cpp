@@ -70,8 +70,8 @@ std::vector<std::string> voxelizeArguments(const VoxelizeJob& job) {
     return words;
 }
 
-ViewVoxelizer::ViewVoxelizer(VoxelizeJob base, fs::path scratch, fs::path saveDir, Listener listener)
-    : base_(withSliceCache(std::move(base))), scratch_(std::move(scratch)), saveDir_(std::move(saveDir)),
+ViewVoxelizer::ViewVoxelizer(VoxelizeJob base, fs::path saveDir, Listener listener)
+    : base_(withSliceCache(std::move(base))), saveDir_(std::move(saveDir)),
       listener_(std::move(listener)), worker_([this] { work(); }) {}
 
 ViewVoxelizer::~ViewVoxelizer() {
@@ -205,15 +205,14 @@ void ViewVoxelizer::voxelize(const Task& task) {
                                   {"pass", task.plan.firstPass ? "first" : "final"}}
                        .dump());
     VoxelizeJob job = jobFor(task.plan);
-    job.output = (scratch_ / ("view-" + std::to_string(task.id) + ".vdb")).string();
+    job.output.clear(); // the bricks are kept, no file written: a save voxelizes again
     job.keepBricks = std::make_shared<KeptBricks>();
     job.cancel = task.cancel;
     const VoxelizeReport report = runVoxelize(job, [](const std::string&) {});
     DetailRun run;
     run.id = task.id;
     run.plan = task.plan;
-    run.vdbPath = job.output;
-    if (job.keepBricks->brickCount() > 0) run.bricks = std::move(job.keepBricks);
+    run.bricks = std::move(job.keepBricks);
     run.grid.origin = report.origin;
     run.grid.voxelSize = report.voxelSize;
     run.grid.dims = report.dims;
@@ -222,16 +221,10 @@ void ViewVoxelizer::voxelize(const Task& task) {
     run.command = voxelizeArguments(job);
     {
         const std::lock_guard lock(mutex_);
-        std::error_code ignored;
         // A coarse pass done after the final one of its view (or a later view's): not shown.
-        if (task.id < publishedId_) {
-            fs::remove(run.vdbPath, ignored);
-            return;
-        }
+        if (task.id < publishedId_) return;
         publishedId_ = task.id;
-        // The file of a run replaced before it was taken is not needed (one taken stays while shown).
-        if (finished_) fs::remove(finished_->vdbPath, ignored);
-        finished_ = run;
+        finished_ = std::move(run);
         last_ = task.plan;
     }
     listener_.finished();
@@ -239,31 +232,18 @@ void ViewVoxelizer::voxelize(const Task& task) {
 
 void ViewVoxelizer::saveRun(const Task& task) {
     const fs::path name = savedName(saveDir_, base_.input, task.id);
-    nlohmann::json said = {{"type", "voxelize"}, {"state", "saved"}, {"id", task.id}};
-    std::vector<std::string> command = task.run.command;
-    if (task.kind == Task::Kind::SaveVdb) {
-        const fs::path target = name.string() + ".vdb";
-        // Copied under a temporary name and renamed: no half-copied file that looks complete.
-        const fs::path partial = target.string() + ".partial";
-        std::error_code ec;
-        fs::copy_file(task.run.vdbPath, partial, fs::copy_options::overwrite_existing, ec);
-        if (!ec) fs::rename(partial, target, ec);
-        if (ec) {
-            fs::remove(partial, ec);
-            throw Error("cannot save the view's voxels to " + target.string() + ": " + ec.message());
-        }
-        said["vdb"] = target.string();
-        command.insert(command.end(), {"-o", target.string()});
-    } else {
-        VoxelizeJob job = jobFor(task.run.plan);
-        job.output = name.string() + ".vdb";
-        job.workDir = name.string() + ".work";
-        runVoxelize(job, [](const std::string&) {});
-        said["vdb"] = job.output;
-        said["workDir"] = job.workDir;
-        command = voxelizeArguments(job);
-        command.insert(command.end(), {"--work-dir", job.workDir, "-o", job.output});
-    }
+    // The run shown, voxelized again (it kept its bricks alone): the same
+    // passes give the same voxels, and the .vdb is written as `voxelize`
+    // writes one (in place only once complete).
+    VoxelizeJob job = jobFor(task.run.plan);
+    job.output = name.string() + ".vdb";
+    if (task.kind == Task::Kind::SaveWorkDir) job.workDir = name.string() + ".work";
+    runVoxelize(job, [](const std::string&) {});
+    std::vector<std::string> command = voxelizeArguments(job);
+    if (!job.workDir.empty()) command.insert(command.end(), {"--work-dir", job.workDir});
+    command.insert(command.end(), {"-o", job.output});
+    nlohmann::json said = {{"type", "voxelize"}, {"state", "saved"}, {"id", task.id}, {"vdb", job.output}};
+    if (!job.workDir.empty()) said["workDir"] = job.workDir;
     said["command"] = command;
     said["commandText"] = commandText(command);
     said["seconds"] = now() - task.askedAt;

@@ -1,11 +1,11 @@
 // Voxelize what the camera sees, off the render thread: the live view asks
 // for a box and voxel size (view_region.h) when the camera stops, and a
 // worker runs the same passes as `yarnvox voxelize --voxel-size V
-// --bbox-world BOX` into the view's scratch directory (with a GL context of
-// its own) while frames go on being drawn; the render thread takes the
-// finished run and swaps it into the ray cast. The worker also saves a run
-// where the user asks: the .vdb as shown, or a work directory that `merge`
-// and `inspect` read. A large run comes in two passes, a coarse one beside
+// --bbox-world BOX` (with a GL context of its own) while frames go on being
+// drawn, keeping the bricks in memory and writing no file; the render thread
+// takes the finished run and swaps it into the ray cast. The worker also
+// saves a run where the user asks, voxelizing it again into a .vdb, or
+// through a work directory that `merge` and `inspect` read. A large run comes in two passes, a coarse one beside
 // the one asked for (view_region.h's refinePass), each taken as it
 // finishes (the coarse one only while no later run has been), so the view
 // refines where it looks. A request for another view replaces every pass
@@ -38,13 +38,10 @@ namespace yv {
 struct DetailRun {
     std::uint64_t id = 0; ///< 1, 2, ... in the order asked
     ViewVoxelization plan;
-    std::string vdbPath;  ///< in the view's scratch directory
-    /// The run's bricks as it kept them beside the .vdb (drawn from these
-    /// rather than the file read back); empty where the run kept none.
-    std::shared_ptr<const KeptBricks> bricks;
+    std::shared_ptr<const KeptBricks> bricks; ///< the run's bricks: what is drawn
     VoxelGrid grid;       ///< the run's whole grid (its box is part of it)
     std::uint64_t activeVoxels = 0;
-    double seconds = 0.0; ///< from the request to the .vdb written
+    double seconds = 0.0; ///< from the request to the bricks kept
     /// The same run from the command line, without -o: yarnvox voxelize GARMENT ...
     std::vector<std::string> command;
 };
@@ -62,9 +59,9 @@ class ViewVoxelizer {
         std::function<void(const std::string& json)> tell;  ///< a message for every page
     };
 
-    /// `base`: how the view voxelized its garment (input set); runs go to
-    /// `scratch`, saves to `saveDir`. Starts the worker.
-    ViewVoxelizer(VoxelizeJob base, std::filesystem::path scratch, std::filesystem::path saveDir, Listener listener);
+    /// `base`: how the view voxelized its garment (input set); saves go to
+    /// `saveDir`. Starts the worker.
+    ViewVoxelizer(VoxelizeJob base, std::filesystem::path saveDir, Listener listener);
     /// Waits for the run under way (Ctrl-C stops it at once).
     ~ViewVoxelizer();
     ViewVoxelizer(const ViewVoxelizer&) = delete;
@@ -75,8 +72,8 @@ class ViewVoxelizer {
     bool request(const ViewVoxelization& plan, const std::optional<ViewVoxelization>& first = std::nullopt);
     /// The newest run finished since the last call, if any.
     std::optional<DetailRun> takeFinished();
-    /// Saves finished run `run` to the save directory: its .vdb as it is, or
-    /// (`workDir`) voxelized again through a work directory kept there.
+    /// Saves finished run `run` to the save directory: voxelized again into
+    /// a .vdb there, through a work directory kept beside it where `workDir`.
     void save(const DetailRun& run, bool workDir);
     /// A run under way or waiting.
     bool busy() const;
@@ -99,7 +96,7 @@ class ViewVoxelizer {
     VoxelizeJob jobFor(const ViewVoxelization& plan) const;
 
     VoxelizeJob base_;
-    std::filesystem::path scratch_, saveDir_;
+    std::filesystem::path saveDir_;
     Listener listener_;
     mutable std::mutex mutex_;
     std::condition_variable wake_;
