@@ -4,6 +4,7 @@
 // resolved on the host or came packed as the GPU's resolve reads them back.
 #include "core/error.h"
 #include "core/kept_bricks.h"
+#include "gpu/egl_context.h"
 #include "inspect/volume_source.h"
 #include "packed_test_bricks.h"
 #include "pipeline/voxelize_run.h"
@@ -19,6 +20,8 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -199,4 +202,41 @@ TEST_CASE("Kept bricks: a run with no output keeps the bricks a run with one wri
     workDir.workDir = (dir.path / "only.work").string();
     CHECK_THROWS_WITH(yv::runVoxelize(workDir, [](const std::string&) {}), Catch::Contains("without a work dir"));
     CHECK_FALSE(fs::exists(workDir.workDir));
+}
+
+TEST_CASE("A GL context kept between runs gives each run the bricks a context of its own gives", "[view][pipeline][gl]") {
+    YV_REQUIRE_GL();
+    const yv::test::ScratchDir dir{"yv_kept_context"};
+    const fs::path garment = smallGarment(dir);
+    // Two different runs, one after the other, on one context (released between
+    // them, as the view's voxelizer leaves it for a pass on another thread).
+    const auto kept = std::make_shared<yv::GlContext>(yv::GlContextOptions{});
+    kept->releaseCurrent(); // made here, driven on the runs' threads
+    std::vector<yv::VoxelizeJob> onKept;
+    for (const int resolution : {40, 36, 40}) {
+        yv::VoxelizeJob job = keepingJob(garment, "", yv::BackendRequest::Gl);
+        job.resolution = resolution;
+        job.glContext = kept;
+        std::string failed;
+        std::thread([&] {
+            try {
+                yv::runVoxelize(job, [](const std::string&) {});
+            } catch (const std::exception& e) {
+                failed = e.what();
+            }
+            kept->releaseCurrent();
+        }).join();
+        INFO(failed);
+        REQUIRE(failed.empty());
+        onKept.push_back(job);
+    }
+    for (const yv::VoxelizeJob& job : onKept) {
+        INFO("resolution " << job.resolution);
+        yv::VoxelizeJob own = job;
+        own.glContext.reset();
+        own.keepBricks = std::make_shared<yv::KeptBricks>();
+        yv::runVoxelize(own, [](const std::string&) {});
+        REQUIRE(job.keepBricks->brickCount() > 0);
+        checkSame(seenAll(*yv::keptBricksSource(job.keepBricks)), seenAll(*yv::keptBricksSource(own.keepBricks)));
+    }
 }

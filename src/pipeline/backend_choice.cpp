@@ -13,6 +13,11 @@ const char* backendName(Backend b) { return b == Backend::Cpu ? "cpu" : "gl"; }
 GlStart startGl(const VoxelizeJob& job, int spreadIndex) {
     GlStart gl;
     if (job.backend == BackendRequest::Cpu) return gl;
+    if (job.glContext) {
+        gl.kept = job.glContext.get();
+        gl.kept->makeCurrent();
+        return gl; // its programs were compiled by the runs before
+    }
     const auto start = std::chrono::steady_clock::now();
     try {
         const TraceSpan span("make the GL context");
@@ -31,8 +36,9 @@ Backend chooseBackend(const VoxelizeJob& job, GlStart& gl) {
     if (needsGl && gl.error) std::rethrow_exception(gl.error); // no GL 4.5 context: its one-line error
     if (job.method == VoxelizeMethod::Dense) return Backend::GlDense;
     if (job.backend == BackendRequest::Gl) return Backend::Gl;
-    if (job.backend == BackendRequest::Auto && gl.context && gl.context->info().hardware()) return Backend::Gl;
+    if (job.backend == BackendRequest::Auto && gl.current() && gl.current()->info().hardware()) return Backend::Gl;
     gl.context.reset();
+    gl.kept = nullptr;
     return Backend::Cpu;
 }
 

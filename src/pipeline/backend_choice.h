@@ -23,15 +23,20 @@ const char* backendName(Backend b);
 
 /// The GL context made for a run before the backend is chosen (on the thread
 /// that will drive the GPU, while another thread slices the garment), or the
-/// error making it threw; neither where the job never runs on GL.
+/// one the job keeps, or the error making one threw; none where the job
+/// never runs on GL.
 struct GlStart {
-    std::unique_ptr<GlContext> context;
+    std::unique_ptr<GlContext> context; ///< made for this run
+    GlContext* kept = nullptr;          ///< the job's own (VoxelizeJob::glContext)
     std::exception_ptr error;
     double seconds = 0.0; ///< how long making it took
+    /// The context the run drives, made or kept; null where there is none.
+    const GlContext* current() const { return context ? context.get() : kept; }
 };
 
-/// Makes the job's GL context on this thread unless the job asks for the CPU
-/// backend. `spreadIndex`: the MPI rank on its node (each rank its own GPU).
+/// Makes the job's GL context on this thread (or makes the job's own
+/// current here) unless the job asks for the CPU backend. `spreadIndex`:
+/// the MPI rank on its node (each rank its own GPU).
 GlStart startGl(const VoxelizeJob& job, int spreadIndex);
 
 /// The backend `job` runs on. --backend gl and the dense method need the

@@ -10,7 +10,7 @@ DenseRun runDense(const SlicedGarment& sliced, const VoxelGrid& grid, const Voxe
     GlVoxelizeSettings glSettings;
     glSettings.base = settings;
     DenseVoxelizeCounters counters;
-    const BrickVolume volume = voxelizeDense(sliced.plan(), sliced.xs, grid, glSettings, *gl.context, &counters);
+    const BrickVolume volume = voxelizeDense(sliced.plan(), sliced.xs, grid, glSettings, *gl.current(), &counters);
     DenseRun run;
     run.voxelizeSeconds = timer.lap("voxelize");
     meta.backend = "gl-dense";

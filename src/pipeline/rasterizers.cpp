@@ -19,7 +19,8 @@ std::unique_ptr<RegionRasterizer> makeRasterizer(Backend backend, const SlicedGa
     settings.verbose = job.verbose && !job.quiet;
     settings.contextSeconds = gl.seconds;
     const TraceSpan span("set up the GL backend");
-    return std::make_unique<GlBackend>(sliced.plan(), sliced.xs, grid, settings, std::move(gl.context));
+    if (gl.context) return std::make_unique<GlBackend>(sliced.plan(), sliced.xs, grid, settings, std::move(gl.context));
+    return std::make_unique<GlBackend>(sliced.plan(), sliced.xs, grid, settings, *gl.kept);
 }
 
 ZoomPlan planZoomWhilePreparing(RegionRasterizer& rasterizer, const SlicedGarment& sliced, const VoxelGrid& grid,

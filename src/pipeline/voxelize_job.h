@@ -18,6 +18,7 @@
 
 namespace yv {
 
+class GlContext;
 class KeptBricks;
 class SlicePlanCache;
 
@@ -72,6 +73,12 @@ struct VoxelizeJob {
     /// a run into the .vdb alone leaves nothing, one through a work dir the
     /// regions written so far (a resume goes on from them).
     std::shared_ptr<const std::atomic<bool>> cancel;
+    /// Where set, a run on the GL backend drives this context (made current
+    /// on the calling thread, and left current there) instead of making one
+    /// and freeing it: the live view's voxelizer keeps one a thread between
+    /// its runs (making and freeing one took about 75 ms a run on the H200).
+    /// One run at a time.
+    std::shared_ptr<GlContext> glContext;
     bool quiet = false, verbose = false;                ///< --quiet, --verbose
     /// Under mpirun: this rank voxelizes the garment by itself, as one
     /// process would (whole garments handed out to ranks), on its own GPU.

@@ -95,7 +95,7 @@ RefuseEmpty refuseEmptyFor(const VoxelizeJob& job, const SlicedGarment& sliced, 
 Backend agreeOnBackend(Backend mine, Cluster* group, const VoxelizeJob& job, GlStart& gl) {
     if (!group) return mine;
     const Backend agreed = group->broadcast(mine == Backend::Gl) ? Backend::Gl : Backend::Cpu;
-    if (agreed == Backend::Gl && !gl.context) {
+    if (agreed == Backend::Gl && !gl.current()) {
         VoxelizeJob onGl = job;
         onGl.backend = BackendRequest::Gl;
         gl = startGl(onGl, group->localRank());
@@ -165,7 +165,11 @@ SparseRun runSparse(const VoxelizeJob& job, Backend backend, const SlicedGarment
     run.backendStats = rasterizer->stats();
     run.samples = rasterizer->samples();
     StageSeconds stages = rasterizer->voxelizeParts();
-    const std::jthread freeing = freeInBackground(std::move(rasterizer)); // while the output is written
+    // A context made for the run goes with the backend on a thread of its own
+    // while the output is written; a kept one stays current here for the next.
+    std::jthread freeing;
+    if (job.glContext) rasterizer.reset();
+    else freeing = freeInBackground(std::move(rasterizer));
     run.totals = destination->collect();
     throwIfCancelled(job, "after " + std::to_string(run.totals ? run.totals->regionsRasterized : 0) + " of " +
                               std::to_string(zoom.regions.size()) + " regions");

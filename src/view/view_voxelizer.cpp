@@ -208,7 +208,19 @@ void ViewVoxelizer::voxelize(const Task& task) {
     job.output.clear(); // the bricks are kept, no file written: a save voxelizes again
     job.keepBricks = std::make_shared<KeptBricks>();
     job.cancel = task.cancel;
-    const VoxelizeReport report = runVoxelize(job, [](const std::string&) {});
+    job.glContext = passContext(task.plan.firstPass);
+    // The context is left to the next pass, which may run on another thread.
+    const auto release = [&] {
+        if (job.glContext) job.glContext->releaseCurrent();
+    };
+    VoxelizeReport report;
+    try {
+        report = runVoxelize(job, [](const std::string&) {});
+    } catch (...) {
+        release();
+        throw;
+    }
+    release();
     DetailRun run;
     run.id = task.id;
     run.plan = task.plan;
@@ -228,6 +240,19 @@ void ViewVoxelizer::voxelize(const Task& task) {
         last_ = task.plan;
     }
     listener_.finished();
+}
+
+std::shared_ptr<GlContext> ViewVoxelizer::passContext(bool coarse) {
+    if (base_.backend == BackendRequest::Cpu) return nullptr;
+    std::shared_ptr<GlContext>& kept = coarse ? coarseContext_ : finalContext_;
+    if (!kept) {
+        try {
+            kept = std::make_shared<GlContext>(GlContextOptions{base_.device, false});
+        } catch (const Error&) {
+            return nullptr; // the run makes its own attempt, and says why or takes the CPU
+        }
+    }
+    return kept;
 }
 
 void ViewVoxelizer::saveRun(const Task& task) {

@@ -17,6 +17,7 @@
 
 #include "core/kept_bricks.h"
 #include "core/voxel_grid.h"
+#include "gpu/egl_context.h"
 #include "pipeline/voxelize_job.h"
 #include "view/view_region.h"
 
@@ -94,6 +95,10 @@ class ViewVoxelizer {
     void voxelize(const Task& task);
     void saveRun(const Task& task);
     VoxelizeJob jobFor(const ViewVoxelization& plan) const;
+    /// The GL context the final passes (or the coarse ones) run on, made at
+    /// the first and kept: none where the view voxelizes on the CPU or no
+    /// context can be made (the run then says why, or takes the CPU).
+    std::shared_ptr<GlContext> passContext(bool coarse);
 
     VoxelizeJob base_;
     std::filesystem::path saveDir_;
@@ -109,6 +114,9 @@ class ViewVoxelizer {
     std::uint64_t nextId_ = 1;
     std::uint64_t publishedId_ = 0; ///< the newest run handed to takeFinished
     std::thread firstPass_;         ///< the coarse pass under way beside the worker, if any
+    /// Kept between passes (one pass at a time on each), released from the
+    /// thread of the pass that used it: coarse passes each have a thread.
+    std::shared_ptr<GlContext> finalContext_, coarseContext_;
     bool stopping_ = false;
     std::thread worker_; ///< last: started once the rest is there
 };
