@@ -29,7 +29,9 @@
   const view = window.yvView = { frames: 0, stats: null, shownSeq: -1, latencyMs: null, notices: [],
                                  voxelize: [], autoVoxelize: true, stopToDetailMs: null, stopToFinalMs: null,
                                  movingFrames: 0 };
-  const stopMs = 250; // no camera input for this long: the camera has stopped
+  // No camera input for this long: the camera has stopped. Short, since a newer
+  // view gives up the runs of the last (their next zoom region boundary).
+  const stopMs = 150;
   let stopTimer = null, twistTimer = null, askedAt = null, lastDetailId = 0;
 
   const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
