@@ -5,6 +5,7 @@
 #include "bbox_runs.h"
 #include "pipeline/sliced_garment.h"
 #include "pipeline/voxelize_run.h"
+#include "view/view_volume.h"
 #include "run_cli.h"
 
 #include <catch2/catch.hpp>
@@ -68,4 +69,28 @@ TEST_CASE("Slice plan cache: runs that share it read the garment once and give t
     const yv::test::BoxTestVoxels twill = yv::test::readActiveVoxels(dir.path / "changed-plain.vdb");
     CHECK(!(twill == plain));
     CHECK(yv::test::readActiveVoxels(dir.path / "changed.vdb") == twill);
+}
+
+TEST_CASE("Slice plan cache: a garment's view keeps what its first voxelization read and planned for its later runs",
+          "[view][cache]") {
+    const yv::test::ScratchDir dir{"yv_view_plan_cache"};
+    const fs::path garment = dir.path / "plain.bcc";
+    REQUIRE(yv::test::runYarnvox("gen --pattern plain --crossings 16 --quiet -o " + garment.string()).exitCode == 0);
+    yv::VoxelizeJob job;
+    job.resolution = 48;
+    job.slicesPerSegment = 6; // a plan that does not depend on the voxel size, as at the paper's 50
+    job.backend = yv::BackendRequest::Cpu;
+    const yv::ViewVolume volume = yv::openViewVolume(garment.string(), job, [](const std::string&) {});
+    REQUIRE(volume.voxelizeJob);
+    const std::shared_ptr<yv::SlicePlanCache> cache = volume.voxelizeJob->sliceCache;
+    REQUIRE(cache);
+    const yv::SlicePlanCache::FileKey key = yv::SlicePlanCache::keyOf(garment.string());
+    CHECK(cache->garment(key) != nullptr);
+    // The plan a view's run asks for (its options worked out apart, with a cache of its own) is there already.
+    yv::VoxelizeJob apart = *volume.voxelizeJob;
+    apart.sliceCache = std::make_shared<yv::SlicePlanCache>();
+    apart.output = (dir.path / "apart.vdb").string();
+    yv::StageTimer timer;
+    const yv::SlicedGarment sliced = yv::sliceGarment(apart, false, [](const std::string&) {}, timer);
+    CHECK(cache->plan(key, sliced.sliceOptions) != nullptr);
 }

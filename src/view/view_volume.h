@@ -31,7 +31,8 @@ struct ViewVolume {
     /// world unit (a garment given; 0 otherwise).
     double twist = 0.0;
     /// How what the camera sees is voxelized (its input the garment): a
-    /// garment given, with the view's options; a .vdb or work directory
+    /// garment given, with the view's options and the slice plan cache its
+    /// first voxelization filled; a .vdb or work directory
     /// whose run's garment is found, with the options that run recorded.
     /// None: the view cannot voxelize.
     std::optional<VoxelizeJob> voxelizeJob;
