@@ -149,6 +149,11 @@ bool ViewVoxelizer::busy() const {
 }
 
 void ViewVoxelizer::work() {
+    // The passes' contexts made while the view has nothing to run, so that
+    // the first stop waits for neither; the coarse passes' is taken on a
+    // thread of their own.
+    if (const std::shared_ptr<GlContext> coarse = passContext(true)) coarse->releaseCurrent();
+    if (const std::shared_ptr<GlContext> final = passContext(false)) final->releaseCurrent();
     for (;;) {
         Task task;
         {

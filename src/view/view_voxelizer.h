@@ -95,9 +95,10 @@ class ViewVoxelizer {
     void voxelize(const Task& task);
     void saveRun(const Task& task);
     VoxelizeJob jobFor(const ViewVoxelization& plan) const;
-    /// The GL context the final passes (or the coarse ones) run on, made at
-    /// the first and kept: none where the view voxelizes on the CPU or no
-    /// context can be made (the run then says why, or takes the CPU).
+    /// The GL context the final passes (or the coarse ones) run on, made
+    /// once (the worker makes both as it starts) and kept: none where the
+    /// view voxelizes on the CPU or no context can be made (the run then
+    /// says why, or takes the CPU).
     std::shared_ptr<GlContext> passContext(bool coarse);
 
     VoxelizeJob base_;
