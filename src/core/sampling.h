@@ -68,9 +68,19 @@ inline int dominantAxis(const glm::dvec3& n) {
     return a.x >= floor ? 0 : (a.y >= floor ? 1 : 2);
 }
 
+/// std::lround's result (halves away from zero) without its library call,
+/// for finite |x| < 2^62: a sample's fixed-point rounding took 4 % of the CPU
+/// backend's time in that call. The truncation is exact, and so is the
+/// fraction left (x and its truncation lie within a factor of two).
+inline long long roundHalfAway(double x) {
+    const long long t = static_cast<long long>(x);
+    const double fraction = x - static_cast<double>(t);
+    return t + (fraction >= 0.5) - (fraction <= -0.5);
+}
+
 /// Rounds a non-negative volume fraction to fixed point.
-inline std::uint32_t toFixed(double v) { return static_cast<std::uint32_t>(std::lround(v * kFixedScale)); }
-inline std::int32_t toFixedSigned(double v) { return static_cast<std::int32_t>(std::lround(v * kFixedScale)); }
+inline std::uint32_t toFixed(double v) { return static_cast<std::uint32_t>(roundHalfAway(v * kFixedScale)); }
+inline std::int32_t toFixedSigned(double v) { return static_cast<std::int32_t>(roundHalfAway(v * kFixedScale)); }
 
 /// Orientation as an axis: v and -v name the same fibre, so directions are
 /// folded onto the hemisphere z > 0 (then y > 0, then x >= 0 on the rim).
@@ -84,7 +94,7 @@ inline std::uint32_t encodeAxis(const glm::dvec3& axis) {
     const glm::dvec3 v = canonicalAxis(axis);
     const double s = std::abs(v.x) + std::abs(v.y) + std::abs(v.z);
     const double u = v.x / s, w = v.y / s; // in the diamond |u| + |w| <= 1
-    auto q = [](double t) { return static_cast<std::uint32_t>(std::lround((std::clamp(t, -1.0, 1.0) * 0.5 + 0.5) * 65535.0)); };
+    auto q = [](double t) { return static_cast<std::uint32_t>(roundHalfAway((std::clamp(t, -1.0, 1.0) * 0.5 + 0.5) * 65535.0)); };
     return (q(u) << 16) | q(w);
 }
 inline glm::dvec3 decodeAxis(std::uint32_t code) {
