@@ -55,6 +55,38 @@ void main() {
 }
 )";
 
+/// What kCountingShader's program left after `n` invocations on fresh
+/// buffers of the current context.
+struct CountingRun {
+    std::vector<GLuint> values;
+    GLuint sum = 0, counter = 0;
+};
+
+CountingRun runCounting(GLuint prog, GLuint n) {
+    GLuint bufs[3] = {};
+    glCreateBuffers(3, bufs);
+    const GLuint zero = 0;
+    glNamedBufferStorage(bufs[0], n * sizeof(GLuint), nullptr, 0);
+    glNamedBufferStorage(bufs[1], sizeof(GLuint), &zero, 0);
+    glNamedBufferStorage(bufs[2], sizeof(GLuint), &zero, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bufs[0]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, bufs[1]);
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, bufs[2]);
+    glUseProgram(prog);
+    glUniform1ui(glGetUniformLocation(prog, "n"), n);
+    glDispatchCompute((n + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    REQUIRE_NOTHROW(yv::checkGlError("counting dispatch"));
+    CountingRun run;
+    run.values.resize(n);
+    glGetNamedBufferSubData(bufs[0], 0, n * sizeof(GLuint), run.values.data());
+    glGetNamedBufferSubData(bufs[1], 0, sizeof run.sum, &run.sum);
+    glGetNamedBufferSubData(bufs[2], 0, sizeof run.counter, &run.counter);
+    REQUIRE_NOTHROW(yv::checkGlError("read back"));
+    glDeleteBuffers(3, bufs);
+    return run;
+}
+
 } // namespace
 
 TEST_CASE("GlContext gives an OpenGL 4.5 core context with sane limits", "[gl]") {
@@ -90,38 +122,13 @@ TEST_CASE("a compute shader writes an SSBO and counts atomically", "[gl]") {
     YV_REQUIRE_GL();
     yv::GlContext ctx;
     GLuint prog = inlineComputeProgram(kCountingShader);
-
     constexpr GLuint n = 1000;
-    GLuint bufs[3] = {};
-    glCreateBuffers(3, bufs);
-    const GLuint zero = 0;
-    glNamedBufferStorage(bufs[0], n * sizeof(GLuint), nullptr, 0);
-    glNamedBufferStorage(bufs[1], sizeof(GLuint), &zero, 0);
-    glNamedBufferStorage(bufs[2], sizeof(GLuint), &zero, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bufs[0]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, bufs[1]);
-    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, bufs[2]);
-
-    glUseProgram(prog);
-    glUniform1ui(glGetUniformLocation(prog, "n"), n);
-    glDispatchCompute((n + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    REQUIRE_NOTHROW(yv::checkGlError("counting dispatch"));
-
-    std::vector<GLuint> values(n);
-    GLuint sum = 0, counter = 0;
-    glGetNamedBufferSubData(bufs[0], 0, n * sizeof(GLuint), values.data());
-    glGetNamedBufferSubData(bufs[1], 0, sizeof sum, &sum);
-    glGetNamedBufferSubData(bufs[2], 0, sizeof counter, &counter);
-    REQUIRE_NOTHROW(yv::checkGlError("read back"));
-
+    const CountingRun run = runCounting(prog, n);
     int wrong = 0;
-    for (GLuint i = 0; i < n; ++i) wrong += values[i] != i * i + 7u;
+    for (GLuint i = 0; i < n; ++i) wrong += run.values[i] != i * i + 7u;
     CHECK(wrong == 0);
-    CHECK(sum == n * (n - 1) / 2);
-    CHECK(counter == n);
-
-    glDeleteBuffers(3, bufs);
+    CHECK(run.sum == n * (n - 1) / 2);
+    CHECK(run.counter == n);
     glDeleteProgram(prog);
 }
 
@@ -235,13 +242,6 @@ TEST_CASE("a context made and released on a thread of its own is made current on
 TEST_CASE("a sharing context's program runs on the first context, on that context's buffers", "[gl]") {
     YV_REQUIRE_GL();
     yv::GlContext ctx;
-    constexpr GLuint n = 300;
-    GLuint bufs[3] = {};
-    glCreateBuffers(3, bufs);
-    const GLuint zero = 0;
-    glNamedBufferStorage(bufs[0], n * sizeof(GLuint), nullptr, 0);
-    glNamedBufferStorage(bufs[1], sizeof(GLuint), &zero, 0);
-    glNamedBufferStorage(bufs[2], sizeof(GLuint), &zero, 0);
     // Compiled on a thread of its own, in a context sharing the first's objects.
     GLuint prog = 0;
     std::thread([&] {
@@ -253,20 +253,10 @@ TEST_CASE("a sharing context's program runs on the first context, on that contex
     REQUIRE(prog != 0);
     ctx.makeCurrent();
     REQUIRE(glIsProgram(prog) == GL_TRUE);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bufs[0]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, bufs[1]);
-    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, bufs[2]);
-    glUseProgram(prog);
-    glUniform1ui(glGetUniformLocation(prog, "n"), n);
-    glDispatchCompute((n + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    GLuint counter = 0, sum = 0;
-    glGetNamedBufferSubData(bufs[1], 0, sizeof sum, &sum);
-    glGetNamedBufferSubData(bufs[2], 0, sizeof counter, &counter);
-    REQUIRE_NOTHROW(yv::checkGlError("sharing context's program"));
-    CHECK(counter == n);
-    CHECK(sum == n * (n - 1) / 2);
-    glDeleteBuffers(3, bufs);
+    constexpr GLuint n = 300;
+    const CountingRun run = runCounting(prog, n);
+    CHECK(run.counter == n);
+    CHECK(run.sum == n * (n - 1) / 2);
     glDeleteProgram(prog);
 }
 
