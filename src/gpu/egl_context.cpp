@@ -135,10 +135,6 @@ struct GlContext::Impl {
     /// What the context was made with, so that a sharing one is made alike.
     EGLConfig config = EGL_NO_CONFIG_KHR;
     std::vector<EGLint> attribs;
-    /// Made on the thread that had the one before it current (RAII nesting):
-    /// destroyed, it hands the thread back to that one. A sharing context,
-    /// made for another thread, leaves its thread with none.
-    bool nested = true;
     GlInfo info;
 
     ~Impl() {
@@ -146,7 +142,9 @@ struct GlContext::Impl {
             std::pair<EGLDisplay, EGLContext> previous{EGL_NO_DISPLAY, EGL_NO_CONTEXT};
             {
                 std::lock_guard lock(gStackMutex);
-                std::erase(gContextStack, std::pair{display, context});
+                // A sharing context, made for another thread, is not on the
+                // stack: destroyed, it leaves its thread with none.
+                const bool nested = std::erase(gContextStack, std::pair{display, context}) > 0;
                 if (nested && !gContextStack.empty()) previous = gContextStack.back();
             }
             if (eglGetCurrentContext() == context) {
@@ -366,7 +364,6 @@ std::unique_ptr<GlContext> GlContext::makeSharing() const {
         fail("cannot make a GL context sharing the first (" + eglErrorName(eglGetError()) + ")");
     if (!eglMakeCurrent(impl->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl->context))
         fail("cannot make the sharing GL context current (" + eglErrorName(eglGetError()) + ")");
-    impl->nested = false;
     return std::unique_ptr<GlContext>(new GlContext(std::move(impl)));
 }
 

@@ -27,7 +27,7 @@ const char* backendName(Backend b);
 /// never runs on GL.
 struct GlStart {
     std::unique_ptr<GlContext> context; ///< made for this run
-    GlContext* kept = nullptr;          ///< the job's own (VoxelizeJob::glContext)
+    const GlContext* kept = nullptr;    ///< the job's own (VoxelizeJob::glContext)
     std::exception_ptr error;
     double seconds = 0.0; ///< how long making it took
     /// The context the run drives, made or kept; null where there is none.

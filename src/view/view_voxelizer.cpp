@@ -149,11 +149,7 @@ bool ViewVoxelizer::busy() const {
 }
 
 void ViewVoxelizer::work() {
-    // The passes' contexts made while the view has nothing to run, so that
-    // the first stop waits for neither; the coarse passes' is taken on a
-    // thread of their own.
-    if (const std::shared_ptr<GlContext> coarse = passContext(true)) coarse->releaseCurrent();
-    if (const std::shared_ptr<GlContext> final = passContext(false)) final->releaseCurrent();
+    makePassContexts();
     for (;;) {
         Task task;
         {
@@ -213,7 +209,7 @@ void ViewVoxelizer::voxelize(const Task& task) {
     job.output.clear(); // the bricks are kept, no file written: a save voxelizes again
     job.keepBricks = std::make_shared<KeptBricks>();
     job.cancel = task.cancel;
-    job.glContext = passContext(task.plan.firstPass);
+    job.glContext = task.plan.firstPass ? coarseContext_ : finalContext_;
     // The context is left to the next pass, which may run on another thread.
     const auto release = [&] {
         if (job.glContext) job.glContext->releaseCurrent();
@@ -247,17 +243,16 @@ void ViewVoxelizer::voxelize(const Task& task) {
     listener_.finished();
 }
 
-std::shared_ptr<GlContext> ViewVoxelizer::passContext(bool coarse) {
-    if (base_.backend == BackendRequest::Cpu) return nullptr;
-    std::shared_ptr<GlContext>& kept = coarse ? coarseContext_ : finalContext_;
-    if (!kept) {
+void ViewVoxelizer::makePassContexts() {
+    if (base_.backend == BackendRequest::Cpu) return;
+    for (std::shared_ptr<GlContext>* kept : {&coarseContext_, &finalContext_}) {
         try {
-            kept = std::make_shared<GlContext>(GlContextOptions{base_.device, false});
+            *kept = std::make_shared<GlContext>(GlContextOptions{base_.device, false});
+            (*kept)->releaseCurrent(); // taken by the thread of each pass
         } catch (const Error&) {
-            return nullptr; // the run makes its own attempt, and says why or takes the CPU
+            // None kept: each run makes its own attempt, and says why or takes the CPU.
         }
     }
-    return kept;
 }
 
 void ViewVoxelizer::saveRun(const Task& task) {

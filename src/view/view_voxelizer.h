@@ -95,11 +95,11 @@ class ViewVoxelizer {
     void voxelize(const Task& task);
     void saveRun(const Task& task);
     VoxelizeJob jobFor(const ViewVoxelization& plan) const;
-    /// The GL context the final passes (or the coarse ones) run on, made
-    /// once (the worker makes both as it starts) and kept: none where the
-    /// view voxelizes on the CPU or no context can be made (the run then
-    /// says why, or takes the CPU).
-    std::shared_ptr<GlContext> passContext(bool coarse);
+    /// Makes the GL contexts the final passes and the coarse ones run on,
+    /// as the worker starts, so that the first stop waits for neither: none
+    /// where the view voxelizes on the CPU or no context can be made (each
+    /// run then makes its own attempt, and says why or takes the CPU).
+    void makePassContexts();
 
     VoxelizeJob base_;
     std::filesystem::path saveDir_;
@@ -117,6 +117,7 @@ class ViewVoxelizer {
     std::thread firstPass_;         ///< the coarse pass under way beside the worker, if any
     /// Kept between passes (one pass at a time on each), released from the
     /// thread of the pass that used it: coarse passes each have a thread.
+    /// Set by the worker before it takes a task, read-only after.
     std::shared_ptr<GlContext> finalContext_, coarseContext_;
     bool stopping_ = false;
     std::thread worker_; ///< last: started once the rest is there
