@@ -1,6 +1,6 @@
 #include "core/bricks.h"
 
-#include "core/principal_axis_pair.h"
+#include "core/principal_axes.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -78,25 +78,19 @@ glm::dvec3 principalAxis(const double t[6]) {
 namespace {
 
 /// The principal axis of each voxel with fibre of a mean's accumulator
-/// (the others are left as they are), two voxels at a time.
+/// (the others are left as they are), several voxels at a time.
 void fibreAxes(const std::uint32_t* w, glm::dvec3* axes) {
-    const auto tensor = [w](int v, double t[6]) {
-        for (int i = 0; i < 6; ++i) t[i] = static_cast<std::int32_t>(w[(1 + i) * kBrickVoxels + v]);
-    };
-    int held = -1;
-    double first[6], second[6];
+    double tensors[kBrickVoxels][6];
+    std::array<std::uint16_t, kBrickVoxels> voxels;
+    int count = 0;
     for (int v = 0; v < kBrickVoxels; ++v) {
         if (w[v] == 0) continue;
-        if (held < 0) {
-            held = v;
-            tensor(v, first);
-            continue;
-        }
-        tensor(v, second);
-        principalAxisPair(first, second, axes[held], axes[v]);
-        held = -1;
+        for (int i = 0; i < 6; ++i) tensors[count][i] = static_cast<std::int32_t>(w[(1 + i) * kBrickVoxels + v]);
+        voxels[count++] = static_cast<std::uint16_t>(v);
     }
-    if (held >= 0) axes[held] = principalAxis(first);
+    std::array<glm::dvec3, kBrickVoxels> found;
+    principalAxes(tensors, found.data(), count);
+    for (int k = 0; k < count; ++k) axes[voxels[k]] = found[k];
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 #include "vdb/lod_pyramid.h"
 
 #include "core/error.h"
+#include "core/principal_axes.h"
 
 #include <algorithm>
 #include <bit>
@@ -234,7 +235,10 @@ bool resolveCoarseBrick(const CoarseBrick& sums, VoxelBrick& out) {
         out.albedo.assign(kBrickVoxels, glm::vec3(0.0f));
     else
         out.albedo.clear();
-    bool any = false;
+    // The voxels with fibre first, then their axes several at a time.
+    std::array<std::uint16_t, kBrickVoxels> fibre;
+    double tensors[kBrickVoxels][6];
+    int count = 0;
     for (int v = 0; v < kBrickVoxels; ++v) {
         out.density[v] = 0.0f;
         out.orientation[v] = glm::vec3(0.0f);
@@ -243,14 +247,17 @@ bool resolveCoarseBrick(const CoarseBrick& sums, VoxelBrick& out) {
         const float density = static_cast<float>(sums.densitySum[v] / double(1 << (3 * sums.skip)));
         if (!(density > 0.0f)) continue;
         out.density[v] = density;
-        out.orientation[v] = glm::vec3(canonicalAxis(principalAxis(sums.tensor[v].data())));
+        std::copy(sums.tensor[v].begin(), sums.tensor[v].end(), tensors[count]);
+        fibre[count++] = static_cast<std::uint16_t>(v);
         if (sums.albedo)
             for (int k = 0; k < 3; ++k)
                 out.albedo[v][k] = static_cast<float>(std::min(1.0, sums.albedoSum[v][k] / sums.densitySum[v]));
         out.activeMask[v >> 6] |= std::uint64_t(1) << (v & 63);
-        any = true;
     }
-    return any;
+    std::array<glm::dvec3, kBrickVoxels> axes;
+    principalAxes(tensors, axes.data(), count);
+    for (int k = 0; k < count; ++k) out.orientation[fibre[k]] = glm::vec3(canonicalAxis(axes[k]));
+    return count > 0;
 }
 
 } // namespace yv
