@@ -2,7 +2,10 @@
 
 #include "core/process_memory.h"
 
+#include <tbb/parallel_pipeline.h>
+
 #include <algorithm>
+#include <atomic>
 
 namespace yv {
 
@@ -18,19 +21,71 @@ CpuRegionBackend::CpuRegionBackend(const SlicePlan& plan, const CrossSection& xs
     // A budget asked for (--fragment-budget, perhaps sized for a GPU) is
     // capped at what a quarter of physical memory holds.
     const std::uint64_t cap = std::max<std::uint64_t>(physical / 4 / 200, std::uint64_t(1) << 20);
-    budget_ = sampleBudget ? std::min(sampleBudget, cap)
-                           : std::clamp<std::uint64_t>(physical / 16 / 200, std::uint64_t(1) << 20, std::uint64_t(1) << 27);
+    memoryBudget_ = std::clamp<std::uint64_t>(physical / 16 / 200, std::uint64_t(1) << 20, std::uint64_t(1) << 27);
+    budget_ = sampleBudget ? std::min(sampleBudget, cap) : memoryBudget_;
     // Regions have their own progress line; the slices inside them do not.
     settings_.quiet = true;
 }
 
+std::size_t CpuRegionBackend::regionsInFlight(const std::vector<ZoomRegion>& regions) const {
+    double largest = 1.0;
+    for (const ZoomRegion& region : regions) largest = std::max(largest, region.estimatedFragments);
+    return std::clamp<std::size_t>(static_cast<std::size_t>(double(memoryBudget_) / largest), 1, kMaxRegionsInFlight);
+}
+
 void CpuRegionBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& sink) {
-    forEachRegionToDo(regions, sink, quiet_, counters_.resumedRegions, [&](const ZoomRegion& region) {
-        std::vector<BrickAccumulator> accumulators =
-            accumulateBox(plan_, xs_, grid_, settings_, region.segments, region.min, region.max, &counters_.sampling);
-        ++counters_.regions;
-        sink.consumeAccumulators(region, std::move(accumulators));
-    });
+    // A region's slices split over every core, but its start and end do not
+    // (finding the slices that reach it, merging the threads' bricks, waking
+    // TBB's workers): at thousands of small regions (--fragment-budget
+    // 200000 at 2048) those parts set the pace on 16 cores, so small regions
+    // are sampled several at a time. The sink still takes them one by one
+    // in plan order, and is asked about each (resumed, or stop) in order.
+    struct RegionWork {
+        const ZoomRegion* region = nullptr;
+        bool resumed = false;
+        std::vector<BrickAccumulator> accumulators;
+        CpuVoxelizeCounters counters;
+    };
+    Progress progress("voxelize", regions.size(), quiet_, "regions");
+    std::size_t next = 0;
+    std::atomic<std::uint64_t> sampling{0}, mostSampling{counters_.regionsAtOnce};
+    tbb::parallel_pipeline(
+        regionsInFlight(regions),
+        tbb::make_filter<void, RegionWork>(tbb::filter_mode::serial_in_order,
+                                           [&](tbb::flow_control& flow) {
+                                               RegionWork work;
+                                               if (next == regions.size() || sink.stopRequested()) {
+                                                   flow.stop();
+                                                   return work;
+                                               }
+                                               work.region = &regions[next++];
+                                               work.resumed = sink.alreadyDone(*work.region);
+                                               return work;
+                                           }) &
+            tbb::make_filter<RegionWork, RegionWork>(tbb::filter_mode::parallel,
+                                                     [&](RegionWork work) {
+                                                         if (work.resumed) return work;
+                                                         const std::uint64_t now = ++sampling;
+                                                         std::uint64_t most = mostSampling.load();
+                                                         while (now > most && !mostSampling.compare_exchange_weak(most, now)) {}
+                                                         const ZoomRegion& r = *work.region;
+                                                         work.accumulators = accumulateBox(plan_, xs_, grid_, settings_, r.segments,
+                                                                                           r.min, r.max, &work.counters);
+                                                         --sampling;
+                                                         return work;
+                                                     }) &
+            tbb::make_filter<RegionWork, void>(tbb::filter_mode::serial_in_order, [&](RegionWork work) {
+                if (work.resumed) {
+                    ++counters_.resumedRegions;
+                } else {
+                    counters_.sampling += work.counters;
+                    ++counters_.regions;
+                    sink.consumeAccumulators(*work.region, std::move(work.accumulators));
+                }
+                progress.advance(1);
+            }));
+    progress.finish();
+    counters_.regionsAtOnce = mostSampling.load();
 }
 
 JsonObject CpuRegionBackend::stats() const {
@@ -40,6 +95,7 @@ JsonObject CpuRegionBackend::stats() const {
         .set("zoom_regions", counters_.regions + counters_.resumedRegions)
         .set("regions_computed", counters_.regions)
         .set("regions_resumed", counters_.resumedRegions)
+        .set("regions_at_once", counters_.regionsAtOnce)
         .set("fragment_budget", budget_);
     return out;
 }

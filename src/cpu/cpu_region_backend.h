@@ -12,6 +12,7 @@
 #include "core/region_rasterizer.h"
 #include "plan/zoom_plan.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +22,7 @@ struct CpuRegionCounters {
     CpuVoxelizeCounters sampling;     ///< summed over regions
     std::uint64_t regions = 0;        ///< zoom regions computed
     std::uint64_t resumedRegions = 0; ///< zoom regions taken from a resumed work directory
+    std::uint64_t regionsAtOnce = 0;  ///< most regions sampled at the same time
 };
 
 class CpuRegionBackend : public RegionRasterizer {
@@ -35,7 +37,14 @@ class CpuRegionBackend : public RegionRasterizer {
     std::uint64_t fragmentBudget() const override { return budget_; }
     /// Largest region edge in voxels (as the GL backend's, so both plan alike).
     int maxRegionSize() const override { return 1024; }
+    /// The regions in plan order to the sink; small ones are sampled several
+    /// at a time (see regionsInFlight).
     void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) override;
+    /// How many of `regions` may be sampled at the same time: as many as
+    /// the default budget's memory holds of the largest, at most
+    /// kMaxRegionsInFlight (1 where regions are as large as the budget).
+    std::size_t regionsInFlight(const std::vector<ZoomRegion>& regions) const;
+    static constexpr std::size_t kMaxRegionsInFlight = 4;
     /// samples, threads, zoom_regions, regions_computed, regions_resumed, fragment_budget.
     JsonObject stats() const override;
     std::uint64_t samples() const override { return counters_.sampling.samples; }
@@ -48,6 +57,7 @@ class CpuRegionBackend : public RegionRasterizer {
     VoxelizeSettings settings_;
     CpuRegionCounters counters_;
     std::uint64_t budget_ = 0;
+    std::uint64_t memoryBudget_ = 0; ///< samples all regions in flight may hold together
     bool quiet_ = true; ///< no progress line
 };
 

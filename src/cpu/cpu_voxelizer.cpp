@@ -82,6 +82,15 @@ std::vector<std::uint64_t> slicesReaching(const SlicePlan& plan, const VoxelGrid
 
 } // namespace
 
+CpuVoxelizeCounters& CpuVoxelizeCounters::operator+=(const CpuVoxelizeCounters& o) {
+    samples += o.samples;
+    tasks += o.tasks;
+    threads = std::max(threads, o.threads);
+    slicesSampled += o.slicesSampled;
+    busyBoxThreadsMin = std::min(busyBoxThreadsMin, o.busyBoxThreadsMin);
+    return *this;
+}
+
 void accumulateSample(Reduce reduce, std::uint32_t* words, int v, double volumeFraction, float density,
                       const glm::dvec3& direction, const glm::dvec3* albedo) {
     if (reduce == Reduce::Mean) {

@@ -22,6 +22,8 @@ struct CpuVoxelizeCounters {
     /// Fewest threads that ran a box's tasks, over the boxes with at least 8
     /// slices sampled a thread (UINT64_MAX: none had as many).
     std::uint64_t busyBoxThreadsMin = ~std::uint64_t(0);
+
+    CpuVoxelizeCounters& operator+=(const CpuVoxelizeCounters& o);
 };
 
 /// Accumulates the slices of `segments` (indices into plan.segments) into the
