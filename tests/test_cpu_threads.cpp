@@ -25,11 +25,14 @@ using namespace yv;
 namespace {
 
 /// Resolves each region's accumulators as they come; every brick must lie
-/// in the region that produced it.
+/// in the region that produced it, and regions come in plan order.
 class CollectingSink : public RegionSink {
   public:
     void consume(const ZoomRegion&, PackedBricks&&) override { FAIL("the CPU backend hands over accumulators"); }
     void consumeAccumulators(const ZoomRegion& region, std::vector<BrickAccumulator>&& accumulators) override {
+        inOrder = inOrder && (regions == 0 || region.id > lastId);
+        lastId = region.id;
+        ++regions;
         for (const BrickAccumulator& a : accumulators) {
             const glm::ivec3 corner = brickCoord(a.key) * 8;
             inside = inside && glm::all(glm::greaterThanEqual(corner, region.min)) &&
@@ -39,7 +42,8 @@ class CollectingSink : public RegionSink {
         }
     }
     std::vector<VoxelBrick> bricks;
-    bool inside = true;
+    bool inside = true, inOrder = true;
+    std::uint64_t lastId = 0, regions = 0;
 };
 
 /// Bricks that differ in key, mask, any density's bits or any orientation's bits.
@@ -80,6 +84,8 @@ TEST_CASE("CPU backend: the same bits from 1 and 4 threads, in few regions and i
                              << " slices sampled of " << run.plan.sliceCount);
                 if (budget) CHECK(zoom.regions.size() >= 32);
                 CHECK(sink.inside);
+                CHECK(sink.inOrder);
+                CHECK(sink.regions == zoom.regions.size());
                 REQUIRE(sink.bricks.size() > 500);
                 CHECK(c.slicesSampled >= run.plan.sliceCount);
                 if (threads == 1) CHECK(c.threads == 1);
@@ -89,6 +95,21 @@ TEST_CASE("CPU backend: the same bits from 1 and 4 threads, in few regions and i
             }
         }
     }
+}
+
+TEST_CASE("CPU backend: small regions several at a time, regions as large as the budget one at a time", "[cpu][threads]") {
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Plain, GarmentShape::Cylinder, 120, 1.0, 160);
+    VoxelizeSettings settings;
+    settings.quiet = true;
+    const CrossSection xs = makeDiskCrossSection();
+    CpuRegionBackend small(run.plan, xs, run.grid, settings, 15000);
+    const ZoomPlan many = planZoomRegions(run.plan, run.grid, xs, {small.fragmentBudget(), small.maxRegionSize(), 1});
+    REQUIRE(many.regions.size() >= 32);
+    CHECK(small.regionsInFlight(many.regions) == CpuRegionBackend::kMaxRegionsInFlight);
+    // A region estimated at the whole memory budget: alone.
+    std::vector<ZoomRegion> large = many.regions;
+    large[3].estimatedFragments = 1e12;
+    CHECK(small.regionsInFlight(large) == 1);
 }
 
 TEST_CASE("A sample window keeps exactly the samples of its voxels, in the same order", "[cpu][sampling]") {
