@@ -42,9 +42,11 @@ class CpuRegionBackend : public RegionRasterizer {
     void run(const std::vector<ZoomRegion>& regions, RegionSink& sink) override;
     /// How many of `regions` may be sampled at the same time: as many as
     /// the default budget's memory holds of the largest, at most
-    /// kMaxRegionsInFlight (1 where regions are as large as the budget).
+    /// kMaxRegionsInFlight (1 where regions are as large as the budget; 8
+    /// against 4: many small regions 1.0-1.05 times few rather than
+    /// 1.06-1.37 at 1024 on the H200 machine's 16 cores).
     std::size_t regionsInFlight(const std::vector<ZoomRegion>& regions) const;
-    static constexpr std::size_t kMaxRegionsInFlight = 4;
+    static constexpr std::size_t kMaxRegionsInFlight = 8;
     /// samples, threads, zoom_regions, regions_computed, regions_resumed, fragment_budget.
     JsonObject stats() const override;
     std::uint64_t samples() const override { return counters_.sampling.samples; }
