@@ -15,7 +15,8 @@
 #        splatting and volumetric-triangles (the garment the volume records)
 #        have no empty-space skipping to turn off and are timed once; isosurface
 #        is timed with and without), YV_SLICE_LOD (slices: --slice-lod PIXELS,
-#        e.g. 0 for every slice; default: the command's)
+#        e.g. 0 for every slice; default: the command's), YV_SLICE_PRIMITIVE
+#        (slices: --slice-primitive auto|boxes; default: the command's)
 set -euo pipefail
 input=$1 resolutions=$2 size=${3:-800x600}
 shift $(( $# < 3 ? $# : 3 ))
@@ -24,13 +25,13 @@ build="${YV_BUILD_DIR:-$root/build}"
 yarnvox="$build/yarnvox"
 budget=${YV_GPU_BUDGET:-2G} repeat=${YV_REPEAT:-5} view=${YV_VIEW:-30,20,4}
 modes=${YV_MODES:-raycast mip orientation}
-slice_lod=${YV_SLICE_LOD:-}
+slice_lod=${YV_SLICE_LOD:-} slice_primitive=${YV_SLICE_PRIMITIVE:-}
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 
 . "$root/bench/header.sh"
 bench_header inspect_frames "$0 $input '$resolutions' $size $*" \
-    "$(printf ', "env": "YV_GPU_BUDGET=%s YV_REPEAT=%s YV_VIEW=%s YV_MODES=%s YV_SLICE_LOD=%s"' "$budget" "$repeat" "$view" "'$modes'" "$slice_lod")"
+    "$(printf ', "env": "YV_GPU_BUDGET=%s YV_REPEAT=%s YV_VIEW=%s YV_MODES=%s YV_SLICE_LOD=%s YV_SLICE_PRIMITIVE=%s"' "$budget" "$repeat" "$view" "'$modes'" "$slice_lod" "$slice_primitive")"
 
 case "$input" in
 *.bcc) ;;
@@ -56,6 +57,7 @@ for res in $resolutions; do
             # The garment the volume was made from (a volume given records its own).
             [ "$mode" = slices ] && [ "$res" != given ] && flags+=(--garment "$input")
             [ "$mode" = slices ] && [ -n "$slice_lod" ] && flags+=(--slice-lod "$slice_lod")
+            [ "$mode" = slices ] && [ -n "$slice_primitive" ] && flags+=(--slice-primitive "$slice_primitive")
             "$yarnvox" inspect "$volume" --render "$mode" --size "$size" --view "$view" --gpu-budget "$budget" \
                 --repeat "$repeat" --json "${flags[@]}" -o "$scratch/frame.png" |
                 python3 -c 'import json, sys

@@ -76,3 +76,4 @@ const int kSortHistogramBinding = 4;  // per digit and tile: its pairs, then (sc
 const int kSortBlockSumsBinding = 5;  // the histogram scan's sum per block of 1024 counts
 const int kSortKeptBinding = 6;       // the pairs kept (not dropped) by the first pass
 const int kSliceSpansBinding = 2;     // inspect_slices_keys.comp writes kSliceSpansUnit's buffer
+const int kSliceLargestBinding = 3;   // and the most pixels a slab kept may cover, across (slice_renderer.cpp)

@@ -19,12 +19,18 @@
 // frustum is dropped (value kDropped): the sort leaves it out and the draw
 // never sees it. The test is its bounding sphere against the six planes,
 // so nothing visible is dropped.
+//
+// Point sprites (slice_renderer.cpp): the most pixels a kept slab may cover
+// across on screen, a bound from its bounding sphere, into `largestPixels`
+// (0xffffffff where a slab reaches the eye's plane): the renderer draws
+// points only where it is at most the largest point.
 layout(local_size_x = 256) in;
 
 layout(binding = kSliceTableUnit) uniform samplerBuffer slices; // per slice: (centre, thickness), (tangent, place in its run)
 layout(std430, binding = kSortKeysInBinding) writeonly buffer Keys { uint keys[]; };
 layout(std430, binding = kSortValuesInBinding) writeonly buffer Values { uint values[]; };
 layout(std430, binding = kSliceSpansBinding) writeonly buffer Spans { uint spans[]; };
+layout(std430, binding = kSliceLargestBinding) coherent buffer Largest { uint largestPixels; };
 
 uniform uint uSlices;
 uniform vec3 uEye;
@@ -37,6 +43,20 @@ uniform float uFocalPixels; // pixels a unit of length at unit depth spans
 uniform vec3 uForward;     // the view direction, unit
 
 const uint kDropped = 0xffffffffu;
+
+shared uint groupLargest;
+
+// A bound on the pixels a sphere covers across on screen: one of radius R at
+// depth z, a lateral distance l off the view axis, projects to at most
+// 2 R / (z - R) (1 + l / z) of focal length across.
+uint coveredPixels(vec3 centre, float reach) {
+    vec3 toCentre = centre - uEye;
+    float depth = dot(toCentre, uForward);
+    if (depth - reach <= 1e-6 * max(depth, 1.0)) return 0xffffffffu;
+    float lateral = length(toCentre - depth * uForward);
+    float pixels = 2.0 * reach / (depth - reach) * (1.0 + lateral / depth) * uFocalPixels;
+    return pixels >= 4.0e9 ? 0xffffffffu : uint(ceil(pixels));
+}
 
 float placeOf(uint i) { return texelFetch(slices, int(2u * i + 1u)).w; }
 
@@ -61,6 +81,9 @@ uint runFrom(uint i, float place, uint size) {
 }
 
 void main() {
+    if (gl_LocalInvocationIndex == 0u) groupLargest = 0u;
+    barrier();
+    uint largest = 0u;
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint i = gl_GlobalInvocationID.x; i < uSlices; i += stride) {
         vec4 a = texelFetch(slices, int(2u * i));
@@ -88,19 +111,21 @@ void main() {
             centre = 0.5 * (a.xyz + last.xyz);
             thickness = length(last.xyz - a.xyz) + max(a.w, last.w);
         }
-        if (uCull != 0) {
-            // The slab (2 radius x 2 radius x thickness)'s half diagonal, and
-            // a little for the planes' rounding.
-            float reach = sqrt(2.0 * uRadius * uRadius + 0.25 * thickness * thickness) * 1.001 + 1e-3;
-            if (outside(centre, reach)) {
-                values[i] = kDropped;
-                continue;
-            }
+        // The slab (2 radius x 2 radius x thickness)'s half diagonal, and
+        // a little for the planes' rounding.
+        float reach = sqrt(2.0 * uRadius * uRadius + 0.25 * thickness * thickness) * 1.001 + 1e-3;
+        if (uCull != 0 && outside(centre, reach)) {
+            values[i] = kDropped;
+            continue;
         }
+        largest = max(largest, coveredPixels(centre, reach));
         precise vec3 d = centre - uEye;
         precise float distance2 = d.x * d.x + d.y * d.y + d.z * d.z;
         keys[i] = ~floatBitsToUint(distance2);
         values[i] = i;
         spans[i] = span;
     }
+    atomicMax(groupLargest, largest);
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) atomicMax(largestPixels, groupLargest);
 }

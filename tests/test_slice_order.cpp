@@ -59,6 +59,13 @@ std::uint64_t differingBytes(const RgbImage& a, const RgbImage& b) {
     return n;
 }
 
+/// Channel values of `a` more than `levels` from `b`'s.
+std::uint64_t bytesOffBy(const RgbImage& a, const RgbImage& b, int levels) {
+    std::uint64_t n = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) n += std::abs(int(a.pixels[i]) - int(b.pixels[i])) > levels;
+    return n;
+}
+
 std::uint64_t coveredPixels(const RgbImage& im) {
     std::uint64_t n = 0;
     for (std::size_t i = 0; i < im.pixels.size(); i += 3) n += (im.pixels[i] | im.pixels[i + 1] | im.pixels[i + 2]) != 0;
@@ -125,6 +132,7 @@ TEST_CASE("slices on the GPU: the back-to-front order is sortBackToFront's, ties
 
     SliceSettings settings;
     settings.lodPixels = 0.0; // every slice
+    settings.primitive = SlicePrimitive::Boxes; // as the host's order draws them
     SliceRenderer gpu(t.slices, settings);
     gpu.prepare(camera);
     std::vector<std::uint32_t> expected;
@@ -274,6 +282,7 @@ TEST_CASE("slices on the GPU: slices far below a pixel apart are drawn a few as 
     host.sortOnHost = true;
     off.lodPixels = 0.0;
     on.lodPixels = 1.0;
+    off.primitive = SlicePrimitive::Boxes; // as the host's order draws them
     off.cull = on.cull = false; // every slice counted in the picture
     SliceRenderer byHost(slices, host), every(slices, off), joined(slices, on);
     RenderReport fromHost, fromEvery, fromJoined;
@@ -320,4 +329,42 @@ TEST_CASE("slices on the GPU: slices far below a pixel apart are drawn a few as 
     CHECK(covered > 96 * 72 / 10);
     CHECK(std::abs(double(coveredPixels(fromJoined.image)) - covered) < 0.02 * covered);
     CHECK(meanDifference < 4.0);
+}
+
+TEST_CASE("slices on the GPU: drawn as point sprites where every slab fits one, the picture the boxes draw", "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    RenderContext context;
+    context.gl();
+    const TestSlices t = knitSlices(120, 48, 0);
+    SliceSettings boxes, automatic;
+    boxes.lodPixels = automatic.lodPixels = 0.0;
+    boxes.primitive = SlicePrimitive::Boxes;
+    SliceRenderer asBoxes(t.slices, boxes), asChosen(t.slices, automatic);
+    // Whole, turned so that slabs lie every way, and near the picture's
+    // sides (a point whose centre is outside the picture still draws its part
+    // inside); then so close that slabs are wider than the largest point.
+    const std::vector<ViewAngles> views = {{35.0, 25.0, 3.0}, {-70.0, 60.0, 2.0}, {10.0, -40.0, 1.6}};
+    for (const ViewAngles& view : views) {
+        const Camera camera = frameBox(t.box, view, 128, 96);
+        RenderReport fromBoxes, fromPoints;
+        drawFrames(asBoxes, camera, 1, fromBoxes);
+        drawFrames(asChosen, camera, 1, fromPoints);
+        INFO("view " << view.azimuth << ", " << view.elevation << ", " << view.distance << ": "
+                     << fromPoints.slices << " slices");
+        CHECK(fromBoxes.slicePrimitive == "boxes");
+        CHECK(fromPoints.slicePrimitive == "points");
+        CHECK(fromPoints.slices == fromBoxes.slices);
+        CHECK(coveredPixels(fromBoxes.image) > 128 * 96 / 10);
+        // The ray from the camera's inverse rather than through a face: a
+        // level or two apart where rounding differs, a slab's grazing edge
+        // at most a few pixels.
+        CHECK(bytesOffBy(fromPoints.image, fromBoxes.image, 2) <= 128 * 96 * 3 / 200);
+        CHECK(bytesOffBy(fromPoints.image, fromBoxes.image, 24) <= 12);
+    }
+    const Camera close = frameBox(t.box, ViewAngles{35.0, 25.0, 0.45}, 512, 384);
+    RenderReport fromBoxes, fromChosen;
+    drawFrames(asBoxes, close, 1, fromBoxes);
+    drawFrames(asChosen, close, 1, fromChosen);
+    CHECK(fromChosen.slicePrimitive == "boxes");
+    CHECK(differingBytes(fromChosen.image, fromBoxes.image) == 0);
 }

@@ -49,6 +49,7 @@ struct InspectArgs {
     int device = -1, repeat = 1;
     double yarnRadius = 0.0;
     double sliceLod = -1.0; ///< --slice-lod; below 0: not given
+    std::string slicePrimitive; ///< --slice-primitive; empty: not given
     std::string html;            ///< --html DIR
     std::size_t htmlRenders = 8; ///< --html-renders N
 };
@@ -144,6 +145,8 @@ PictureRequest pictureRequest(const InspectArgs& a) {
     if (r.kind != RenderKind::Slices && !a.garment.empty()) throw Error("--garment goes with --render slices");
     if (r.kind != RenderKind::Slices && a.sliceLod >= 0.0) throw Error("--slice-lod goes with --render slices");
     if (a.sliceLod >= 0.0) r.sliceLodPixels = a.sliceLod;
+    if (r.kind != RenderKind::Slices && !a.slicePrimitive.empty()) throw Error("--slice-primitive goes with --render slices");
+    if (!a.slicePrimitive.empty()) r.slicePrimitive = parseSlicePrimitive(a.slicePrimitive);
     if (r.kind != RenderKind::Slices && r.kind != RenderKind::VolumetricTriangles && a.yarnRadius > 0.0)
         throw Error("--yarn-radius goes with --render slices or volumetric-triangles");
     if (a.regions && r.kind == RenderKind::VolumetricTriangles)
@@ -285,6 +288,9 @@ void addPictureOptions(CLI::App* cmd, InspectArgs& a) {
                     "slab is drawn for 2, 4, ... 64 consecutive slices, none longer than this (0: every slice; "
                     "default " + numberText(kDefaultSliceLodPixels) + ")")
         ->check(finiteRange(0.0, 1e6));
+    cmd->add_option("--slice-primitive", a.slicePrimitive,
+                    "--render slices: auto (default: one point sprite a slab where every slab in view fits one, "
+                    "else a box) or boxes (always; the picture is the same)");
     cmd->add_option("--yarn-radius", a.yarnRadius,
                     "--render slices|volumetric-triangles: yarn radius in world units, instead of the one the run "
                     "recorded (a bare garment: the garment file's, else estimated)")

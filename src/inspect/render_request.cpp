@@ -41,6 +41,12 @@ bool marchesRays(RenderKind kind) {
            kind == RenderKind::Isosurface;
 }
 
+SlicePrimitive parseSlicePrimitive(const std::string& text) {
+    if (text == "auto") return SlicePrimitive::Auto;
+    if (text == "boxes") return SlicePrimitive::Boxes;
+    throw Error("--slice-primitive '" + text + "': expected auto or boxes");
+}
+
 bool drawsPlanes(RenderKind kind) { return kind == RenderKind::TextureSlicing || kind == RenderKind::HalfAngle; }
 
 } // namespace yv

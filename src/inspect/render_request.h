@@ -42,6 +42,17 @@ bool drawsPlanes(RenderKind kind);
 /// slices render draws one slab for several, none longer than a pixel.
 constexpr double kDefaultSliceLodPixels = 1.0;
 
+/// How the slices render draws each slab (--slice-primitive). Boxes: a box
+/// of 14 vertices, 12 triangles. Auto: where every slab in view fits a point
+/// sprite of at most SliceRenderer's limit, one point a slab covering its
+/// screen box (the fragment casts its pixel's ray through the slab: the same
+/// picture), else boxes. Hopper's raster sets up few triangles a second
+/// next to its compute; a point is one primitive.
+enum class SlicePrimitive { Auto, Boxes };
+
+/// "auto" or "boxes"; throws yv::Error listing the names otherwise.
+SlicePrimitive parseSlicePrimitive(const std::string& text);
+
 struct RenderRequest {
     RenderKind kind = RenderKind::Raycast;
     ViewAngles view;
@@ -56,6 +67,7 @@ struct RenderRequest {
     int repeat = 1; ///< frames drawn (the same picture), for timing
     const SliceInstances* slices = nullptr; ///< Slices: the run's slices (in the source's voxel coordinates)
     double sliceLodPixels = kDefaultSliceLodPixels; ///< Slices: the level of detail (SliceSettings::lodPixels; 0: every slice)
+    SlicePrimitive slicePrimitive = SlicePrimitive::Auto; ///< Slices: --slice-primitive
     std::vector<RegionHeat> outlines;       ///< region boxes drawn over the picture (not over a cut)
     int slicePlanes = 0; ///< texture-slicing, half-angle: 0 is one per level voxel along the slicing direction
     LightAngles light;   ///< half-angle

@@ -80,6 +80,7 @@ std::string pictureJson(const PictureRequest& p, const Drawn& d) {
             .set("slices", rep.slices)
             .set("garment_slices", rep.garmentSlices)
             .set("slice_lod_pixels", r.sliceLodPixels)
+            .set("slice_primitive", rep.slicePrimitive)
             .set("frames", r.repeat)
             .set("sort_seconds_median", rep.sortSeconds)
             .set("sort_seconds_best", rep.bestSortSeconds)

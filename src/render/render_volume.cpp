@@ -98,7 +98,7 @@ std::unique_ptr<Renderer> makeRenderer(const RenderRequest& request, const Rende
     }
     case RenderKind::Slices:
         if (!input.slices) throw Error("--render slices needs the run's garment (--garment FILE.bcc)");
-        return std::make_unique<SliceRenderer>(*input.slices, SliceSettings{.lodPixels = request.sliceLodPixels});
+        return std::make_unique<SliceRenderer>(*input.slices, SliceSettings{.lodPixels = request.sliceLodPixels, .primitive = request.slicePrimitive});
     case RenderKind::VolumetricTriangles:
         if (!input.plan || !input.grid)
             throw Error("--render volumetric-triangles draws a garment's slices (renderVolumetricTriangles), not a volume's voxels");

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstring>
 
@@ -16,6 +17,7 @@ namespace yv {
 namespace {
 
 constexpr GLuint kBoxVertices = 14;   // one slab: a triangle strip (inspect_slices.vert)
+constexpr GLintptr kPointsCommand = 16; // the points' draw command follows the boxes' in drawCommand_
 constexpr std::uint64_t kKeyGroup = 256; // inspect_slices_keys.comp's local_size_x
 /// The coarsest level of detail: a slab for 64 slices of a run.
 constexpr int kLodLevels = 6;
@@ -83,14 +85,24 @@ SliceRenderer::SliceRenderer(const SliceInstances& slices, const SliceSettings& 
     glEnableVertexArrayAttrib(vao, 0);
     glVertexArrayAttribIFormat(vao, 0, 1, GL_UNSIGNED_INT, 0);
     glVertexArrayAttribBinding(vao, 0, 0);
-    // The host's order draws every slice; the GPU's, the count its sort kept.
-    const DrawCommand command{kBoxVertices, GLuint(settings.sortOnHost ? slices.count() : 0), 0, 0};
-    drawCommand_.reserve(sizeof(command), nullptr);
-    glNamedBufferSubData(drawCommand_.id(), 0, sizeof(command), &command);
+    // The host's order draws every slice; the GPU's, the count its sort
+    // kept, as boxes or as points.
+    const GLuint hostCount = GLuint(settings.sortOnHost ? slices.count() : 0);
+    const DrawCommand commands[2] = {{kBoxVertices, hostCount, 0, 0}, {1, 0, 0, 0}};
+    static_assert(sizeof(DrawCommand) == kPointsCommand);
+    drawCommand_.reserve(sizeof(commands), nullptr);
+    glNamedBufferSubData(drawCommand_.id(), 0, sizeof(commands), commands);
     if (!settings.sortOnHost) {
         maxGroups_ = maxComputeGroups();
         keys_ = GlProgram::compute("inspect_slices_keys.comp");
         sort_.emplace(slices.count(), maxGroups_);
+        largestBuffer_.reserve(sizeof(GLuint), nullptr);
+        if (settings.primitive == SlicePrimitive::Auto) {
+            pointsProgram_ = GlProgram::graphics("inspect_slices.vert", "inspect_slices.frag", {"SLAB_POINTS 1"});
+            float range[2] = {1.0f, 1.0f};
+            glGetFloatv(GL_ALIASED_POINT_SIZE_RANGE, range);
+            pointPixels_ = std::min(range[1], kSlicePointPixels);
+        }
     }
     checkGlError("uploading the slices");
 }
@@ -129,6 +141,9 @@ void SliceRenderer::prepare(const Camera& camera) {
     sort_->keys().bindStorage(kSortKeysInBinding);
     sort_->values().bindStorage(kSortValuesInBinding);
     spanBuffer_.bindStorage(kSliceSpansBinding);
+    const GLuint zero = 0;
+    glClearNamedBufferData(largestBuffer_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    largestBuffer_.bindStorage(kSliceLargestBinding);
     glDispatchCompute(GLuint(std::min<std::uint64_t>((n + kKeyGroup - 1) / kKeyGroup, maxGroups_)), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     sort_->sort(GLuint(n), orderBuffer_);
@@ -136,38 +151,67 @@ void SliceRenderer::prepare(const Camera& camera) {
     // it only for the report (and that read waits for the sort).
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glCopyNamedBufferSubData(sort_->kept().id(), drawCommand_.id(), 0, offsetof(DrawCommand, instanceCount), 4);
+    glCopyNamedBufferSubData(sort_->kept().id(), drawCommand_.id(), 0, kPointsCommand + offsetof(DrawCommand, instanceCount), 4);
     glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     GLuint kept = 0;
     std::memcpy(&kept, readback_.read(sort_->kept().id(), 4, nullptr), 4);
     drawn_ = kept;
+    std::memcpy(&largestPixels_, readback_.read(largestBuffer_.id(), 4, nullptr), 4);
     checkGlError("sorting the slices");
+}
+
+bool SliceRenderer::pointsFit() const {
+    // The points' program is made where the primitive is Auto and the order the GPU's.
+    return settings_.primitive == SlicePrimitive::Auto && !settings_.sortOnHost && float(largestPixels_) <= pointPixels_;
 }
 
 void SliceRenderer::draw(const Frame& frame) {
     const Camera& camera = frame.camera;
+    drewPoints_ = pointsFit();
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glEnable(GL_BLEND);
     glBlendEquation(GL_FUNC_ADD);
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // premultiplied "over", back to front
-    program_.use();
+    const GlProgram& program = drewPoints_ ? pointsProgram_ : program_;
+    program.use();
     const glm::mat4 vp(camera.viewProjection());
-    glUniformMatrix4fv(program_.uniform("viewProjection"), 1, GL_FALSE, glm::value_ptr(vp));
+    glUniformMatrix4fv(program.uniform("viewProjection"), 1, GL_FALSE, glm::value_ptr(vp));
     const glm::vec3 eye(camera.eye);
-    glUniform3fv(program_.uniform("eye"), 1, glm::value_ptr(eye));
+    glUniform3fv(program.uniform("eye"), 1, glm::value_ptr(eye));
     // Parallel light from over the viewer's shoulder: the camera's up and back.
     const glm::dmat4 inverseView = glm::inverse(camera.view);
     const glm::vec3 light(glm::normalize(glm::dvec3(inverseView[2]) + 0.5 * glm::dvec3(inverseView[1])));
-    glUniform3fv(program_.uniform("lightDirection"), 1, glm::value_ptr(light));
-    glUniform3fv(program_.uniform("albedo"), 1, glm::value_ptr(kSliceAlbedo));
-    glUniform1f(program_.uniform("radius"), slices_.radius);
-    glUniform1f(program_.uniform("twist"), twist_);
-    glUniform1f(program_.uniform("opacityPerVoxel"), kSliceOpacityTimesRadius / std::max(slices_.radius, 1e-6f));
+    glUniform3fv(program.uniform("lightDirection"), 1, glm::value_ptr(light));
+    glUniform3fv(program.uniform("albedo"), 1, glm::value_ptr(kSliceAlbedo));
+    glUniform1f(program.uniform("radius"), slices_.radius);
+    glUniform1f(program.uniform("twist"), twist_);
+    glUniform1f(program.uniform("opacityPerVoxel"), kSliceOpacityTimesRadius / std::max(slices_.radius, 1e-6f));
     glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
     glBindTextureUnit(kSliceSpansUnit, spanTexture_.id());
     glBindVertexArray(orderArray_.id());
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, drawCommand_.id());
-    glDrawArraysIndirect(GL_TRIANGLE_STRIP, nullptr);
+    if (drewPoints_) {
+        // A margin of half the largest point around the picture, so that a
+        // point whose centre lies outside it still draws its part inside
+        // (GL drops a point whose centre is outside the viewport).
+        GLint viewport[4];
+        glGetIntegerv(GL_VIEWPORT, viewport);
+        const int width = viewport[2], height = viewport[3], margin = int(std::ceil(pointPixels_ / 2.0f)) + 1;
+        const glm::vec2 pixels{float(width), float(height)};
+        const glm::vec2 guard(pixels / (pixels + float(2 * margin)));
+        glUniform2fv(program.uniform("viewportPixels"), 1, glm::value_ptr(pixels));
+        glUniform2fv(program.uniform("guardScale"), 1, glm::value_ptr(guard));
+        const glm::mat4 inverseVp(glm::inverse(camera.viewProjection()));
+        glUniformMatrix4fv(program.uniform("inverseViewProjection"), 1, GL_FALSE, glm::value_ptr(inverseVp));
+        glViewport(viewport[0] - margin, viewport[1] - margin, width + 2 * margin, height + 2 * margin);
+        glEnable(GL_PROGRAM_POINT_SIZE);
+        glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kPointsCommand));
+        glDisable(GL_PROGRAM_POINT_SIZE);
+        glViewport(viewport[0], viewport[1], width, height);
+    } else {
+        glDrawArraysIndirect(GL_TRIANGLE_STRIP, nullptr);
+    }
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glDisable(GL_BLEND);
     checkGlError("drawing the slices");

@@ -7,7 +7,9 @@
 // a radix sort (gpu/radix_sort.h) writes the back-to-front order of those
 // kept straight into the instance attribute's buffer and their count into
 // an indirect draw's command, and one instanced draw takes them; the host
-// neither sorts nor uploads. (The context must be current.)
+// neither sorts nor uploads. Where every slab kept fits a point sprite (the
+// keys pass bounds their size on screen), the draw takes one point a slab
+// rather than a box of 12 triangles. (The context must be current.)
 #pragma once
 
 #include "gpu/gl_buffer.h"
@@ -44,7 +46,14 @@ struct SliceSettings {
     /// that no such slab spans more pixels along the yarn than this. 0 draws
     /// every slice.
     double lodPixels = kDefaultSliceLodPixels;
+    /// Each slab a point sprite where every slab in view fits one (the GPU's order only), or a box always.
+    SlicePrimitive primitive = SlicePrimitive::Auto;
 };
+
+/// The largest point sprite the slices render draws (where the driver's
+/// points reach so far): a slab wider on screen makes the frame draw boxes.
+/// Larger points would mostly shade pixels their slab misses.
+constexpr float kSlicePointPixels = 64.0f;
 
 class SliceRenderer : public Renderer {
   public:
@@ -56,12 +65,13 @@ class SliceRenderer : public Renderer {
     /// The back-to-front order, on the GPU (or the host, sortOnHost); waits
     /// for it, so its time is the sort's (reported apart from the draw).
     void prepare(const Camera& camera) override;
-    /// Draws the slices in the order prepare() made.
+    /// Draws the slices in the order prepare() made, as points where they fit.
     void draw(const Frame& frame) override;
-    /// The slices drawn in the last frame, of the garment's.
+    /// The slices drawn in the last frame, of the garment's, and as what.
     void describe(RenderReport& report) const override {
         report.slices = drawn_;
         report.garmentSlices = slices_.count();
+        report.slicePrimitive = drewPoints_ ? "points" : "boxes";
     }
     /// Shade with this twist rather than the slices' own (the live view's control).
     void setTwist(double radiansPerVoxel) override { twist_ = float(radiansPerVoxel); }
@@ -77,8 +87,12 @@ class SliceRenderer : public Renderer {
   private:
     const SliceInstances& slices_;
     SliceSettings settings_;
-    GlProgram program_, keys_;
-    GlBuffer sliceBuffer_, orderBuffer_, spanBuffer_, drawCommand_;
+    /// Whether the next draw takes points: every slab kept by the last
+    /// prepare() fits one.
+    bool pointsFit() const;
+
+    GlProgram program_, pointsProgram_, keys_;
+    GlBuffer sliceBuffer_, orderBuffer_, spanBuffer_, drawCommand_, largestBuffer_;
     GlTexture sliceTexture_, spanTexture_;
     GlVertexArray orderArray_;
     std::optional<RadixSort> sort_; ///< unless sortOnHost
@@ -86,6 +100,9 @@ class SliceRenderer : public Renderer {
     std::vector<std::uint32_t> hostOrder_;
     GLuint maxGroups_ = 1;
     std::uint64_t drawn_ = 0;
+    std::uint32_t largestPixels_ = ~0u; ///< the most pixels a slab kept by the last prepare() may cover across
+    float pointPixels_ = 1.0f;          ///< the largest point this driver draws, at most kSlicePointPixels
+    bool drewPoints_ = false;
     float twist_; ///< radians per voxel of yarn the fibres turn by (SliceInstances::twist unless set)
 };
 
