@@ -51,6 +51,7 @@ inline void deleteVertexArrays(GLsizei n, const GLuint* ids) { glDeleteVertexArr
 inline void deleteFramebuffers(GLsizei n, const GLuint* ids) { glDeleteFramebuffers(n, ids); }
 inline void deleteRenderbuffers(GLsizei n, const GLuint* ids) { glDeleteRenderbuffers(n, ids); }
 inline void deleteQueries(GLsizei n, const GLuint* ids) { glDeleteQueries(n, ids); }
+inline void deleteBuffers(GLsizei n, const GLuint* ids) { glDeleteBuffers(n, ids); }
 inline void deleteShaders(GLsizei n, const GLuint* ids) {
     for (GLsizei i = 0; i < n; ++i) glDeleteShader(ids[i]);
 }
@@ -61,6 +62,9 @@ using GlVertexArray = GlName<gl_detail::deleteVertexArrays>;
 using GlFramebuffer = GlName<gl_detail::deleteFramebuffers>;
 using GlRenderbuffer = GlName<gl_detail::deleteRenderbuffers>;
 using GlQuery = GlName<gl_detail::deleteQueries>;
+/// A buffer of fixed storage used once (a picture's pixel-pack buffer);
+/// GlBuffer is the one that grows.
+using GlBufferName = GlName<gl_detail::deleteBuffers>;
 /// A compiled shader stage (GlProgram links them).
 using GlShader = GlName<gl_detail::deleteShaders>;
 

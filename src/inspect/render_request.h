@@ -61,6 +61,7 @@ struct RenderRequest {
     TransferFunction transferFunction = defaultTransferFunction();
     bool skipEmpty = true;
     bool showSamples = false; ///< the picture shows samples per pixel instead
+    bool countSamples = true; ///< ray casts: the samples per pixel read back for the report (RaycastSettings::countSamples)
     CutPlane cut;
     double isoValue = 0.5; ///< isosurface: the density the surface lies at
     std::uint64_t gpuBudgetBytes = 512ull << 20; ///< capped at half the free GPU memory where the driver tells

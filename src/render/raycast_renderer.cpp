@@ -112,6 +112,7 @@ void RaycastRenderer::draw(const Frame& frame) {
 
 RgbImage RaycastRenderer::picture(const Frame& frame) {
     const int w = frame.target.width(), h = frame.target.height();
+    if (!settings_.countSamples && !settings_.showSamples) return Renderer::picture(frame);
     samples_ = readRedFloats(frame.target.texture(1), w, h);
     double total = 0.0;
     for (const float n : samples_) total += n;

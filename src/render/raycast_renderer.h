@@ -23,6 +23,9 @@ enum class RenderMode { Raycast, Mip, Orientation, Isosurface };
 struct RaycastSettings {
     bool skipEmpty = true;
     bool showSamples = false; ///< the picture shows the samples taken per pixel instead (samplesImage)
+    /// Read the samples taken per pixel back with each picture (samples(),
+    /// meanSamples(): inspect reports them); the live view leaves them on the GPU.
+    bool countSamples = true;
     TransferFunction transferFunction = defaultTransferFunction();
     double stepVoxels = 0.5; ///< march step in level voxels
     double isoValue = 0.5;   ///< Isosurface: the density the surface lies at

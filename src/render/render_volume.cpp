@@ -78,6 +78,7 @@ std::unique_ptr<Renderer> makeRenderer(const RenderRequest& request, const Rende
         RaycastSettings settings;
         settings.skipEmpty = request.skipEmpty;
         settings.showSamples = request.showSamples;
+        settings.countSamples = request.countSamples;
         settings.transferFunction = request.transferFunction;
         settings.isoValue = request.isoValue;
         return std::make_unique<RaycastRenderer>(atlasOf(input), raycastMode(request.kind), settings);

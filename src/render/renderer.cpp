@@ -1,9 +1,11 @@
 #include "render/renderer.h"
 
+#include "core/trace.h"
 #include "gpu/gl_program.h"
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 namespace yv {
 namespace {
@@ -37,7 +39,10 @@ RgbImage Renderer::picture(const Frame& frame) {
 }
 
 void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderReport& report) {
+    const TraceSpan span("draw a picture");
+    std::optional<TraceSpan> making(std::in_place, "make the picture's target");
     const RenderTarget target(camera.width, camera.height, renderer.targetFormats());
+    making.reset();
     const Frame frame{camera, target};
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     std::vector<double> sorts, draws;
@@ -46,6 +51,7 @@ void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderRepo
             auto start = std::chrono::steady_clock::now();
             renderer.prepare(camera);
             sorts.push_back(secondsSince(start));
+            if (traceEnabled()) traceSpanSince("prepare the picture (the slices' order)", start);
             target.bind();
             target.clear(zero);
             glFinish();
@@ -53,8 +59,10 @@ void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderRepo
             renderer.draw(frame);
             glFinish();
             draws.push_back(secondsSince(start));
+            if (traceEnabled()) traceSpanSince("draw the picture, to its end", start);
             checkGlError("drawing a frame");
         }
+        const TraceSpan reading("read the picture back");
         report.image = renderer.picture(frame);
     } catch (...) {
         resetDrawState();

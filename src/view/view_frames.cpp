@@ -1,10 +1,12 @@
 #include "view/view_frames.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <optional>
 
 namespace yv {
 
@@ -26,7 +28,9 @@ Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* typ
         throw;
     }
     const auto start = std::chrono::steady_clock::now();
+    std::optional<TraceSpan> encoding(std::in_place, "encode a view frame");
     auto jpeg = std::make_shared<std::vector<std::uint8_t>>(encoder_.encode(frame.image, quality));
+    encoding.reset();
     const double encodeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     nlohmann::json detail = nullptr;
     if (const DetailRun* run = scene_.detail())

@@ -121,6 +121,7 @@ Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, Vi
     if (auto it = layer.renderers.find(key); it != layer.renderers.end()) return *it->second;
     RenderRequest request;
     request.kind = parseRenderKind(mode);
+    request.countSamples = false; // no frame shows them, and reading them back costs every frame
     RenderInput input;
     if (request.kind == RenderKind::Slices) {
         request.slices = &*volume_.slices;
@@ -264,6 +265,7 @@ void ViewScene::takeFinishedDetail(ViewFrame& frame) {
 ViewFrame ViewScene::render(const ViewState& state) {
     if (std::find(modes_.begin(), modes_.end(), state.mode) == modes_.end())
         throw Error("no mode '" + state.mode + "' in this view");
+    const TraceSpan span("render a view frame");
     const auto start = std::chrono::steady_clock::now();
     context_.gl(); // current on this thread
     ViewFrame frame;
