@@ -11,8 +11,8 @@
 // With SLAB_POINTS, one point a slab instead: a square sprite over the
 // screen box of the slab's eight corners, its centre and size in pixels
 // (the renderer chooses points only where every slab in view lies wholly in
-// front of the eye and fits the largest point). The viewport reaches
-// uGuardScale's margin beyond the picture on every side, so that a point
+// front of the eye and fits the largest point). The viewport reaches a
+// margin beyond the picture on every side (guardScale: the picture's share), so that a point
 // whose centre lies just outside the picture, which GL would drop whole,
 // still draws its part inside.
 layout(location = 0) in uint sliceIndex;

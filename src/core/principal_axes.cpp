@@ -38,7 +38,8 @@ struct Sse2Lanes {
 
 glm::dvec3 normalized(const double (&axis)[3]) { return glm::normalize(glm::dvec3(axis[0], axis[1], axis[2])); }
 
-/// `count` tensors `width` at a time through `eigenvectors`, the rest one by one.
+/// The tensors' axes `width` at a time through `eigenvectors`, as many as
+/// whole groups take; returns how many (the caller does the rest).
 template <int width, class Eigenvectors>
 int inGroups(const double (*tensors)[6], glm::dvec3* axes, int count, Eigenvectors&& eigenvectors) {
     int i = 0;

@@ -147,16 +147,18 @@ void SliceRenderer::prepare(const Camera& camera) {
     glDispatchCompute(GLuint(std::min<std::uint64_t>((n + kKeyGroup - 1) / kKeyGroup, maxGroups_)), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     sort_->sort(GLuint(n), orderBuffer_);
-    // The kept count becomes the draw's instances, on the GPU; the host reads
-    // it only for the report (and that read waits for the sort).
+    // The kept count becomes the draws' instances (boxes' and points'), on
+    // the GPU; the host reads it for the report and the largest slab for the
+    // choice between them (that read waits for the sort).
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glCopyNamedBufferSubData(sort_->kept().id(), drawCommand_.id(), 0, offsetof(DrawCommand, instanceCount), 4);
     glCopyNamedBufferSubData(sort_->kept().id(), drawCommand_.id(), 0, kPointsCommand + offsetof(DrawCommand, instanceCount), 4);
     glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    GLuint kept = 0;
-    std::memcpy(&kept, readback_.read(sort_->kept().id(), 4, nullptr), 4);
-    drawn_ = kept;
-    std::memcpy(&largestPixels_, readback_.read(largestBuffer_.id(), 4, nullptr), 4);
+    // One wait for both: the count kept, and whether every slab kept fits a point.
+    GLuint read[2] = {0, 0};
+    std::memcpy(read, readback_.read({{sort_->kept().id(), 0, 4}, {largestBuffer_.id(), 0, 4}}, nullptr), sizeof read);
+    drawn_ = read[0];
+    largestPixels_ = read[1];
     checkGlError("sorting the slices");
 }
 
@@ -194,7 +196,9 @@ void SliceRenderer::draw(const Frame& frame) {
     if (drewPoints_) {
         // A margin of half the largest point around the picture, so that a
         // point whose centre lies outside it still draws its part inside
-        // (GL drops a point whose centre is outside the viewport).
+        // (GL drops a point whose centre is outside the viewport). The
+        // frame's viewport starts at its target's corner (RenderTarget::bind),
+        // where the fragment shader counts its pixels from.
         GLint viewport[4];
         glGetIntegerv(GL_VIEWPORT, viewport);
         const int width = viewport[2], height = viewport[3], margin = int(std::ceil(pointPixels_ / 2.0f)) + 1;
