@@ -110,16 +110,16 @@ void RaycastRenderer::draw(const Frame& frame) {
     checkGlError("ray casting");
 }
 
-RgbImage RaycastRenderer::picture(const Frame& frame) {
+PendingRgbImage RaycastRenderer::startPicture(const Frame& frame) {
     const int w = frame.target.width(), h = frame.target.height();
-    if (!settings_.countSamples && !settings_.showSamples) return Renderer::picture(frame);
+    if (!settings_.countSamples && !settings_.showSamples) return Renderer::startPicture(frame);
     samples_ = readRedFloats(frame.target.texture(1), w, h);
     double total = 0.0;
     for (const float n : samples_) total += n;
     meanSamples_ = total / double(std::max(1, w * h));
-    if (!settings_.showSamples) return Renderer::picture(frame);
+    if (!settings_.showSamples) return Renderer::startPicture(frame);
     const float most = samples_.empty() ? 1.0f : *std::max_element(samples_.begin(), samples_.end());
-    return samplesImage(samples_, w, h, most);
+    return PendingRgbImage(samplesImage(samples_, w, h, most));
 }
 
 void RaycastRenderer::describe(RenderReport& report) const {

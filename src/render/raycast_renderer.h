@@ -42,7 +42,7 @@ class RaycastRenderer : public Renderer {
     void prepare(const Camera& camera) override;
     void draw(const Frame& frame) override;
     /// Reads the samples too (samples(), meanSamples()).
-    RgbImage picture(const Frame& frame) override;
+    PendingRgbImage startPicture(const Frame& frame) override;
     /// The proxy triangles (with empty-space skipping) and the mean samples per pixel.
     void describe(RenderReport& report) const override;
     void setTransferFunction(const TransferFunction& tf) override { transferFunction_.update(tf); }

@@ -8,6 +8,7 @@
 
 #include <epoxy/gl.h>
 
+#include <utility>
 #include <vector>
 
 namespace yv {
@@ -33,6 +34,26 @@ class RenderTarget {
     int width_, height_;
     GlFramebuffer framebuffer_;
     std::vector<GlTexture> textures_;
+};
+
+/// A picture's colour on its way back to the host: the copy is queued
+/// behind the GL commands so far (the draw need not have finished) into a
+/// pixel-pack buffer the host maps, and finish() waits for it. Or an image
+/// already read (a renderer that makes its picture on the host).
+class PendingRgbImage {
+  public:
+    PendingRgbImage() = default;
+    explicit PendingRgbImage(RgbImage done) : done_(std::move(done)), ready_(true) {}
+    /// Starts reading the RGB of an RGBA texture.
+    static PendingRgbImage start(GLuint texture, int width, int height);
+    /// The image, rows top first (GL's run bottom to top); waits for the copy.
+    RgbImage finish();
+
+  private:
+    GlBufferName pack_;
+    int width_ = 0, height_ = 0;
+    RgbImage done_;
+    bool ready_ = false;
 };
 
 /// The RGB of an RGBA texture, as unsigned bytes, rows top first (GL's run

@@ -34,8 +34,8 @@ void resetDrawState() {
 
 } // namespace
 
-RgbImage Renderer::picture(const Frame& frame) {
-    return readRgbImage(frame.target.texture(0), frame.target.width(), frame.target.height());
+PendingRgbImage Renderer::startPicture(const Frame& frame) {
+    return PendingRgbImage::start(frame.target.texture(0), frame.target.width(), frame.target.height());
 }
 
 void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderReport& report) {
@@ -72,6 +72,39 @@ void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderRepo
     std::tie(report.frameSeconds, report.bestFrameSeconds) = medianAndBest(draws);
     std::tie(report.sortSeconds, report.bestSortSeconds) = medianAndBest(sorts);
     renderer.describe(report);
+}
+
+PictureInFlight::PictureInFlight(Renderer& renderer, const Camera& camera, bool timerQueries)
+    : renderer_(renderer), target_(camera.width, camera.height, renderer.targetFormats()), timer_(timerQueries) {
+    const TraceSpan span("queue a picture");
+    const Frame frame{camera, target_};
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    try {
+        const auto start = std::chrono::steady_clock::now();
+        renderer.prepare(camera);
+        prepareSeconds_ = secondsSince(start);
+        target_.bind();
+        target_.clear(zero);
+        timer_.begin();
+        renderer.draw(frame);
+        timer_.end();
+        checkGlError("drawing a frame");
+        picture_ = renderer.startPicture(frame);
+    } catch (...) {
+        resetDrawState();
+        throw;
+    }
+    resetDrawState();
+}
+
+RenderReport PictureInFlight::finish() {
+    const TraceSpan span("finish a picture");
+    RenderReport report;
+    report.image = picture_.finish();
+    report.frameSeconds = report.bestFrameSeconds = timer_.seconds();
+    report.sortSeconds = report.bestSortSeconds = prepareSeconds_;
+    renderer_.describe(report);
+    return report;
 }
 
 } // namespace yv

@@ -9,6 +9,7 @@
 #include "inspect/camera.h"
 #include "inspect/png_image.h"
 #include "inspect/transfer_function.h"
+#include "gpu/gpu_timer.h"
 #include "render/render_target.h"
 
 #include <epoxy/gl.h>
@@ -60,9 +61,12 @@ class Renderer {
     /// Draws one frame into `frame.target`. It may bind other targets of its
     /// own but leaves the frame's bound when it returns.
     virtual void draw(const Frame& frame) = 0;
-    /// The picture of the frame drawn last: by default the first texture's
-    /// RGB, over black.
-    virtual RgbImage picture(const Frame& frame);
+    /// Starts reading the picture of the frame drawn last, without waiting
+    /// for the draw: by default the first texture's RGB, over black. A
+    /// renderer that makes its picture on the host reads it here, whole.
+    virtual PendingRgbImage startPicture(const Frame& frame);
+    /// The picture of the frame drawn last (startPicture's, waited for).
+    RgbImage picture(const Frame& frame) { return startPicture(frame).finish(); }
     /// Adds what the renderer counted (slices, splats, samples) to `report`.
     virtual void describe(RenderReport&) const {}
 
@@ -81,5 +85,28 @@ class Renderer {
 /// (median and fastest) and what the renderer counted. Throws yv::Error on
 /// a GL error or a target the driver refuses.
 void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderReport& report);
+
+/// One picture drawn without waiting for the GPU, as drawFrames draws one
+/// frame: the order made (prepare), the draw queued with its GPU time
+/// measured (timer queries on a GPU; on llvmpipe, whose queries answer
+/// garbage, glFinish at both ends) and its picture's read-back started.
+/// finish() waits for it. The live view queues its two halves so, then
+/// reads both: the GPU draws the second while the host takes the first.
+class PictureInFlight {
+  public:
+    /// `timerQueries`: GlInfo::hardware().
+    PictureInFlight(Renderer& renderer, const Camera& camera, bool timerQueries);
+    PictureInFlight(const PictureInFlight&) = delete;
+    PictureInFlight& operator=(const PictureInFlight&) = delete;
+    /// The report drawFrames gives for one frame (frameSeconds: the draw's GPU time).
+    RenderReport finish();
+
+  private:
+    Renderer& renderer_;
+    RenderTarget target_;
+    GpuTimer timer_;
+    PendingRgbImage picture_;
+    double prepareSeconds_ = 0.0;
+};
 
 } // namespace yv

@@ -114,7 +114,7 @@ void VolumetricTriangleRenderer::draw(const Frame& frame) {
     checkGlError("drawing volumetric triangles");
 }
 
-RgbImage VolumetricTriangleRenderer::picture(const Frame& frame) {
+PendingRgbImage VolumetricTriangleRenderer::startPicture(const Frame& frame) {
     const int w = frame.target.width(), h = frame.target.height();
     const std::vector<float> absorbance = readRedFloats(frame.target.texture(0), w, h);
     // The absorbance is the length of yarn on the ray, in voxels; the
@@ -131,7 +131,7 @@ RgbImage VolumetricTriangleRenderer::picture(const Frame& frame) {
             std::uint8_t* p = image.at(x, y);
             for (int k = 0; k < 3; ++k) p[k] = std::uint8_t(std::lround(255.0 * std::clamp(double(fibre[k]) * alpha, 0.0, 1.0)));
         }
-    return image;
+    return PendingRgbImage(std::move(image));
 }
 
 } // namespace yv

@@ -35,8 +35,8 @@ class VolumetricTriangleRenderer : public Renderer {
     std::vector<GLenum> targetFormats() const override { return {GL_R32F}; }
     /// Places every slice on the host, in batches, and draws them.
     void draw(const Frame& frame) override;
-    /// The absorbance as the fibre's colour and opacity, over black.
-    RgbImage picture(const Frame& frame) override;
+    /// The absorbance as the fibre's colour and opacity, over black (read and made on the host).
+    PendingRgbImage startPicture(const Frame& frame) override;
 
   private:
     void setUniforms(const Camera& camera) const;

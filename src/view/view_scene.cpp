@@ -190,12 +190,15 @@ void ViewScene::adaptMovingSliceLod(double seconds) {
     }
 }
 
-void ViewScene::drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
-                         ViewFrame& frame, VolumeLayer* chosen) {
+ViewScene::QueuedPicture ViewScene::queuePicture(const ViewState& state, const std::string& mode, int width, int height,
+                                                 int x0, ViewFrame& frame, VolumeLayer* chosen) {
     VolumeLayer& layer = chosen ? *chosen : layerFor(mode, state.camera, width, height);
-    const bool slices = mode == renderKindName(RenderKind::Slices);
-    const bool degrading = state.moving && state.degrade;
-    int coarser = !slices && degrading ? movingCoarser_ : 0;
+    QueuedPicture queued;
+    queued.layer = &layer;
+    queued.x0 = x0;
+    queued.slices = mode == renderKindName(RenderKind::Slices);
+    queued.degrading = state.moving && state.degrade;
+    int coarser = !queued.slices && queued.degrading ? movingCoarser_ : 0;
     Renderer* chosenRenderer = nullptr;
     try {
         chosenRenderer = &rendererFor(layer, mode, frame, coarser);
@@ -206,39 +209,46 @@ void ViewScene::drawInto(const ViewState& state, const std::string& mode, int wi
         chosenRenderer = &rendererFor(layer, mode, frame);
     }
     Renderer& renderer = *chosenRenderer;
-    const std::string key = rendererKey(mode, coarser);
-    if (slices) {
+    queued.coarser = coarser;
+    queued.key = rendererKey(mode, coarser);
+    if (queued.slices) {
         // The twist is in world units; the slices lie in the volume's voxels.
         if (twistable()) renderer.setTwist(state.twist * volume_.grid->voxelSize);
         frame.sliceLod = sliceLodFor(state);
         frame.degraded = frame.degraded || frame.sliceLod != quality_.lodPixels;
         renderer.setSliceLod(frame.sliceLod);
-    } else if (auto& look = layer.looks[key]; look != std::make_pair(state.transfer, state.opacity)) {
+    } else if (auto& look = layer.looks[queued.key]; look != std::make_pair(state.transfer, state.opacity)) {
         renderer.setTransferFunction(transferFunction(state));
         look = {state.transfer, state.opacity};
     }
-    RenderReport report;
     Camera camera = mapCamera(viewCamera(box_, state.camera, width, height), layer.scale, layer.offset);
     if (besideLayer_ && &layer == &besideLayer_->layer) camera = enclosing(camera, layer.box);
-    drawFrames(renderer, camera, 1, report);
-    frame.drawSeconds += report.frameSeconds + report.sortSeconds;
+    queued.inFlight = std::make_unique<PictureInFlight>(renderer, camera, context_.gl().info().hardware());
+    return queued;
+}
+
+void ViewScene::takePicture(QueuedPicture& queued, RgbImage& out, ViewFrame& frame) {
+    const RenderReport report = queued.inFlight->finish();
+    queued.inFlight.reset();
+    VolumeLayer& layer = *queued.layer;
+    const double seconds = report.frameSeconds + report.sortSeconds;
+    frame.drawSeconds += seconds;
     frame.slices += report.slices;
-    if (slices && degrading) adaptMovingSliceLod(report.frameSeconds + report.sortSeconds);
-    if (!slices) {
-        frame.coarserLevels = coarser;
-        frame.degraded = frame.degraded || coarser > 0;
+    if (queued.slices && queued.degrading) adaptMovingSliceLod(seconds);
+    if (!queued.slices) {
+        frame.coarserLevels = queued.coarser;
+        frame.degraded = frame.degraded || queued.coarser > 0;
         // Late: a level coarser next time; well early: a level finer.
-        const double seconds = report.frameSeconds + report.sortSeconds;
-        if (degrading && seconds > quality_.movingSeconds) movingCoarser_ = std::min(kMaxMovingCoarser, coarser + 1);
-        else if (degrading && seconds < quality_.movingSeconds / 4.0) movingCoarser_ = std::max(0, coarser - 1);
+        if (queued.degrading && seconds > quality_.movingSeconds) movingCoarser_ = std::min(kMaxMovingCoarser, queued.coarser + 1);
+        else if (queued.degrading && seconds < quality_.movingSeconds / 4.0) movingCoarser_ = std::max(0, queued.coarser - 1);
     }
-    if (const auto it = layer.atlases.find(key); it != layer.atlases.end()) {
+    if (const auto it = layer.atlases.find(queued.key); it != layer.atlases.end()) {
         frame.level = it->second.level;
         frame.gpuBytes += it->second.gpuBytes;
     }
     if (detail_ && &layer == &detail_->layer) frame.detail = detail_->run.id;
-    for (int y = 0; y < height; ++y)
-        std::memcpy(out.at(x0, y), report.image.at(0, y), std::size_t(width) * 3u);
+    for (int y = 0; y < report.image.height; ++y)
+        std::memcpy(out.at(queued.x0, y), report.image.at(0, y), std::size_t(report.image.width) * 3u);
 }
 
 void ViewScene::takeFinishedDetail(ViewFrame& frame) {
@@ -274,22 +284,29 @@ ViewFrame ViewScene::render(const ViewState& state) {
     if (beside_) {
         // Two volumes, one camera: the first on the left, the second on the right, in the same mode.
         const int left = state.width / 2;
-        drawInto(state, state.mode, left, state.height, frame.image, 0, frame);
-        drawInto(state, state.mode, state.width - left, state.height, frame.image, left, frame, &besideLayer_->layer);
+        QueuedPicture first = queuePicture(state, state.mode, left, state.height, 0, frame);
+        QueuedPicture second = queuePicture(state, state.mode, state.width - left, state.height, left, frame, &besideLayer_->layer);
+        takePicture(first, frame.image, frame);
+        takePicture(second, frame.image, frame);
     } else if (sideBySide() && state.blend) {
         // One picture: both drawn whole, the voxels' over the slices at half weight.
         RgbImage slices(state.width, state.height);
-        drawInto(state, renderKindName(RenderKind::Slices), state.width, state.height, slices, 0, frame);
-        drawInto(state, state.mode, state.width, state.height, frame.image, 0, frame);
+        QueuedPicture under = queuePicture(state, renderKindName(RenderKind::Slices), state.width, state.height, 0, frame);
+        QueuedPicture over = queuePicture(state, state.mode, state.width, state.height, 0, frame);
+        takePicture(under, slices, frame);
+        takePicture(over, frame.image, frame);
         for (std::size_t i = 0; i < frame.image.pixels.size(); ++i)
             frame.image.pixels[i] = std::uint8_t((unsigned(frame.image.pixels[i]) + unsigned(slices.pixels[i]) + 1u) / 2u);
     } else if (sideBySide()) {
         // One camera for both halves: the same view of the same voxel box.
         const int left = state.width / 2;
-        drawInto(state, renderKindName(RenderKind::Slices), left, state.height, frame.image, 0, frame);
-        drawInto(state, state.mode, state.width - left, state.height, frame.image, left, frame);
+        QueuedPicture first = queuePicture(state, renderKindName(RenderKind::Slices), left, state.height, 0, frame);
+        QueuedPicture second = queuePicture(state, state.mode, state.width - left, state.height, left, frame);
+        takePicture(first, frame.image, frame);
+        takePicture(second, frame.image, frame);
     } else {
-        drawInto(state, state.mode, state.width, state.height, frame.image, 0, frame);
+        QueuedPicture only = queuePicture(state, state.mode, state.width, state.height, 0, frame);
+        takePicture(only, frame.image, frame);
     }
     frame.renderSeconds = secondsSince(start);
     frame.gpuFreeBytes = context_.gl().queryFreeMemoryBytes();

@@ -163,9 +163,24 @@ class ViewScene {
     /// The renderer of `mode` on `layer`, its atlas `coarser` levels coarser than the budget's (0: the budget's).
     Renderer& rendererFor(VolumeLayer& layer, const std::string& mode, ViewFrame& frame, int coarser = 0);
     VolumeLayer& layerFor(const std::string& mode, const ViewCamera& view, int width, int height);
-    /// Draws `mode` of `layer` (by default the volume opened, or the view's run where it holds what the camera sees).
-    void drawInto(const ViewState& state, const std::string& mode, int width, int height, RgbImage& out, int x0,
-                  ViewFrame& frame, VolumeLayer* layer = nullptr);
+    /// A picture of a frame queued on the GPU, and what taking it back
+    /// needs: a frame queues both its halves before it reads either, so
+    /// that the GPU draws the second while the host takes the first.
+    struct QueuedPicture {
+        VolumeLayer* layer = nullptr;
+        std::string key; ///< its renderer's (rendererKey)
+        bool slices = false, degrading = false;
+        int coarser = 0, x0 = 0;
+        std::unique_ptr<PictureInFlight> inFlight;
+    };
+    /// Queues `mode` of `layer` (by default the volume opened, or the view's
+    /// run where it holds what the camera sees), `width` x `height`, for
+    /// column `x0` of the frame.
+    QueuedPicture queuePicture(const ViewState& state, const std::string& mode, int width, int height, int x0,
+                               ViewFrame& frame, VolumeLayer* layer = nullptr);
+    /// Waits for `picture` and puts it into `out` at its column; counts it
+    /// into `frame`, and adapts the moving levels of detail to its times.
+    void takePicture(QueuedPicture& picture, RgbImage& out, ViewFrame& frame);
     const TransferFunction& transferFunction(const ViewState& state);
     /// The slices' level of detail for `state`, and (once drawn in `seconds`) the next moving frame's.
     double sliceLodFor(const ViewState& state) const;
