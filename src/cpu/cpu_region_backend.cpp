@@ -5,7 +5,6 @@
 #include <tbb/parallel_pipeline.h>
 
 #include <algorithm>
-#include <atomic>
 
 namespace yv {
 
@@ -48,7 +47,6 @@ void CpuRegionBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& s
     };
     Progress progress("voxelize", regions.size(), quiet_, "regions");
     std::size_t next = 0;
-    std::atomic<std::uint64_t> sampling{0}, mostSampling{counters_.regionsAtOnce};
     tbb::parallel_pipeline(
         regionsInFlight(regions),
         tbb::make_filter<void, RegionWork>(tbb::filter_mode::serial_in_order,
@@ -65,13 +63,9 @@ void CpuRegionBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& s
             tbb::make_filter<RegionWork, RegionWork>(tbb::filter_mode::parallel,
                                                      [&](RegionWork work) {
                                                          if (work.resumed) return work;
-                                                         const std::uint64_t now = ++sampling;
-                                                         std::uint64_t most = mostSampling.load();
-                                                         while (now > most && !mostSampling.compare_exchange_weak(most, now)) {}
                                                          const ZoomRegion& r = *work.region;
                                                          work.accumulators = accumulateBox(plan_, xs_, grid_, settings_, r.segments,
                                                                                            r.min, r.max, &work.counters);
-                                                         --sampling;
                                                          return work;
                                                      }) &
             tbb::make_filter<RegionWork, void>(tbb::filter_mode::serial_in_order, [&](RegionWork work) {
@@ -85,7 +79,6 @@ void CpuRegionBackend::run(const std::vector<ZoomRegion>& regions, RegionSink& s
                 progress.advance(1);
             }));
     progress.finish();
-    counters_.regionsAtOnce = mostSampling.load();
 }
 
 JsonObject CpuRegionBackend::stats() const {
@@ -95,7 +88,6 @@ JsonObject CpuRegionBackend::stats() const {
         .set("zoom_regions", counters_.regions + counters_.resumedRegions)
         .set("regions_computed", counters_.regions)
         .set("regions_resumed", counters_.resumedRegions)
-        .set("regions_at_once", counters_.regionsAtOnce)
         .set("fragment_budget", budget_);
     return out;
 }

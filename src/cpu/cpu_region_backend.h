@@ -22,7 +22,6 @@ struct CpuRegionCounters {
     CpuVoxelizeCounters sampling;     ///< summed over regions
     std::uint64_t regions = 0;        ///< zoom regions computed
     std::uint64_t resumedRegions = 0; ///< zoom regions taken from a resumed work directory
-    std::uint64_t regionsAtOnce = 0;  ///< most regions sampled at the same time
 };
 
 class CpuRegionBackend : public RegionRasterizer {
