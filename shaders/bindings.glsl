@@ -77,3 +77,4 @@ const int kSortBlockSumsBinding = 5;  // the histogram scan's sum per block of 1
 const int kSortKeptBinding = 6;       // the pairs kept (not dropped) by the first pass
 const int kSliceSpansBinding = 2;     // inspect_slices_keys.comp writes kSliceSpansUnit's buffer
 const int kSliceLargestBinding = 3;   // and the most pixels a slab kept may cover, across (slice_renderer.cpp)
+const int kSliceDrawsBinding = 4;     // inspect_slices_choose.comp writes the draws' instance counts

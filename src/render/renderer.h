@@ -87,9 +87,9 @@ class Renderer {
 void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderReport& report);
 
 /// One picture drawn without waiting for the GPU, as drawFrames draws one
-/// frame: the order made (prepare), the draw queued with its GPU time
-/// measured (timer queries on a GPU; on llvmpipe, whose queries answer
-/// garbage, glFinish at both ends) and its picture's read-back started.
+/// frame: the order made (prepare) and the draw queued, each with its GPU
+/// time measured (timer queries on a GPU; on llvmpipe, whose queries answer
+/// garbage, glFinish at both ends), and its picture's read-back started.
 /// finish() waits for it. The live view queues its two halves so, then
 /// reads both: the GPU draws the second while the host takes the first.
 class PictureInFlight {
@@ -98,15 +98,15 @@ class PictureInFlight {
     PictureInFlight(Renderer& renderer, const Camera& camera, bool timerQueries);
     PictureInFlight(const PictureInFlight&) = delete;
     PictureInFlight& operator=(const PictureInFlight&) = delete;
-    /// The report drawFrames gives for one frame (frameSeconds: the draw's GPU time).
+    /// The report drawFrames gives for one frame (sortSeconds and
+    /// frameSeconds: the prepare's and the draw's GPU time).
     RenderReport finish();
 
   private:
     Renderer& renderer_;
     RenderTarget target_;
-    GpuTimer timer_;
+    GpuTimer prepareTimer_, timer_; ///< the prepare's and the draw's GPU time
     PendingRgbImage picture_;
-    double prepareSeconds_ = 0.0;
 };
 
 } // namespace yv

@@ -97,6 +97,7 @@ SliceRenderer::SliceRenderer(const SliceInstances& slices, const SliceSettings& 
         keys_ = GlProgram::compute("inspect_slices_keys.comp");
         sort_.emplace(slices.count(), maxGroups_);
         largestBuffer_.reserve(sizeof(GLuint), nullptr);
+        choose_ = GlProgram::compute("inspect_slices_choose.comp");
         if (settings.primitive == SlicePrimitive::Auto) {
             pointsProgram_ = GlProgram::graphics("inspect_slices.vert", "inspect_slices.frag", {"SLAB_POINTS 1"});
             float range[2] = {1.0f, 1.0f};
@@ -120,8 +121,13 @@ void SliceRenderer::prepare(const Camera& camera) {
         drawn_ = n;
         return;
     }
+    countsRead_ = true;
     drawn_ = 0;
-    if (n == 0) return;
+    if (n == 0) {
+        const GLuint none = 0;
+        glClearNamedBufferData(drawCommand_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+        return;
+    }
     keys_.use();
     glUniform1ui(keys_.uniform("uSlices"), GLuint(n));
     const glm::vec3 eye(camera.eye); // as sortBackToFront rounds it
@@ -147,35 +153,41 @@ void SliceRenderer::prepare(const Camera& camera) {
     glDispatchCompute(GLuint(std::min<std::uint64_t>((n + kKeyGroup - 1) / kKeyGroup, maxGroups_)), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     sort_->sort(GLuint(n), orderBuffer_);
-    // The kept count becomes the draws' instances (boxes' and points'), on
-    // the GPU; the host reads it for the report and the largest slab for the
-    // choice between them (that read waits for the sort).
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glCopyNamedBufferSubData(sort_->kept().id(), drawCommand_.id(), 0, offsetof(DrawCommand, instanceCount), 4);
-    glCopyNamedBufferSubData(sort_->kept().id(), drawCommand_.id(), 0, kPointsCommand + offsetof(DrawCommand, instanceCount), 4);
-    glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    // One wait for both: the count kept, and whether every slab kept fits a point.
-    GLuint read[2] = {0, 0};
-    std::memcpy(read, readback_.read({{sort_->kept().id(), 0, 4}, {largestBuffer_.id(), 0, 4}}, nullptr), sizeof read);
-    drawn_ = read[0];
-    largestPixels_ = read[1];
+    // The kept count becomes the instances of one draw, points' or boxes',
+    // on the GPU: the host waits for none of it. It reads the count and the
+    // largest slab for the report, once the frame is done (readCounts).
+    choose_.use();
+    glUniform1f(choose_.uniform("uPointPixels"), pointPixels_);
+    sort_->kept().bindStorage(kSortKeptBinding);
+    largestBuffer_.bindStorage(kSliceLargestBinding);
+    drawCommand_.bindStorage(kSliceDrawsBinding);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                    GL_BUFFER_UPDATE_BARRIER_BIT);
+    readback_.startCopy({{sort_->kept().id(), 0, 4}, {largestBuffer_.id(), 0, 4}}, nullptr);
+    countsRead_ = false;
     checkGlError("sorting the slices");
 }
 
-bool SliceRenderer::pointsFit() const {
-    // The points' program is made where the primitive is Auto and the order the GPU's.
-    return settings_.primitive == SlicePrimitive::Auto && !settings_.sortOnHost && float(largestPixels_) <= pointPixels_;
+void SliceRenderer::readCounts() const {
+    if (countsRead_) return;
+    GLuint read[2] = {0, 0};
+    std::memcpy(read, readback_.waitForCopy(), sizeof read);
+    drawn_ = read[0];
+    largestPixels_ = read[1];
+    countsRead_ = true;
 }
 
-void SliceRenderer::draw(const Frame& frame) {
-    const Camera& camera = frame.camera;
-    drewPoints_ = pointsFit();
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendEquation(GL_FUNC_ADD);
-    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // premultiplied "over", back to front
-    const GlProgram& program = drewPoints_ ? pointsProgram_ : program_;
+void SliceRenderer::describe(RenderReport& report) const {
+    readCounts();
+    report.slices = drawn_;
+    report.garmentSlices = slices_.count();
+    // As inspect_slices_choose.comp chose.
+    const bool points = !settings_.sortOnHost && pointPixels_ > 0.0f && float(largestPixels_) <= pointPixels_;
+    report.slicePrimitive = points ? "points" : "boxes";
+}
+
+void SliceRenderer::useProgram(const GlProgram& program, const Camera& camera) const {
     program.use();
     const glm::mat4 vp(camera.viewProjection());
     glUniformMatrix4fv(program.uniform("viewProjection"), 1, GL_FALSE, glm::value_ptr(vp));
@@ -189,32 +201,43 @@ void SliceRenderer::draw(const Frame& frame) {
     glUniform1f(program.uniform("radius"), slices_.radius);
     glUniform1f(program.uniform("twist"), twist_);
     glUniform1f(program.uniform("opacityPerVoxel"), kSliceOpacityTimesRadius / std::max(slices_.radius, 1e-6f));
+}
+
+void SliceRenderer::draw(const Frame& frame) {
+    const Camera& camera = frame.camera;
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // premultiplied "over", back to front
     glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
     glBindTextureUnit(kSliceSpansUnit, spanTexture_.id());
     glBindVertexArray(orderArray_.id());
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, drawCommand_.id());
-    if (drewPoints_) {
+    // Both draws: the GPU gave one of them the slices kept and the other none.
+    useProgram(program_, camera);
+    glDrawArraysIndirect(GL_TRIANGLE_STRIP, nullptr);
+    if (pointPixels_ > 0.0f) {
         // A margin of half the largest point around the picture, so that a
         // point whose centre lies outside it still draws its part inside
         // (GL drops a point whose centre is outside the viewport). The
         // frame's viewport starts at its target's corner (RenderTarget::bind),
         // where the fragment shader counts its pixels from.
+        useProgram(pointsProgram_, camera);
         GLint viewport[4];
         glGetIntegerv(GL_VIEWPORT, viewport);
         const int width = viewport[2], height = viewport[3], margin = int(std::ceil(pointPixels_ / 2.0f)) + 1;
         const glm::vec2 pixels{float(width), float(height)};
         const glm::vec2 guard(pixels / (pixels + float(2 * margin)));
-        glUniform2fv(program.uniform("viewportPixels"), 1, glm::value_ptr(pixels));
-        glUniform2fv(program.uniform("guardScale"), 1, glm::value_ptr(guard));
+        glUniform2fv(pointsProgram_.uniform("viewportPixels"), 1, glm::value_ptr(pixels));
+        glUniform2fv(pointsProgram_.uniform("guardScale"), 1, glm::value_ptr(guard));
         const glm::mat4 inverseVp(glm::inverse(camera.viewProjection()));
-        glUniformMatrix4fv(program.uniform("inverseViewProjection"), 1, GL_FALSE, glm::value_ptr(inverseVp));
+        glUniformMatrix4fv(pointsProgram_.uniform("inverseViewProjection"), 1, GL_FALSE, glm::value_ptr(inverseVp));
         glViewport(viewport[0] - margin, viewport[1] - margin, width + 2 * margin, height + 2 * margin);
         glEnable(GL_PROGRAM_POINT_SIZE);
         glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(kPointsCommand));
         glDisable(GL_PROGRAM_POINT_SIZE);
         glViewport(viewport[0], viewport[1], width, height);
-    } else {
-        glDrawArraysIndirect(GL_TRIANGLE_STRIP, nullptr);
     }
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glDisable(GL_BLEND);
@@ -222,6 +245,7 @@ void SliceRenderer::draw(const Frame& frame) {
 }
 
 std::vector<std::uint32_t> SliceRenderer::drawOrder() {
+    readCounts();
     std::vector<std::uint32_t> order(drawn_);
     if (drawn_) std::memcpy(order.data(), readback_.read(orderBuffer_.id(), drawn_ * 4, nullptr), drawn_ * 4);
     return order;

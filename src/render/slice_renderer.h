@@ -62,17 +62,15 @@ class SliceRenderer : public Renderer {
     explicit SliceRenderer(const SliceInstances& slices, const SliceSettings& settings = {});
 
     std::vector<GLenum> targetFormats() const override { return {GL_RGBA8}; }
-    /// The back-to-front order, on the GPU (or the host, sortOnHost); waits
-    /// for it, so its time is the sort's (reported apart from the draw).
+    /// The back-to-front order, on the GPU (or the host, sortOnHost), and
+    /// whether the frame's slabs fit points; queued, not waited for.
     void prepare(const Camera& camera) override;
-    /// Draws the slices in the order prepare() made, as points where they fit.
+    /// Draws the slices in the order prepare() made, as points where they
+    /// fit: both draws are issued, and the GPU gave one of them no instances.
     void draw(const Frame& frame) override;
-    /// The slices drawn in the last frame, of the garment's, and as what.
-    void describe(RenderReport& report) const override {
-        report.slices = drawn_;
-        report.garmentSlices = slices_.count();
-        report.slicePrimitive = drewPoints_ ? "points" : "boxes";
-    }
+    /// The slices drawn in the last frame, of the garment's, and as what
+    /// (read back once the frame is done).
+    void describe(RenderReport& report) const override;
     /// Shade with this twist rather than the slices' own (the live view's control).
     void setTwist(double radiansPerVoxel) override { twist_ = float(radiansPerVoxel); }
     /// Draw the next frames at this level of detail (the GPU's order only; 0 or more).
@@ -87,22 +85,25 @@ class SliceRenderer : public Renderer {
   private:
     const SliceInstances& slices_;
     SliceSettings settings_;
-    /// Whether the next draw takes points: every slab kept by the last
-    /// prepare() fits one.
-    bool pointsFit() const;
+    /// The count kept and the largest slab of the last prepare(), read once
+    /// (the copy started there; it waits for the GPU where it has not ended).
+    void readCounts() const;
+    /// The GL state and uniforms both draws share.
+    void useProgram(const GlProgram& program, const Camera& camera) const;
 
-    GlProgram program_, pointsProgram_, keys_;
+    GlProgram program_, pointsProgram_, keys_, choose_;
     GlBuffer sliceBuffer_, orderBuffer_, spanBuffer_, drawCommand_, largestBuffer_;
     GlTexture sliceTexture_, spanTexture_;
     GlVertexArray orderArray_;
     std::optional<RadixSort> sort_; ///< unless sortOnHost
-    ReadbackBuffer readback_;
+    mutable ReadbackBuffer readback_; ///< the counts' copy, and the tests' reads
     std::vector<std::uint32_t> hostOrder_;
     GLuint maxGroups_ = 1;
-    std::uint64_t drawn_ = 0;
-    std::uint32_t largestPixels_ = ~0u; ///< the most pixels a slab kept by the last prepare() may cover across
-    float pointPixels_ = 1.0f;          ///< the largest point this driver draws, at most kSlicePointPixels
-    bool drewPoints_ = false;
+    // What the last prepare() kept, read when first asked for (readCounts).
+    mutable bool countsRead_ = true;
+    mutable std::uint64_t drawn_ = 0;
+    mutable std::uint32_t largestPixels_ = ~0u; ///< the most pixels a slab kept may cover across
+    float pointPixels_ = 0.0f;                  ///< the largest point drawn, at most kSlicePointPixels; 0: no points
     float twist_; ///< radians per voxel of yarn the fibres turn by (SliceInstances::twist unless set)
 };
 
