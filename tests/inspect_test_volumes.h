@@ -52,6 +52,13 @@ inline BrickVolume knitCylinderVolume(int resolution) {
     return voxelizeCpu(plan, makeFiberCrossSection(), makeGrid(plan, resolution, 0.0), VoxelizeSettings{});
 }
 
+/// Pixels with any colour: the renders draw over black.
+inline std::uint64_t nonBlackPixels(const RgbImage& im) {
+    std::uint64_t n = 0;
+    for (std::size_t i = 0; i < im.pixels.size(); i += 3) n += (im.pixels[i] | im.pixels[i + 1] | im.pixels[i + 2]) != 0;
+    return n;
+}
+
 /// What one frame of the ray caster drew.
 struct RayCast {
     RgbImage image;

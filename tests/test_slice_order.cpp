@@ -10,6 +10,7 @@
 #include "render/renderer.h"
 #include "render/slice_renderer.h"
 #include "render/volumetric_triangles.h"
+#include "inspect_test_volumes.h"
 #include "test_helpers.h"
 
 #include <catch2/catch.hpp>
@@ -66,11 +67,6 @@ std::uint64_t bytesOffBy(const RgbImage& a, const RgbImage& b, int levels) {
     return n;
 }
 
-std::uint64_t coveredPixels(const RgbImage& im) {
-    std::uint64_t n = 0;
-    for (std::size_t i = 0; i < im.pixels.size(); i += 3) n += (im.pixels[i] | im.pixels[i + 1] | im.pixels[i + 2]) != 0;
-    return n;
-}
 
 } // namespace
 
@@ -155,7 +151,7 @@ TEST_CASE("slices on the GPU: the back-to-front order is sortBackToFront's, ties
     drawFrames(reference, camera, 1, fromHost);
     CHECK(fromGpu.slices == n);
     CHECK(fromHost.slices == n);
-    CHECK(coveredPixels(fromHost.image) > 96 * 72 / 10);
+    CHECK(test::nonBlackPixels(fromHost.image) > 96 * 72 / 10);
     CHECK(differingBytes(fromGpu.image, fromHost.image) == 0);
 }
 
@@ -178,7 +174,7 @@ TEST_CASE("slices on the GPU: a close-up draws only the slices in view, and the 
     CHECK(fromAll.slices == n);
     CHECK(fromCulled.slices < n * 3 / 4);
     CHECK(fromCulled.slices > n / 10);
-    CHECK(coveredPixels(fromAll.image) > 96 * 72 / 4);
+    CHECK(test::nonBlackPixels(fromAll.image) > 96 * 72 / 4);
     CHECK(differingBytes(fromCulled.image, fromAll.image) == 0);
 
     // The order kept is the host's with the culled slices left out; every
@@ -323,11 +319,11 @@ TEST_CASE("slices on the GPU: slices far below a pixel apart are drawn a few as 
     double difference = 0.0;
     for (std::size_t i = 0; i < fromHost.image.pixels.size(); ++i)
         difference += std::abs(int(fromJoined.image.pixels[i]) - int(fromHost.image.pixels[i]));
-    const double covered = double(coveredPixels(fromHost.image));
+    const double covered = double(test::nonBlackPixels(fromHost.image));
     const double meanDifference = difference / (3.0 * covered);
     INFO("mean difference " << meanDifference << " levels a channel over " << covered << " covered pixels");
     CHECK(covered > 96 * 72 / 10);
-    CHECK(std::abs(double(coveredPixels(fromJoined.image)) - covered) < 0.02 * covered);
+    CHECK(std::abs(double(test::nonBlackPixels(fromJoined.image)) - covered) < 0.02 * covered);
     CHECK(meanDifference < 4.0);
 }
 
@@ -354,7 +350,7 @@ TEST_CASE("slices on the GPU: drawn as point sprites where every slab fits one, 
         CHECK(fromBoxes.slicePrimitive == "boxes");
         CHECK(fromPoints.slicePrimitive == "points");
         CHECK(fromPoints.slices == fromBoxes.slices);
-        CHECK(coveredPixels(fromBoxes.image) > 128 * 96 / 10);
+        CHECK(test::nonBlackPixels(fromBoxes.image) > 128 * 96 / 10);
         // The ray from the camera's inverse rather than through a face: a
         // level or two apart where rounding differs, a slab's grazing edge
         // at most a few pixels.
