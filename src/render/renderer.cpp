@@ -4,15 +4,10 @@
 #include "gpu/gl_program.h"
 
 #include <algorithm>
-#include <chrono>
 #include <optional>
 
 namespace yv {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 /// The median and the fastest of `seconds`.
 std::pair<double, double> medianAndBest(std::vector<double> seconds) {
@@ -32,6 +27,25 @@ void resetDrawState() {
     glUseProgram(0);
 }
 
+/// prepare() and draw() of one frame into `frame.target`, each timed by its
+/// timer: drawFrames and PictureInFlight draw a frame so.
+void prepareAndDraw(Renderer& renderer, const Frame& frame, GpuTimer& prepareTimer, GpuTimer& drawTimer) {
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    {
+        const TraceSpan span("prepare the picture (the slices' order)");
+        prepareTimer.begin();
+        renderer.prepare(frame.camera);
+        prepareTimer.end();
+    }
+    frame.target.bind();
+    frame.target.clear(zero);
+    const TraceSpan span("draw the picture");
+    drawTimer.begin();
+    renderer.draw(frame);
+    drawTimer.end();
+    checkGlError("drawing a frame");
+}
+
 } // namespace
 
 PendingRgbImage Renderer::startPicture(const Frame& frame) {
@@ -44,24 +58,15 @@ void drawFrames(Renderer& renderer, const Camera& camera, int repeat, RenderRepo
     const RenderTarget target(camera.width, camera.height, renderer.targetFormats());
     making.reset();
     const Frame frame{camera, target};
-    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     std::vector<double> sorts, draws;
     try {
         for (int i = 0; i < std::max(1, repeat); ++i) {
-            auto start = std::chrono::steady_clock::now();
-            renderer.prepare(camera);
-            glFinish(); // what prepare() queued (the slices' order) is its time
-            sorts.push_back(secondsSince(start));
-            if (traceEnabled()) traceSpanSince("prepare the picture (the slices' order)", start);
-            target.bind();
-            target.clear(zero);
-            glFinish();
-            start = std::chrono::steady_clock::now();
-            renderer.draw(frame);
-            glFinish();
-            draws.push_back(secondsSince(start));
-            if (traceEnabled()) traceSpanSince("draw the picture, to its end", start);
-            checkGlError("drawing a frame");
+            // Each to its end (glFinish at both ends): what prepare() queued
+            // (the slices' order) is its time, the draw's the frame's.
+            GpuTimer prepareTimer(false), drawTimer(false);
+            prepareAndDraw(renderer, frame, prepareTimer, drawTimer);
+            sorts.push_back(prepareTimer.seconds());
+            draws.push_back(drawTimer.seconds());
         }
         const TraceSpan reading("read the picture back");
         report.image = renderer.picture(frame);
@@ -80,17 +85,8 @@ PictureInFlight::PictureInFlight(Renderer& renderer, const Camera& camera, bool 
       timer_(timerQueries) {
     const TraceSpan span("queue a picture");
     const Frame frame{camera, target_};
-    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     try {
-        prepareTimer_.begin();
-        renderer.prepare(camera);
-        prepareTimer_.end();
-        target_.bind();
-        target_.clear(zero);
-        timer_.begin();
-        renderer.draw(frame);
-        timer_.end();
-        checkGlError("drawing a frame");
+        prepareAndDraw(renderer, frame, prepareTimer_, timer_);
         picture_ = renderer.startPicture(frame);
     } catch (...) {
         resetDrawState();
