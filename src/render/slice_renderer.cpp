@@ -123,6 +123,7 @@ void SliceRenderer::prepare(const Camera& camera) {
     }
     countsRead_ = true;
     drawn_ = 0;
+    drewPoints_ = false;
     if (n == 0) {
         const GLuint none = 0;
         glClearNamedBufferData(drawCommand_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
@@ -154,8 +155,8 @@ void SliceRenderer::prepare(const Camera& camera) {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     sort_->sort(GLuint(n), orderBuffer_);
     // The kept count becomes the instances of one draw, points' or boxes',
-    // on the GPU: the host waits for none of it. It reads the count and the
-    // largest slab for the report, once the frame is done (readCounts).
+    // on the GPU: the host waits for none of it. It reads both draws'
+    // instances for the report, once the frame is done (readCounts).
     choose_.use();
     glUniform1f(choose_.uniform("uPointPixels"), pointPixels_);
     sort_->kept().bindStorage(kSortKeptBinding);
@@ -164,17 +165,19 @@ void SliceRenderer::prepare(const Camera& camera) {
     glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_BUFFER_UPDATE_BARRIER_BIT);
-    readback_.startCopy({{sort_->kept().id(), 0, 4}, {largestBuffer_.id(), 0, 4}}, nullptr);
+    readback_.startCopy({{drawCommand_.id(), offsetof(DrawCommand, instanceCount), 4},
+                         {drawCommand_.id(), kPointsCommand + offsetof(DrawCommand, instanceCount), 4}},
+                        nullptr);
     countsRead_ = false;
     checkGlError("sorting the slices");
 }
 
 void SliceRenderer::readCounts() const {
     if (countsRead_) return;
-    GLuint read[2] = {0, 0};
-    std::memcpy(read, readback_.waitForCopy(), sizeof read);
-    drawn_ = read[0];
-    largestPixels_ = read[1];
+    GLuint instances[2] = {0, 0}; // boxes', points'
+    std::memcpy(instances, readback_.waitForCopy(), sizeof instances);
+    drawn_ = instances[0] + instances[1];
+    drewPoints_ = instances[1] > 0;
     countsRead_ = true;
 }
 
@@ -182,9 +185,7 @@ void SliceRenderer::describe(RenderReport& report) const {
     readCounts();
     report.slices = drawn_;
     report.garmentSlices = slices_.count();
-    // As inspect_slices_choose.comp chose.
-    const bool points = !settings_.sortOnHost && pointPixels_ > 0.0f && float(largestPixels_) <= pointPixels_;
-    report.slicePrimitive = points ? "points" : "boxes";
+    report.slicePrimitive = drewPoints_ ? "points" : "boxes";
 }
 
 void SliceRenderer::useProgram(const GlProgram& program, const Camera& camera) const {

@@ -85,8 +85,9 @@ class SliceRenderer : public Renderer {
   private:
     const SliceInstances& slices_;
     SliceSettings settings_;
-    /// The count kept and the largest slab of the last prepare(), read once
-    /// (the copy started there; it waits for the GPU where it has not ended).
+    /// What the last prepare() had drawn, as inspect_slices_choose.comp
+    /// chose: both draws' instances, read once (the copy started there; it
+    /// waits for the GPU where it has not ended).
     void readCounts() const;
     /// The GL state and uniforms both draws share.
     void useProgram(const GlProgram& program, const Camera& camera) const;
@@ -102,7 +103,7 @@ class SliceRenderer : public Renderer {
     // What the last prepare() kept, read when first asked for (readCounts).
     mutable bool countsRead_ = true;
     mutable std::uint64_t drawn_ = 0;
-    mutable std::uint32_t largestPixels_ = ~0u; ///< the most pixels a slab kept may cover across
+    mutable bool drewPoints_ = false;
     float pointPixels_ = 0.0f;                  ///< the largest point drawn, at most kSlicePointPixels; 0: no points
     float twist_; ///< radians per voxel of yarn the fibres turn by (SliceInstances::twist unless set)
 };
