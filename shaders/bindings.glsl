@@ -78,3 +78,17 @@ const int kSortKeptBinding = 6;       // the pairs kept (not dropped) by the fir
 const int kSliceSpansBinding = 2;     // inspect_slices_keys.comp writes kSliceSpansUnit's buffer
 const int kSliceLargestBinding = 3;   // and the most pixels a slab kept may cover, across (slice_renderer.cpp)
 const int kSliceDrawsBinding = 4;     // inspect_slices_choose.comp writes the draws' instance counts
+
+// --- The slices composited by tiles of the picture (render/slice_tiles.h):
+// inspect_slices_tiles.comp counts each slab's tiles (reading the keys
+// pass's pairs at kSortKeysInBinding and kSortValuesInBinding), emits a
+// (tile, depth) pair for each, and finds each tile's run of the sorted
+// pairs; inspect_slices_composite.comp blends them.
+const int kSliceTileKeysBinding = 2;    // per pair: tile and depth, then (sorted) the same in order
+const int kSliceTileValuesBinding = 3;  // per pair: its slice
+const int kSliceTileCountsBinding = 4;  // per slice: its tiles, then (scanned) its first pair
+const int kSliceTileTotalsBinding = 5;  // the pairs, the slabs kept, and whether one spans too many tiles
+const int kSliceTileRangesBinding = 6;  // per tile: its first pair and one past its last
+const int kSliceTileEntriesBinding = 7; // the pairs' slices in (tile, depth) order
+const int kSliceTilesImageUnit = 0;     // the composited picture (image unit), written
+const int kSliceTilesPictureUnit = 2;   // and read by inspect_slices_composite.frag (texture unit)

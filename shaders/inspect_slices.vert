@@ -1,12 +1,10 @@
 // `inspect --render slices`: one instance a slice, drawn in the sorted order
 // (instance attribute sliceIndex, farthest first). Each slice is drawn as the
-// slab of yarn it stands for, a box of 2 radius x 2 radius x thickness (a
-// flat quad seen edge-on would cover nothing), whose fragments cut their
-// ray with the yarn's disk (inspect_slices.frag). 14 vertices a box: one
-// triangle strip, corners from the bits of gl_VertexID. At a coarser level
-// of detail a slice stands for `span` slices of its run (inspect_slices_keys.comp):
-// its slab then reaches from its own centre to the last one's, their
-// thicknesses included, along the chord between them.
+// slab of yarn it stands for (common.glsl's sliceSlab), a box of
+// 2 radius x 2 radius x thickness (a flat quad seen edge-on would cover
+// nothing), whose fragments cut their ray with the yarn's disk
+// (inspect_slices.frag). 14 vertices a box: one triangle strip, corners
+// from the bits of gl_VertexID.
 //
 // With SLAB_POINTS, one point a slab instead: a square sprite over the
 // screen box of the slab's eight corners, its centre and size in pixels
@@ -35,47 +33,23 @@ flat out vec3 halfSize;
 flat out vec3 localLight; // lightDirection in the slab's frame
 
 void main() {
-    vec4 a = texelFetch(slices, int(2u * sliceIndex));
-    vec3 t = texelFetch(slices, int(2u * sliceIndex + 1u)).xyz;
-    vec3 centre = a.xyz;
-    float thickness = a.w;
-    uint span = texelFetch(spans, int(sliceIndex)).x;
-    if (span > 1u) {
-        vec4 last = texelFetch(slices, int(2u * (sliceIndex + span - 1u)));
-        vec3 chord = last.xyz - a.xyz;
-        float chordLength = length(chord);
-        centre = 0.5 * (a.xyz + last.xyz);
-        if (chordLength > 1e-6) t = chord / chordLength;
-        thickness = chordLength + 0.5 * (a.w + last.w);
-    }
-    // The disk is round: any frame across the tangent will do.
-    vec3 helper = abs(t.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
-    vec3 r = normalize(cross(t, helper));
-    vec3 u = cross(t, r);
-    halfSize = vec3(radius, radius, 0.5 * thickness);
-    vec3 toEye = eye - centre;
-    localEye = vec3(dot(toEye, r), dot(toEye, u), dot(toEye, t));
-    localLight = vec3(dot(lightDirection, r), dot(lightDirection, u), dot(lightDirection, t));
+    Slab slab = sliceSlab(slices, spans, sliceIndex, radius);
+    halfSize = slab.halfSize;
+    localEye = transpose(slab.frame) * (eye - slab.centre);
+    localLight = transpose(slab.frame) * lightDirection;
 #ifdef SLAB_POINTS
-    slabFrame = mat3(r, u, t);
-    vec2 lo = vec2(1e30), hi = vec2(-1e30);
-    for (int k = 0; k < 8; ++k) {
-        vec3 corner = vec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0) * 2.0 - 1.0;
-        vec3 local = corner * halfSize;
-        vec4 clip = viewProjection * vec4(centre + local.x * r + local.y * u + local.z * t, 1.0);
-        vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * viewportPixels;
-        lo = min(lo, pixel);
-        hi = max(hi, pixel);
-    }
-    vec2 middle = 0.5 * (lo + hi);
+    slabFrame = slab.frame;
+    vec4 box;
+    slabPixelBox(slab, viewProjection, viewportPixels, box);
+    vec2 middle = 0.5 * (box.xy + box.zw);
     gl_Position = vec4((middle / viewportPixels * 2.0 - 1.0) * guardScale, 0.0, 1.0);
     // A pixel is drawn where its centre lies in the square: one more pixel
     // for the corners' rounding.
-    gl_PointSize = max(hi.x - lo.x, hi.y - lo.y) + 1.0;
+    gl_PointSize = max(box.z - box.x, box.w - box.y) + 1.0;
 #else
     int bit = 1 << gl_VertexID;
     vec3 corner = vec3((0x287a & bit) != 0, (0x02af & bit) != 0, (0x31e3 & bit) != 0) * 2.0 - 1.0;
     localPosition = corner * halfSize;
-    gl_Position = viewProjection * vec4(centre + localPosition.x * r + localPosition.y * u + localPosition.z * t, 1.0);
+    gl_Position = viewProjection * vec4(slab.centre + slab.frame * localPosition, 1.0);
 #endif
 }

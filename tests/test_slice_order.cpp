@@ -3,6 +3,7 @@
 // sortBackToFront slice for slice, and the picture against the host-sorted one.
 #include "gpu/egl_context.h"
 #include "gpu/gl_buffer.h"
+#include "gpu/gpu_scan.h"
 #include "gpu/radix_sort.h"
 #include "inspect/camera.h"
 #include "inspect/slice_instances.h"
@@ -114,6 +115,59 @@ TEST_CASE("radix sort on the GPU: stable by key, the dropped pairs left out, as 
         INFO("first wrong at " << firstWrong);
         CHECK(wrong == 0);
     }
+}
+
+TEST_CASE("the GPU's exclusive scan, and a radix sort that grows and keeps its sorted keys", "[gpu][gl]") {
+    YV_REQUIRE_GL();
+    RenderContext context;
+    context.gl();
+    GLint groups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
+    const GLuint maxGroups = GLuint(std::max(groups, 1));
+    std::mt19937 rng(5);
+    // Counts over several blocks of 1024 and a part block, as the slices' tiles make.
+    const std::uint32_t n = 3 * 1024 * 256 + 77;
+    std::vector<std::uint32_t> counts(n);
+    for (std::uint32_t& c : counts) c = rng() % 9 == 0 ? 0 : rng() % 25;
+    GlBuffer buffer, total;
+    buffer.upload(counts.data(), std::uint64_t(n) * 4, nullptr);
+    total.reserve(16, nullptr);
+    total.clear(16);
+    GpuScan scan(1000, maxGroups);
+    scan.reserve(n);
+    scan.run(buffer, n, &total);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    ReadbackBuffer readback;
+    std::vector<std::uint32_t> got(n);
+    std::memcpy(got.data(), readback.read(buffer.id(), std::uint64_t(n) * 4, nullptr), std::size_t(n) * 4);
+    GLuint sum = 0;
+    std::memcpy(&sum, readback.read(total.id(), 4, nullptr), 4);
+    std::vector<std::uint32_t> expected(n);
+    std::exclusive_scan(counts.begin(), counts.end(), expected.begin(), 0u);
+    CHECK(got == expected);
+    CHECK(sum == expected.back() + counts.back());
+
+    // A sort made small, grown, then sorting with its keys kept.
+    const std::uint32_t pairs = 30000;
+    std::vector<std::uint32_t> keys(pairs), values(pairs);
+    for (std::uint32_t i = 0; i < pairs; ++i) keys[i] = rng() % 5000 << 12 | rng() % 4096, values[i] = i;
+    RadixSort sort(100, maxGroups);
+    sort.reserve(pairs);
+    glNamedBufferSubData(sort.keys().id(), 0, pairs * 4, keys.data());
+    glNamedBufferSubData(sort.values().id(), 0, pairs * 4, values.data());
+    GlBuffer out;
+    out.reserve(pairs * 4, nullptr);
+    sort.sort(pairs, out, /*withKeys=*/true);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<std::uint32_t> order(pairs), sortedKeys(pairs);
+    std::memcpy(order.data(), readback.read(out.id(), pairs * 4, nullptr), pairs * 4);
+    std::memcpy(sortedKeys.data(), readback.read(sort.keys().id(), pairs * 4, nullptr), pairs * 4);
+    std::vector<std::uint32_t> expectedOrder(values);
+    std::stable_sort(expectedOrder.begin(), expectedOrder.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+    CHECK(order == expectedOrder);
+    std::size_t wrongKeys = 0;
+    for (std::uint32_t i = 0; i < pairs; ++i) wrongKeys += sortedKeys[i] != keys[expectedOrder[i]];
+    CHECK(wrongKeys == 0);
 }
 
 TEST_CASE("slices on the GPU: the back-to-front order is sortBackToFront's, ties included, and so is the picture", "[inspect][gl]") {
@@ -363,4 +417,45 @@ TEST_CASE("slices on the GPU: drawn as point sprites where every slab fits one, 
     drawFrames(asChosen, close, 1, fromChosen);
     CHECK(fromChosen.slicePrimitive == "boxes");
     CHECK(differingBytes(fromChosen.image, fromBoxes.image) == 0);
+}
+
+TEST_CASE("slices on the GPU: composited by tiles in compute, the picture the boxes draw", "[inspect][gl]") {
+    YV_REQUIRE_GL();
+    RenderContext context;
+    context.gl();
+    const TestSlices t = knitSlices(120, 48, 0);
+    SliceSettings boxes, tiles;
+    boxes.lodPixels = tiles.lodPixels = 0.0;
+    boxes.primitive = SlicePrimitive::Boxes;
+    tiles.primitive = SlicePrimitive::Tiles;
+    SliceRenderer asBoxes(t.slices, boxes), asTiles(t.slices, tiles);
+    // Whole, turned so that slabs lie every way and near the picture's sides;
+    // a size that is no multiple of the tiles'; closer; and so close that
+    // slabs span many tiles and some reach the eye's plane.
+    struct Case {
+        ViewAngles view;
+        int width, height;
+    };
+    const std::vector<Case> cases = {{{35.0, 25.0, 3.0}, 128, 96},
+                                      {{-70.0, 60.0, 2.0}, 137, 91},
+                                      {{10.0, -40.0, 1.2}, 160, 120},
+                                      {{30.0, 20.0, 0.3}, 160, 120}};
+    for (const Case& c : cases) {
+        const Camera camera = frameBox(t.box, c.view, c.width, c.height);
+        RenderReport fromBoxes, fromTiles;
+        drawFrames(asBoxes, camera, 1, fromBoxes);
+        drawFrames(asTiles, camera, 2, fromTiles); // twice: the second frame reuses the first's buffers
+        INFO("view " << c.view.azimuth << ", " << c.view.elevation << ", " << c.view.distance << ": "
+                     << fromTiles.slices << " slices");
+        CHECK(fromBoxes.slicePrimitive == "boxes");
+        CHECK(fromTiles.slicePrimitive == "tiles");
+        CHECK(fromTiles.slices == fromBoxes.slices);
+        const std::uint64_t pixels = std::uint64_t(c.width) * std::uint64_t(c.height);
+        CHECK(test::nonBlackPixels(fromBoxes.image) > pixels / 10);
+        // Blended in floats rather than the target's bytes, and each ray from
+        // the camera's inverse rather than through a face: a level or two
+        // apart, a slab's grazing edge at most a few pixels.
+        CHECK(bytesOffBy(fromTiles.image, fromBoxes.image, 2) <= pixels / 100);
+        CHECK(bytesOffBy(fromTiles.image, fromBoxes.image, 24) <= pixels / 1000);
+    }
 }

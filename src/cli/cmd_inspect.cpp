@@ -289,8 +289,10 @@ void addPictureOptions(CLI::App* cmd, InspectArgs& a) {
                     "default " + numberText(kDefaultSliceLodPixels) + ")")
         ->check(finiteRange(0.0, 1e6));
     cmd->add_option("--slice-primitive", a.slicePrimitive,
-                    "--render slices: auto (default: one point sprite a slab where every slab in view fits one, "
-                    "else a box) or boxes (always; the picture is the same)");
+                    "--render slices: how each slab is drawn: tiles (composited in compute, tile by tile of the "
+                    "picture, where no slab spans too many tiles), points (one point sprite a slab where every slab "
+                    "in view fits one), boxes (always), or auto (default: tiles, else points, else boxes); the "
+                    "picture is the same");
     cmd->add_option("--yarn-radius", a.yarnRadius,
                     "--render slices|volumetric-triangles: yarn radius in world units, instead of the one the run "
                     "recorded (a bare garment: the garment file's, else estimated)")

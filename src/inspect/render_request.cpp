@@ -43,8 +43,10 @@ bool marchesRays(RenderKind kind) {
 
 SlicePrimitive parseSlicePrimitive(const std::string& text) {
     if (text == "auto") return SlicePrimitive::Auto;
+    if (text == "tiles") return SlicePrimitive::Tiles;
+    if (text == "points") return SlicePrimitive::Points;
     if (text == "boxes") return SlicePrimitive::Boxes;
-    throw Error("--slice-primitive '" + text + "': expected auto or boxes");
+    throw Error("--slice-primitive '" + text + "': expected auto, tiles, points or boxes");
 }
 
 bool drawsPlanes(RenderKind kind) { return kind == RenderKind::TextureSlicing || kind == RenderKind::HalfAngle; }

@@ -43,14 +43,20 @@ bool drawsPlanes(RenderKind kind);
 constexpr double kDefaultSliceLodPixels = 1.0;
 
 /// How the slices render draws each slab (--slice-primitive). Boxes: a box
-/// of 14 vertices, 12 triangles. Auto: where every slab in view fits a point
-/// sprite of at most SliceRenderer's limit, one point a slab covering its
-/// screen box (the fragment casts its pixel's ray through the slab: the same
-/// picture), else boxes. Hopper's raster sets up few triangles a second
-/// next to its compute; a point is one primitive.
-enum class SlicePrimitive { Auto, Boxes };
+/// of 14 vertices, 12 triangles. Points: where every slab in view fits a
+/// point sprite of at most SliceRenderer's limit, one point a slab covering
+/// its screen box (the fragment casts its pixel's ray through the slab: the
+/// same picture), else boxes. Tiles: no raster at all, the slabs composited
+/// in compute by tiles of the picture, each pixel's ray through the slabs
+/// over its tile nearest first (render/slice_tiles.h; the same picture, less
+/// the blend's rounding), where no slab spans more than its limit of tiles,
+/// else boxes. Auto: tiles, else points, else boxes; on Mesa's software
+/// rasteriser, whose compute is no faster than its raster, points, else
+/// boxes. Hopper's raster sets up few triangles a second next to its
+/// compute; a point is one primitive, a tile none.
+enum class SlicePrimitive { Auto, Tiles, Points, Boxes };
 
-/// "auto" or "boxes"; throws yv::Error listing the names otherwise.
+/// "auto", "tiles", "points" or "boxes"; throws yv::Error listing the names otherwise.
 SlicePrimitive parseSlicePrimitive(const std::string& text);
 
 struct RenderRequest {

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <string>
 
 namespace yv {
 namespace {
@@ -52,6 +53,15 @@ std::array<glm::vec4, 6> frustumPlanes(const Camera& camera) {
             planes[2 * axis + side] = glm::vec4(p / glm::length(glm::dvec3(p)));
         }
     return planes;
+}
+
+/// Mesa's software rasterisers composite by tiles slower than they draw
+/// points (0.48 against 0.15 s a 320x240 frame of 10 k slices on two
+/// cores): auto takes tiles on a GPU only.
+bool softwareRenderer() {
+    const char* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const std::string renderer = name ? name : "";
+    return renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
 }
 
 GLuint maxComputeGroups() {
@@ -98,7 +108,10 @@ SliceRenderer::SliceRenderer(const SliceInstances& slices, const SliceSettings& 
         sort_.emplace(slices.count(), maxGroups_);
         largestBuffer_.reserve(sizeof(GLuint), nullptr);
         choose_ = GlProgram::compute("inspect_slices_choose.comp");
-        if (settings.primitive == SlicePrimitive::Auto) {
+        if (settings.primitive == SlicePrimitive::Tiles ||
+            (settings.primitive == SlicePrimitive::Auto && !softwareRenderer()))
+            tiles_.emplace(slices.count(), maxGroups_);
+        if (settings.primitive == SlicePrimitive::Auto || settings.primitive == SlicePrimitive::Points) {
             pointsProgram_ = GlProgram::graphics("inspect_slices.vert", "inspect_slices.frag", {"SLAB_POINTS 1"});
             float range[2] = {1.0f, 1.0f};
             glGetFloatv(GL_ALIASED_POINT_SIZE_RANGE, range);
@@ -123,7 +136,7 @@ void SliceRenderer::prepare(const Camera& camera) {
     }
     countsRead_ = true;
     drawn_ = 0;
-    drewPoints_ = false;
+    drewPoints_ = drewTiles_ = false;
     if (n == 0) {
         const GLuint none = 0;
         glClearNamedBufferData(drawCommand_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
@@ -152,7 +165,16 @@ void SliceRenderer::prepare(const Camera& camera) {
     glClearNamedBufferData(largestBuffer_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     largestBuffer_.bindStorage(kSliceLargestBinding);
     glDispatchCompute(GLuint(std::min<std::uint64_t>((n + kKeyGroup - 1) / kKeyGroup, maxGroups_)), 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    if (tiles_) {
+        glBindTextureUnit(kSliceSpansUnit, spanTexture_.id());
+        if ((drewTiles_ = tiles_->prepare(camera, *sort_, GLuint(n), slices_.radius))) {
+            drawn_ = tiles_->kept();
+            const GLuint none = 0; // neither raster draw
+            glClearNamedBufferData(drawCommand_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+            return;
+        }
+    }
     sort_->sort(GLuint(n), orderBuffer_);
     // The kept count becomes the instances of one draw, points' or boxes',
     // on the GPU: the host waits for none of it. It reads both draws'
@@ -185,7 +207,7 @@ void SliceRenderer::describe(RenderReport& report) const {
     readCounts();
     report.slices = drawn_;
     report.garmentSlices = slices_.count();
-    report.slicePrimitive = drewPoints_ ? "points" : "boxes";
+    report.slicePrimitive = drewTiles_ ? "tiles" : drewPoints_ ? "points" : "boxes";
 }
 
 void SliceRenderer::useProgram(const GlProgram& program, const Camera& camera) const {
@@ -213,6 +235,12 @@ void SliceRenderer::draw(const Frame& frame) {
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // premultiplied "over", back to front
     glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
     glBindTextureUnit(kSliceSpansUnit, spanTexture_.id());
+    if (drewTiles_) {
+        useProgram(tiles_->compositeProgram(), camera);
+        tiles_->draw(camera);
+        glDisable(GL_BLEND);
+        return;
+    }
     glBindVertexArray(orderArray_.id());
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, drawCommand_.id());
     // Both draws: the GPU gave one of them the slices kept and the other none.
@@ -247,6 +275,7 @@ void SliceRenderer::draw(const Frame& frame) {
 
 std::vector<std::uint32_t> SliceRenderer::drawOrder() {
     readCounts();
+    if (drewTiles_) return {};
     std::vector<std::uint32_t> order(drawn_);
     if (drawn_) std::memcpy(order.data(), readback_.read(orderBuffer_.id(), drawn_ * 4, nullptr), drawn_ * 4);
     return order;

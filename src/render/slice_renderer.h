@@ -9,7 +9,9 @@
 // an indirect draw's command, and one instanced draw takes them; the host
 // neither sorts nor uploads. Where every slab kept fits a point sprite (the
 // keys pass bounds their size on screen), the draw takes one point a slab
-// rather than a box of 12 triangles. (The context must be current.)
+// rather than a box of 12 triangles. By default no slab is rasterized
+// where none spans too many tiles of the picture: they are composited in
+// compute, tile by tile (render/slice_tiles.h). (The context must be current.)
 #pragma once
 
 #include "gpu/gl_buffer.h"
@@ -19,6 +21,7 @@
 #include "inspect/render_request.h"
 #include "inspect/slice_instances.h"
 #include "render/renderer.h"
+#include "render/slice_tiles.h"
 
 #include <glm/vec3.hpp>
 
@@ -46,7 +49,8 @@ struct SliceSettings {
     /// that no such slab spans more pixels along the yarn than this. 0 draws
     /// every slice.
     double lodPixels = kDefaultSliceLodPixels;
-    /// Each slab a point sprite where every slab in view fits one (the GPU's order only), or a box always.
+    /// Composited by tiles, each slab a point sprite, or a box (the GPU's
+    /// order only; SlicePrimitive says where each falls back).
     SlicePrimitive primitive = SlicePrimitive::Auto;
 };
 
@@ -62,11 +66,14 @@ class SliceRenderer : public Renderer {
     explicit SliceRenderer(const SliceInstances& slices, const SliceSettings& settings = {});
 
     std::vector<GLenum> targetFormats() const override { return {GL_RGBA8}; }
-    /// The back-to-front order, on the GPU (or the host, sortOnHost), and
-    /// whether the frame's slabs fit points; queued, not waited for.
+    /// The slabs in view and their tiles' order (waiting for a few counts),
+    /// or where they are not composited by tiles, the back-to-front order,
+    /// on the GPU (or the host, sortOnHost), and whether the frame's slabs
+    /// fit points; queued, not waited for.
     void prepare(const Camera& camera) override;
-    /// Draws the slices in the order prepare() made, as points where they
-    /// fit: both draws are issued, and the GPU gave one of them no instances.
+    /// Composites the tiles prepare() ordered, or draws the slices in its
+    /// order, as points where they fit: both draws are issued, and the GPU
+    /// gave one of them no instances.
     void draw(const Frame& frame) override;
     /// The slices drawn in the last frame, of the garment's, and as what
     /// (read back once the frame is done).
@@ -76,7 +83,8 @@ class SliceRenderer : public Renderer {
     /// Draw the next frames at this level of detail (the GPU's order only; 0 or more).
     void setSliceLod(double pixels) override;
 
-    /// The slice indices the last prepare() put in the draw's order (read back; for tests).
+    /// The slice indices the last prepare() put in the raster draw's order
+    /// (read back; for tests; empty where the frame was composited by tiles).
     std::vector<std::uint32_t> drawOrder();
     /// Per slice, the slices its slab stood for in the last prepare()
     /// (meaningful for the slices in drawOrder(); read back; for tests).
@@ -97,6 +105,7 @@ class SliceRenderer : public Renderer {
     GlTexture sliceTexture_, spanTexture_;
     GlVertexArray orderArray_;
     std::optional<RadixSort> sort_; ///< unless sortOnHost
+    std::optional<SliceTiles> tiles_; ///< where the primitive allows tiles
     mutable ReadbackBuffer readback_; ///< the counts' copy, and the tests' reads
     std::vector<std::uint32_t> hostOrder_;
     GLuint maxGroups_ = 1;
@@ -104,6 +113,7 @@ class SliceRenderer : public Renderer {
     mutable bool countsRead_ = true;
     mutable std::uint64_t drawn_ = 0;
     mutable bool drewPoints_ = false;
+    bool drewTiles_ = false;
     float pointPixels_ = 0.0f;                  ///< the largest point drawn, at most kSlicePointPixels; 0: no points
     float twist_; ///< radians per voxel of yarn the fibres turn by (SliceInstances::twist unless set)
 };
