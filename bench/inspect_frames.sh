@@ -16,7 +16,7 @@
 #        have no empty-space skipping to turn off and are timed once; isosurface
 #        is timed with and without), YV_SLICE_LOD (slices: --slice-lod PIXELS,
 #        e.g. 0 for every slice; default: the command's), YV_SLICE_PRIMITIVE
-#        (slices: --slice-primitive auto|boxes; default: the command's)
+#        (slices: --slice-primitive auto|tiles|points|boxes; default: the command's)
 set -euo pipefail
 input=$1 resolutions=$2 size=${3:-800x600}
 shift $(( $# < 3 ? $# : 3 ))

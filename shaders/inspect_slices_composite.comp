@@ -1,15 +1,20 @@
 // `inspect --render slices` composited by tiles of the picture
 // (src/render/slice_tiles.h): one work group a 16 x 16 tile, one thread a
 // pixel. The tile's slabs come nearest first (inspect_slices_tiles.comp's
-// sorted pairs); in batches of 256, each thread sets up one slab in shared
-// memory (its frame, the eye and light in it, its screen box), then each
-// pixel whose centre lies in a slab's box casts its ray through it
-// (common.glsl's slabBoxInterval and slabColour, as inspect_slices.frag's
-// points do) and blends front to back: colour += transmittance * the
-// slab's, transmittance *= 1 - its alpha. Back to front "over", the same
-// sum. A pixel whose transmittance falls below kOpaque takes no more, and
-// the group stops once all of its pixels have. The picture is written
-// premultiplied (colour, 1 - transmittance), every pixel of the tile.
+// sorted pairs), in batches of 256: each thread sets up one slab in shared
+// memory (its frame, the eye and light in it) and sets its bit in the
+// bitmap of every pixel of the tile whose centre its screen box (a pixel
+// more each side for rounding) holds; then each pixel walks its own bits,
+// in order, casting its ray through those slabs (common.glsl's
+// slabBoxInterval and slabColour, as inspect_slices.frag's points do), and
+// blends front to back: colour += transmittance * the slab's,
+// transmittance *= 1 - its alpha. Back to front "over", the same sum.
+// Slabs far below a pixel are many to a tile (about 100 k for a whole
+// garment of 41 M slices at 1280x720) and each covers a few of its pixels:
+// a pixel visits the few whose box holds it, not all 256 of a batch. A pixel
+// whose transmittance falls below kOpaque takes no more, and the group
+// stops once all of its pixels have. The picture is written premultiplied
+// (colour, 1 - transmittance), every pixel of the tile.
 layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(binding = kSliceTableUnit) uniform samplerBuffer slices; // per slice: (centre, thickness), (tangent, place in its run)
@@ -32,11 +37,15 @@ uniform vec3 albedo;
 
 // Below this transmittance a pixel changes by less than a 16-bit step.
 const float kOpaque = 1.0 / 65536.0;
-const uint kBatch = 256u;
+const uint kBatch = 256u, kPixels = 256u, kWords = kBatch / 32u;
 
 shared vec4 slabRight[kBatch], slabUp[kBatch], slabTangent[kBatch]; // w: the half size along each
-shared vec4 slabEye[kBatch], slabLight[kBatch];
-shared vec4 slabBox[kBatch];
+shared vec4 slabEye[kBatch];   // xyz: the eye in the slab's frame
+shared vec4 slabLight[kBatch]; // xyz: the light in the slab's frame
+// Per pixel, a bit a slab of the batch whose box holds it: word w of pixel p
+// at w * kPixels + p (a pixel's words in the same banks as its neighbours').
+// Each pixel clears its own words as it reads them.
+shared uint pixelSlabs[kWords * kPixels];
 shared uint opaquePixels;
 
 void main() {
@@ -45,6 +54,7 @@ void main() {
     bool inside = pixel.x < int(viewportPixels.x) && pixel.y < int(viewportPixels.y);
     uint tile = gl_WorkGroupID.y * uint(tilesX) + gl_WorkGroupID.x;
     uint first = ranges[2u * tile], end = ranges[2u * tile + 1u];
+    vec2 corner = vec2(gl_WorkGroupID.xy * 16u); // the tile's lower left, pixels
 
     vec2 centre = vec2(pixel) + 0.5;
     vec2 ndc = centre / viewportPixels * 2.0 - 1.0;
@@ -55,8 +65,9 @@ void main() {
     float transmittance = 1.0;
     bool done = !inside, counted = false;
     if (lid == 0u) opaquePixels = 0u;
+    for (uint w = 0u; w < kWords; ++w) pixelSlabs[w * kPixels + lid] = 0u;
     for (uint base = first; base < end; base += kBatch) {
-        barrier(); // the last batch is read, opaquePixels cleared
+        barrier(); // the last batch is read and every bitmap cleared
         if (base + lid < end) {
             Slab s = sliceSlab(slices, spans, entrySlices[base + lid], radius);
             mat3 toSlab = transpose(s.frame);
@@ -67,7 +78,13 @@ void main() {
             slabLight[lid] = vec4(toSlab * lightDirection, 0.0);
             vec4 box;
             slabPixelBox(s, viewProjection, viewportPixels, box);
-            slabBox[lid] = box;
+            // The tile's pixels whose centre x + 0.5 lies in [lo - 1, hi + 1]
+            // (clamped as floats: an unbounded box's are no ints).
+            ivec2 lo = ivec2(clamp(ceil(box.xy - 1.5 - corner), 0.0, 16.0));
+            ivec2 hi = ivec2(clamp(floor(box.zw + 0.5 - corner), -1.0, 15.0));
+            uint word = lid / 32u * kPixels, bit = 1u << (lid % 32u);
+            for (int y = lo.y; y <= hi.y; ++y)
+                for (int x = lo.x; x <= hi.x; ++x) atomicOr(pixelSlabs[word + uint(y * 16 + x)], bit);
         }
         if (done && !counted) {
             counted = true;
@@ -75,22 +92,23 @@ void main() {
         }
         memoryBarrierShared();
         barrier();
-        if (opaquePixels == kBatch) break; // every pixel of the tile is done: the same for all
-        uint count = min(kBatch, end - base);
-        for (uint k = 0u; k < count && !done; ++k) {
-            vec4 box = slabBox[k];
-            // A pixel more each side for the box's rounding, as the tiles' count takes.
-            if (any(lessThan(centre, box.xy - 1.0)) || any(greaterThan(centre, box.zw + 1.0))) continue;
-            vec3 localEye = slabEye[k].xyz;
-            vec3 d = vec3(dot(ray, slabRight[k].xyz), dot(ray, slabUp[k].xyz), dot(ray, slabTangent[k].xyz));
-            vec3 halfSize = vec3(slabRight[k].w, slabUp[k].w, slabTangent[k].w);
-            vec2 interval = slabBoxInterval(localEye, d, halfSize);
-            interval.x = max(interval.x, 0.0); // from the eye on
-            if (!(interval.x < interval.y)) continue;
-            vec4 c = slabColour(localEye, d, interval, halfSize.x, opacityPerVoxel, twist, albedo, slabLight[k].xyz);
-            colour += transmittance * c.rgb;
-            transmittance *= 1.0 - c.a;
-            done = transmittance < kOpaque;
+        if (opaquePixels == kPixels) break; // every pixel of the tile is done: the same for all
+        for (uint w = 0u; w < kWords; ++w) {
+            uint bits = pixelSlabs[w * kPixels + lid];
+            pixelSlabs[w * kPixels + lid] = 0u;
+            for (; bits != 0u && !done; bits &= bits - 1u) {
+                uint k = w * 32u + uint(findLSB(bits));
+                vec3 localEye = slabEye[k].xyz;
+                vec3 d = vec3(dot(ray, slabRight[k].xyz), dot(ray, slabUp[k].xyz), dot(ray, slabTangent[k].xyz));
+                vec3 halfSize = vec3(slabRight[k].w, slabUp[k].w, slabTangent[k].w);
+                vec2 interval = slabBoxInterval(localEye, d, halfSize);
+                interval.x = max(interval.x, 0.0); // from the eye on
+                if (!(interval.x < interval.y)) continue;
+                vec4 c = slabColour(localEye, d, interval, halfSize.x, opacityPerVoxel, twist, albedo, slabLight[k].xyz);
+                colour += transmittance * c.rgb;
+                transmittance *= 1.0 - c.a;
+                done = transmittance < kOpaque;
+            }
         }
     }
     if (inside) imageStore(picture, pixel, vec4(colour, 1.0 - transmittance));
