@@ -5,9 +5,7 @@
 // memory (its frame, the eye and light in it) and sets its bit in the
 // bitmap of every pixel of the tile whose centre its screen box (a pixel
 // more each side for rounding) holds; then each pixel walks its own bits,
-// in order, and casts its ray through each slab whose bounding sphere it
-// passes through (most of a box's pixels miss a slab far below a pixel:
-// the sphere's test costs a cross product; common.glsl's
+// in order, casting its ray through those slabs (common.glsl's
 // slabBoxInterval and slabColour, as inspect_slices.frag's points do), and
 // blends front to back: colour += transmittance * the slab's,
 // transmittance *= 1 - its alpha. Back to front "over", the same sum.
@@ -42,8 +40,8 @@ const float kOpaque = 1.0 / 65536.0;
 const uint kBatch = 256u, kPixels = 256u, kWords = kBatch / 32u;
 
 shared vec4 slabRight[kBatch], slabUp[kBatch], slabTangent[kBatch]; // w: the half size along each
-shared vec4 slabEye[kBatch];    // xyz: the eye in the slab's frame
-shared vec4 slabSphere[kBatch]; // xyz: its centre from the eye; w: its bounding sphere's radius, squared
+shared vec4 slabEye[kBatch];   // xyz: the eye in the slab's frame
+shared vec4 slabLight[kBatch]; // xyz: the light in the slab's frame
 // Per pixel, a bit a slab of the batch whose box holds it: word w of pixel p
 // at w * kPixels + p (a pixel's words in the same banks as its neighbours').
 // Each pixel clears its own words as it reads them.
@@ -77,9 +75,7 @@ void main() {
             slabUp[lid] = vec4(s.frame[1], s.halfSize.y);
             slabTangent[lid] = vec4(s.frame[2], s.halfSize.z);
             slabEye[lid] = vec4(toSlab * (eye - s.centre), 0.0);
-            // The box's half diagonal, and a little for rounding (as the keys pass).
-            float reach = length(s.halfSize) * 1.001 + 1e-3;
-            slabSphere[lid] = vec4(s.centre - eye, reach * reach);
+            slabLight[lid] = vec4(toSlab * lightDirection, 0.0);
             vec4 box;
             slabPixelBox(s, viewProjection, viewportPixels, box);
             // The tile's pixels whose centre x + 0.5 lies in [lo - 1, hi + 1]
@@ -102,20 +98,13 @@ void main() {
             pixelSlabs[w * kPixels + lid] = 0u;
             for (; bits != 0u && !done; bits &= bits - 1u) {
                 uint k = w * 32u + uint(findLSB(bits));
-                // The ray's distance from the centre, by the cross product
-                // (a difference of squares would lose it to rounding far away).
-                vec4 sphere = slabSphere[k];
-                vec3 across = cross(sphere.xyz, ray);
-                if (dot(across, across) > sphere.w || dot(sphere.xyz, ray) < -sqrt(sphere.w)) continue;
                 vec3 localEye = slabEye[k].xyz;
                 vec3 d = vec3(dot(ray, slabRight[k].xyz), dot(ray, slabUp[k].xyz), dot(ray, slabTangent[k].xyz));
                 vec3 halfSize = vec3(slabRight[k].w, slabUp[k].w, slabTangent[k].w);
                 vec2 interval = slabBoxInterval(localEye, d, halfSize);
                 interval.x = max(interval.x, 0.0); // from the eye on
                 if (!(interval.x < interval.y)) continue;
-                vec3 localLight = vec3(dot(lightDirection, slabRight[k].xyz), dot(lightDirection, slabUp[k].xyz),
-                                       dot(lightDirection, slabTangent[k].xyz));
-                vec4 c = slabColour(localEye, d, interval, halfSize.x, opacityPerVoxel, twist, albedo, localLight);
+                vec4 c = slabColour(localEye, d, interval, halfSize.x, opacityPerVoxel, twist, albedo, slabLight[k].xyz);
                 colour += transmittance * c.rgb;
                 transmittance *= 1.0 - c.a;
                 done = transmittance < kOpaque;
