@@ -279,6 +279,20 @@ TEST_CASE("inspect slices: the command line finds the run's garment from a work 
     CHECK(lodElsewhere.exitCode != 0);
     CHECK(lodElsewhere.output.find("--slice-lod goes with --render slices") != std::string::npos);
     CHECK(!fs::exists(png));
+    // Each way of drawing the slabs by name, as the report says it drew them; a wrong name is one line.
+    for (const std::string primitive : {"tiles", "points", "boxes"}) {
+        const auto r = test::runYarnvox("inspect " + vdb + " --render slices --slice-lod 0 --slice-primitive " +
+                                        primitive + " --size 64x48 --json -o " + png);
+        INFO(primitive << ": " << r.output);
+        CHECK(r.exitCode == 0);
+        CHECK(r.output.find("\"slice_primitive\": \"" + primitive + "\"") != std::string::npos);
+        fs::remove(png);
+    }
+    const auto badPrimitive = test::runYarnvox("inspect " + vdb + " --render slices --slice-primitive quads -o " + png);
+    INFO(badPrimitive.output);
+    CHECK(badPrimitive.exitCode != 0);
+    CHECK(badPrimitive.output.find("expected auto, tiles, points or boxes") != std::string::npos);
+    CHECK(!fs::exists(png));
     const auto outlines = test::runYarnvox("inspect " + work + " --render mip --regions --size 64x48 --json -o " + png);
     INFO(outlines.output);
     CHECK(outlines.exitCode == 0);

@@ -458,4 +458,24 @@ TEST_CASE("slices on the GPU: composited by tiles in compute, the picture the bo
         CHECK(bytesOffBy(fromTiles.image, fromBoxes.image, 2) <= pixels / 100);
         CHECK(bytesOffBy(fromTiles.image, fromBoxes.image, 24) <= pixels / 1000);
     }
+
+    // A frame that would make more pairs than the limit is drawn as boxes,
+    // the boxes' picture to the byte; one within it still by tiles.
+    const Camera camera = frameBox(t.box, ViewAngles{35.0, 25.0, 3.0}, 128, 96);
+    RenderReport fromBoxes, fromTiles;
+    drawFrames(asBoxes, camera, 1, fromBoxes);
+    drawFrames(asTiles, camera, 1, fromTiles);
+    REQUIRE(fromTiles.slicePrimitive == "tiles");
+    SliceSettings tight = tiles, loose = tiles;
+    tight.maxTilePairs = 1;
+    loose.maxTilePairs = 4 * fromTiles.slices + 4096; // a slab here spans a tile or two
+    SliceRenderer overLimit(t.slices, tight), withinLimit(t.slices, loose);
+    RenderReport fromOver, fromWithin;
+    drawFrames(overLimit, camera, 1, fromOver);
+    drawFrames(withinLimit, camera, 1, fromWithin);
+    CHECK(fromOver.slicePrimitive == "boxes");
+    CHECK(fromOver.slices == fromBoxes.slices);
+    CHECK(differingBytes(fromOver.image, fromBoxes.image) == 0);
+    CHECK(fromWithin.slicePrimitive == "tiles");
+    CHECK(differingBytes(fromWithin.image, fromTiles.image) == 0);
 }

@@ -32,7 +32,7 @@ struct RenderReport {
     /// and half-angle: planes) and splats drawn (splatting).
     std::uint64_t slices = 0, splats = 0;
     std::uint64_t garmentSlices = 0; ///< slices: all the garment's, drawn or not
-    std::string slicePrimitive;      ///< slices: what the last frame drew each slab as, "points" or "boxes"
+    std::string slicePrimitive;      ///< slices: how the last frame drew its slabs, "tiles", "points" or "boxes"
     std::uint64_t budgetBytes = 0; ///< the budget the level was chosen for
     double meanSamples = 0.0, loadSeconds = 0.0;
     double frameSeconds = 0.0, bestFrameSeconds = 0.0; ///< median and fastest of the repeated frames

@@ -110,7 +110,8 @@ SliceRenderer::SliceRenderer(const SliceInstances& slices, const SliceSettings& 
         choose_ = GlProgram::compute("inspect_slices_choose.comp");
         if (settings.primitive == SlicePrimitive::Tiles ||
             (settings.primitive == SlicePrimitive::Auto && !softwareRenderer()))
-            tiles_.emplace(slices.count(), maxGroups_);
+            tiles_.emplace(slices.count(), maxGroups_,
+                           settings.maxTilePairs ? settings.maxTilePairs : defaultMaxTilePairs(slices.count()));
         if (settings.primitive == SlicePrimitive::Auto || settings.primitive == SlicePrimitive::Points) {
             pointsProgram_ = GlProgram::graphics("inspect_slices.vert", "inspect_slices.frag", {"SLAB_POINTS 1"});
             float range[2] = {1.0f, 1.0f};

@@ -52,6 +52,9 @@ struct SliceSettings {
     /// Composited by tiles, each slab a point sprite, or a box (the GPU's
     /// order only; SlicePrimitive says where each falls back).
     SlicePrimitive primitive = SlicePrimitive::Auto;
+    /// The most (slab, tile) pairs a frame composited by tiles may make
+    /// (more: drawn as points or boxes); 0: defaultMaxTilePairs.
+    std::uint64_t maxTilePairs = 0;
 };
 
 /// The largest point sprite the slices render draws (where the driver's

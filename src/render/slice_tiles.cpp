@@ -23,8 +23,8 @@ int tilesAcross(int pixels) { return (pixels + kTilePixels - 1) / kTilePixels; }
 
 } // namespace
 
-SliceTiles::SliceTiles(std::uint64_t slices, GLuint maxGroups)
-    : maxGroups_(maxGroups), slices_(std::max<std::uint64_t>(slices, 1)),
+SliceTiles::SliceTiles(std::uint64_t slices, GLuint maxGroups, std::uint64_t maxPairs)
+    : maxGroups_(maxGroups), slices_(std::max<std::uint64_t>(slices, 1)), maxPairs_(maxPairs),
       tiles_(GlProgram::compute("inspect_slices_tiles.comp")),
       composite_(GlProgram::compute("inspect_slices_composite.comp")),
       blend_(GlProgram::graphics("inspect_fullscreen.vert", "inspect_slices_composite.frag")), scan_(slices_, maxGroups),
@@ -73,8 +73,7 @@ bool SliceTiles::prepare(const Camera& camera, const RadixSort& keysPass, std::u
     }
     kept_ = totals[1];
     pairs_ = totals[0];
-    const std::uint64_t limit = kMaxTilePairsPerSlice * slices_ + (1u << 20);
-    if (totals[2] != 0 || pairs_ > limit) return false;
+    if (totals[2] != 0 || pairs_ > maxPairs_) return false;
     if (pairs_ == 0) return true;
 
     sort_.reserve(pairs_);

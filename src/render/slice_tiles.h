@@ -34,11 +34,14 @@ namespace yv {
 /// The most pairs a frame may make for each slice (and a million more):
 /// the sort's buffers never grow beyond it.
 constexpr std::uint64_t kMaxTilePairsPerSlice = 4;
+/// That limit for `slices` slices.
+constexpr std::uint64_t defaultMaxTilePairs(std::uint64_t slices) { return kMaxTilePairsPerSlice * slices + (1u << 20); }
 
 class SliceTiles {
   public:
-    /// For up to `slices` slices; `maxGroups`: the work groups a dispatch may have.
-    SliceTiles(std::uint64_t slices, GLuint maxGroups);
+    /// For up to `slices` slices; `maxGroups`: the work groups a dispatch
+    /// may have; `maxPairs`: the most pairs a frame composited here may make.
+    SliceTiles(std::uint64_t slices, GLuint maxGroups, std::uint64_t maxPairs);
 
     /// After the keys pass, with its pairs in `keysPass`'s keys() and
     /// values() (kept slices and their distances) and the slice table and
@@ -63,7 +66,7 @@ class SliceTiles {
 
   private:
     GLuint maxGroups_;
-    std::uint64_t slices_;
+    std::uint64_t slices_, maxPairs_;
     GlProgram tiles_, composite_, blend_;
     GpuScan scan_;
     RadixSort sort_;
