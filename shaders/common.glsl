@@ -441,6 +441,18 @@ bool slabPixelBox(Slab s, mat4 viewProjection, vec2 pixels, out vec4 box) {
     return true;
 }
 
+// The pixels whose centre lies in a slab's screen box (slabPixelBox, less
+// `origin`): (x0, y0, x1, y1) inclusive, none where x0 > x1 or y0 > y1,
+// clamped as floats to a pixel beyond [0, last] (an unbounded box's are no
+// ints). A ray's cut with the slab is exact, so the box has only to hold
+// every pixel whose ray meets it: a 64th of a pixel more each side for the
+// corners' rounding.
+vec4 slabPixelRange(vec4 box, vec2 origin, vec2 last) {
+    const float rounding = 1.0 / 64.0;
+    vec4 range = vec4(ceil(box.xy - origin - rounding - 0.5), floor(box.zw - origin + rounding - 0.5));
+    return clamp(range, vec4(-1.0), vec4(last, last) + 1.0);
+}
+
 // A ray's interval (enter, leave) in the slab's box, from its origin
 // `localEye` along the unit `d`, both in the slab's frame from its centre
 // (the slab method; IEEE infinities where d has a zero): empty where

@@ -3,8 +3,8 @@
 // pixel. The tile's slabs come nearest first (inspect_slices_tiles.comp's
 // sorted pairs), in batches of 256: each thread sets up one slab in shared
 // memory (its frame, the eye and light in it) and sets its bit in the
-// bitmap of every pixel of the tile whose centre its screen box (a pixel
-// more each side for rounding) holds; then each pixel walks its own bits,
+// bitmap of every pixel of the tile whose centre its screen box holds
+// (common.glsl's slabPixelRange); then each pixel walks its own bits,
 // in order, casting its ray through those slabs (common.glsl's
 // slabBoxInterval and slabColour, as inspect_slices.frag's points do), and
 // blends front to back: colour += transmittance * the slab's,
@@ -78,10 +78,8 @@ void main() {
             slabLight[lid] = vec4(toSlab * lightDirection, 0.0);
             vec4 box;
             slabPixelBox(s, viewProjection, viewportPixels, box);
-            // The tile's pixels whose centre x + 0.5 lies in [lo - 1, hi + 1]
-            // (clamped as floats: an unbounded box's are no ints).
-            ivec2 lo = ivec2(clamp(ceil(box.xy - 1.5 - corner), 0.0, 16.0));
-            ivec2 hi = ivec2(clamp(floor(box.zw + 0.5 - corner), -1.0, 15.0));
+            vec4 range = slabPixelRange(box, corner, vec2(15.0)); // the tile's pixels
+            ivec2 lo = max(ivec2(range.xy), ivec2(0)), hi = min(ivec2(range.zw), ivec2(15));
             uint word = lid / 32u * kPixels, bit = 1u << (lid % 32u);
             for (int y = lo.y; y <= hi.y; ++y)
                 for (int x = lo.x; x <= hi.x; ++x) atomicOr(pixelSlabs[word + uint(y * 16 + x)], bit);

@@ -1,9 +1,9 @@
 // `inspect --render slices` composited by tiles of the picture
 // (src/render/slice_tiles.h): the pairs the compositing reads, made from the
 // slabs inspect_slices_keys.comp kept. Three phases (uPhase):
-//   0: each kept slab counts the 16 x 16 tiles of the picture its screen
-//      box touches (common.glsl's slabPixelBox, a pixel more each side for
-//      rounding) into `tileCounts`, the slabs kept into `keptSlabs` and
+//   0: each kept slab counts the 16 x 16 tiles of the picture that hold
+//      pixels whose centre lies in its screen box (common.glsl's
+//      slabPixelBox and slabPixelRange) into `tileCounts`, the slabs kept into `keptSlabs` and
 //      the nearest and farthest of their distances into `nearestKey` and
 //      `farthestKey` (as the keys pass writes them: inverted); a slab
 //      whose box is unbounded (it reaches the eye's plane) touches every
@@ -53,9 +53,8 @@ ivec4 slabTiles(uint i) {
     Slab s = sliceSlab(slices, spans, i, uRadius);
     vec4 box;
     slabPixelBox(s, uViewProjection, uPixels, box);
-    box = clamp(box, vec4(-4.0), vec4(uPixels, uPixels) + 4.0);
-    ivec2 lo = max(ivec2(floor(box.xy)) - 1, ivec2(0));
-    ivec2 hi = min(ivec2(floor(box.zw)) + 1, ivec2(uPixels) - 1);
+    vec4 range = slabPixelRange(box, vec2(0.0), uPixels - 1.0);
+    ivec2 lo = max(ivec2(range.xy), ivec2(0)), hi = min(ivec2(range.zw), ivec2(uPixels) - 1);
     return lo.x <= hi.x && lo.y <= hi.y ? ivec4(lo >> kTileShift, hi >> kTileShift) : ivec4(1, 1, 0, 0);
 }
 
