@@ -69,14 +69,28 @@ std::uint64_t bytesOffBy(const RgbImage& a, const RgbImage& b, int levels) {
 }
 
 
+/// The work groups a dispatch may have (the context must be current).
+GLuint maxComputeGroups() {
+    GLint groups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
+    return GLuint(std::max(groups, 1));
+}
+
+/// Every slice drawn (no level of detail), each slab as `primitive` says.
+SliceSettings everySlice(SlicePrimitive primitive) {
+    SliceSettings settings;
+    settings.lodPixels = 0.0;
+    settings.primitive = primitive;
+    return settings;
+}
+
 } // namespace
 
 TEST_CASE("radix sort on the GPU: stable by key, the dropped pairs left out, as std::stable_sort", "[gpu][gl]") {
     YV_REQUIRE_GL();
     RenderContext context;
     context.gl();
-    GLint groups = 0;
-    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
+    const GLuint maxGroups = maxComputeGroups();
     // Several tiles and scan blocks; keys from a narrow range (many equal),
     // from the whole range (every byte a digit), and with all bytes but the
     // second the same for all (tiles of one digit); one in 7 dropped.
@@ -90,7 +104,7 @@ TEST_CASE("radix sort on the GPU: stable by key, the dropped pairs left out, as 
                                            : std::uint32_t(rng() % range) * 0x01010101u;
             values[i] = rng() % 7 == 0 ? RadixSort::kDropped : i;
         }
-        RadixSort sort(n, GLuint(std::max(groups, 1)));
+        RadixSort sort(n, maxGroups);
         glNamedBufferSubData(sort.keys().id(), 0, n * 4, keys.data());
         glNamedBufferSubData(sort.values().id(), 0, n * 4, values.data());
         GlBuffer out;
@@ -121,9 +135,7 @@ TEST_CASE("the GPU's exclusive scan, and a radix sort that grows and keeps its s
     YV_REQUIRE_GL();
     RenderContext context;
     context.gl();
-    GLint groups = 0;
-    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
-    const GLuint maxGroups = GLuint(std::max(groups, 1));
+    const GLuint maxGroups = maxComputeGroups();
     std::mt19937 rng(5);
     // Counts over several blocks of 1024 and a part block, as the slices' tiles make.
     const std::uint32_t n = 3 * 1024 * 256 + 77;
@@ -386,10 +398,7 @@ TEST_CASE("slices on the GPU: drawn as point sprites where every slab fits one, 
     RenderContext context;
     context.gl();
     const TestSlices t = knitSlices(120, 48, 0);
-    SliceSettings boxes, automatic;
-    boxes.lodPixels = automatic.lodPixels = 0.0;
-    boxes.primitive = SlicePrimitive::Boxes;
-    SliceRenderer asBoxes(t.slices, boxes), asChosen(t.slices, automatic);
+    SliceRenderer asBoxes(t.slices, everySlice(SlicePrimitive::Boxes)), asChosen(t.slices, everySlice(SlicePrimitive::Points));
     // Whole, turned so that slabs lie every way, and near the picture's
     // sides (a point whose centre is outside the picture still draws its part
     // inside); then so close that slabs are wider than the largest point.
@@ -424,11 +433,8 @@ TEST_CASE("slices on the GPU: composited by tiles in compute, the picture the bo
     RenderContext context;
     context.gl();
     const TestSlices t = knitSlices(120, 48, 0);
-    SliceSettings boxes, tiles;
-    boxes.lodPixels = tiles.lodPixels = 0.0;
-    boxes.primitive = SlicePrimitive::Boxes;
-    tiles.primitive = SlicePrimitive::Tiles;
-    SliceRenderer asBoxes(t.slices, boxes), asTiles(t.slices, tiles);
+    const SliceSettings tiles = everySlice(SlicePrimitive::Tiles);
+    SliceRenderer asBoxes(t.slices, everySlice(SlicePrimitive::Boxes)), asTiles(t.slices, tiles);
     // Whole, turned so that slabs lie every way and near the picture's sides;
     // a size that is no multiple of the tiles'; closer; and so close that
     // slabs span many tiles and some reach the eye's plane.
