@@ -73,7 +73,11 @@ TEST_CASE("A run given up before or between its regions throws RunCancelled and 
         job.resolution = 32;
         job.quiet = true;
         job.cancel = std::make_shared<std::atomic<bool>>(true);
-        CHECK_THROWS_AS(yv::runVoxelize(job, [](const std::string&) {}), yv::RunCancelled);
+        // Given up as soon as the garment is sliced: neither planned nor rasterized.
+        CHECK_THROWS_MATCHES(yv::runVoxelize(job, [](const std::string&) {}), yv::RunCancelled,
+                             Catch::Matchers::Predicate<yv::RunCancelled>([](const yv::RunCancelled& e) {
+                                 return std::string(e.what()).find("after slicing the garment") != std::string::npos;
+                             }));
         CHECK_FALSE(fs::exists(job.output));
         // The same job not given up writes its .vdb.
         job.cancel = std::make_shared<std::atomic<bool>>(false);

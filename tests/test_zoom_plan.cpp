@@ -1,6 +1,7 @@
 // The zoom plan's split: a flat garment's thickness is never halved, a round
 // one is split on every axis, a run has enough regions for the writer to
-// keep up with the GPU, and a coarse grid's estimate is not rounded away.
+// keep up with the GPU, a coarse grid's estimate is not rounded away, and a
+// plan told to stop (a run given up) gives up.
 #include "garment/cross_section.h"
 #include "plan/zoom_plan.h"
 #include "test_helpers.h"
@@ -8,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
 
 using namespace yv;
 
@@ -77,4 +79,28 @@ TEST_CASE("Zoom plan: a coarse grid's estimate keeps its fractions of a fragment
     // twice the slices.
     CHECK(b / a > 4.0);
     CHECK(b / a < 12.0);
+}
+
+TEST_CASE("Zoom plan: a plan told to stop gives up with no regions; one whose stop stays unset plans as without it",
+          "[plan][cancel]") {
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 4000, 1.0, 512);
+    const std::uint64_t budget = std::uint64_t(expectedFragments(run) / 64) + 1;
+    const ZoomPlan plain = planOf(run, budget);
+    REQUIRE(plain.regions.size() >= 8);
+    CHECK_FALSE(plain.givenUp);
+
+    std::atomic<bool> stop(false);
+    const ZoomPlan kept = planZoomRegions(run.plan, run.grid, makeFiberCrossSection(), {budget, 1024, 1, &stop});
+    CHECK_FALSE(kept.givenUp);
+    REQUIRE(kept.regions.size() == plain.regions.size());
+    for (std::size_t i = 0; i < kept.regions.size(); ++i) {
+        CHECK(kept.regions[i].min == plain.regions[i].min);
+        CHECK(kept.regions[i].max == plain.regions[i].max);
+        CHECK(kept.regions[i].segments == plain.regions[i].segments);
+    }
+
+    stop = true;
+    const ZoomPlan stopped = planZoomRegions(run.plan, run.grid, makeFiberCrossSection(), {budget, 1024, 1, &stop});
+    CHECK(stopped.givenUp);
+    CHECK(stopped.regions.empty());
 }

@@ -24,13 +24,14 @@ std::unique_ptr<RegionRasterizer> makeRasterizer(Backend backend, const SlicedGa
 }
 
 ZoomPlan planZoomWhilePreparing(RegionRasterizer& rasterizer, const SlicedGarment& sliced, const VoxelGrid& grid,
-                                int supersample, const std::optional<VoxelBox>& box, Cluster* group, double& seconds) {
+                                int supersample, const std::optional<VoxelBox>& box, Cluster* group,
+                                const std::atomic<bool>* stop, double& seconds) {
     // The ranks' budgets differ (each sees what the others left free).
     const std::uint64_t budget = group ? group->broadcast(rasterizer.fragmentBudget()) : rasterizer.fragmentBudget();
     std::future<ZoomPlan> pending = std::async(std::launch::async, [&] {
         const auto start = std::chrono::steady_clock::now();
         ZoomPlan planned =
-            planZoomRegions(sliced.plan(), grid, sliced.xs, {budget, rasterizer.maxRegionSize(), supersample}, box);
+            planZoomRegions(sliced.plan(), grid, sliced.xs, {budget, rasterizer.maxRegionSize(), supersample, stop}, box);
         traceSpanSince("plan the zoom regions", start);
         seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return planned;

@@ -10,6 +10,7 @@
 #include "pipeline/sliced_garment.h"
 #include "plan/zoom_plan.h"
 
+#include <atomic>
 #include <memory>
 #include <thread>
 
@@ -24,9 +25,11 @@ std::unique_ptr<RegionRasterizer> makeRasterizer(Backend backend, const SlicedGa
 /// work that needs no plan (the GL backend's upload and programs, on this
 /// thread). The ranks of an MPI run (`group`) all plan with rank 0's budget,
 /// so they plan the same regions. `box`: a --bbox run's box, the only voxels
-/// planned. `seconds`: how long the planning took.
+/// planned. `stop`: where set, the planning stops soon after it is
+/// (ZoomPlanOptions::stop). `seconds`: how long the planning took.
 ZoomPlan planZoomWhilePreparing(RegionRasterizer& rasterizer, const SlicedGarment& sliced, const VoxelGrid& grid,
-                                int supersample, const std::optional<VoxelBox>& box, Cluster* group, double& seconds);
+                                int supersample, const std::optional<VoxelBox>& box, Cluster* group,
+                                const std::atomic<bool>* stop, double& seconds);
 
 /// Destroys the rasterizer on a thread of its own (the GL backend's buffers
 /// and context take tens of ms to free) while the caller goes on to write the

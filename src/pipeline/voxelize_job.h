@@ -68,8 +68,9 @@ struct VoxelizeJob {
     /// No file is written: the bricks are kept, and nothing else (see keepBricks).
     bool bricksOnly() const { return output.empty() && keepBricks; }
     /// Where set, the caller may give the run up by setting it (the live
-    /// view, when a newer view is asked for): the run stops at its next zoom
-    /// region boundary and throws RunCancelled before the .vdb is written;
+    /// view, when a newer view is asked for): the run stops once the garment
+    /// is sliced, within its planning (ZoomPlanOptions::stop) or at its next
+    /// zoom region boundary, and throws RunCancelled before the .vdb is written;
     /// a run into the .vdb alone leaves nothing, one through a work dir the
     /// regions written so far (a resume goes on from them).
     std::shared_ptr<const std::atomic<bool>> cancel;

@@ -146,10 +146,11 @@ SparseRun runSparse(const VoxelizeJob& job, Backend backend, const SlicedGarment
                     const VdbWriteOptions& writeOptions, StageTimer& timer, const Tell& note, const Tell& tell) {
     std::unique_ptr<RegionRasterizer> rasterizer = makeRasterizer(backend, sliced, grid, settings, job, std::move(gl));
     double zoomPlanSeconds = 0.0;
-    const ZoomPlan zoom =
-        planZoomWhilePreparing(*rasterizer, sliced, grid, job.supersample, settings.clip, group, zoomPlanSeconds);
+    const ZoomPlan zoom = planZoomWhilePreparing(*rasterizer, sliced, grid, job.supersample, settings.clip, group,
+                                                 job.cancel.get(), zoomPlanSeconds);
     timer.lap("plan");
-    throwIfCancelled(job, "before its regions");
+    throwIfCancelled(job, zoom.givenUp ? "while planning its regions" : "before its regions");
+    YV_CHECK(!zoom.givenUp); // only a run given up stops its planning
     if (job.verbose)
         tell("plan: " + std::to_string(zoom.regions.size()) + " zoom regions, " + numberText(zoom.estimatedFragments) +
              " fragments expected, budget " + std::to_string(rasterizer->fragmentBudget()) + " per pass");
@@ -228,6 +229,7 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
     });
     GlStart gl = startGl(job, cluster() ? cluster()->localRank() : 0);
     const SlicedGarment sliced = pendingSlices.get();
+    throwIfCancelled(job, "after slicing the garment");
     const Backend chosen = chooseBackend(job, gl);
     if (job.backend == BackendRequest::Auto && chosen == Backend::Cpu && job.verbose && !job.quiet)
         note("backend: no GPU found, using the CPU backend (--backend gl forces the software GL path)");

@@ -150,8 +150,13 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     filled /= double(xs.density.size());
     const double side = 2.0 * plan.options.radius / grid.voxelSize * options.supersample;
     const double perSlice = side * side * filled;
+    // Whether the run was given up (ZoomPlanOptions::stop): each segment's
+    // slices and each region's split look, so a plan of many slices stops
+    // within one segment's work a core.
+    const auto stopped = [&] { return options.stop && options.stop->load(std::memory_order_relaxed); };
     // Only the slices that can reach the planned voxels (all of them without --bbox).
     tbb::parallel_for(std::size_t(0), reaching.size(), [&](std::size_t i) {
+        if (stopped()) return;
         const SegmentRecord& seg = plan.segments[reaching[i]];
         const double depth = seg.length / seg.sliceCount / grid.voxelSize;
         for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
@@ -162,6 +167,10 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
             heat.add(glm::ivec3(glm::floor((c - grid.origin) / grid.voxelSize)), perSlice * (dominant + depth));
         }
     });
+    if (stopped()) {
+        zp.givenUp = true;
+        return zp;
+    }
     zp.heatCellsTouched = heat.touched();
     zp.estimatedFragments = heat.sum(root.min, root.max);
 
@@ -179,7 +188,7 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
         std::min(0.5 * double(options.fragmentBudget), std::max(kSmallRegion, zp.estimatedFragments / kPipelineRegions));
     const std::function<std::vector<ZoomRegion>(glm::ivec3, glm::ivec3, std::vector<std::uint32_t>&&)> split =
         [&](glm::ivec3 min, glm::ivec3 max, std::vector<std::uint32_t>&& segments) -> std::vector<ZoomRegion> {
-        if (segments.empty()) return {};
+        if (segments.empty() || stopped()) return {};
         const glm::ivec3 size = max - min;
         const double estimate = heat.sum(min, max);
         const bool tooBig = glm::any(glm::greaterThan(size, glm::ivec3(options.maxRegionSize)));
@@ -229,6 +238,11 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
         return out;
     };
     zp.regions = split(root.min, root.max, std::move(reaching));
+    if (stopped()) {
+        zp.regions.clear();
+        zp.givenUp = true;
+        return zp;
+    }
     for (std::size_t i = 0; i < zp.regions.size(); ++i) zp.regions[i].id = i;
     return zp;
 }

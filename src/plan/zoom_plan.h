@@ -11,6 +11,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -21,6 +22,9 @@ struct ZoomPlanOptions {
     std::uint64_t fragmentBudget = 0; ///< fragments one pass may produce
     int maxRegionSize = 1024;         ///< voxels per axis (viewport and key limits)
     int supersample = 1;
+    /// Where set, the planning stops soon after it is set (a run given up):
+    /// the plan it returns is then `givenUp`, with no regions.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 struct ZoomPlan {
@@ -28,6 +32,7 @@ struct ZoomPlan {
     int heatCell = 32;                 ///< voxels per heat-map cell along each axis
     double estimatedFragments = 0.0;   ///< whole garment
     std::uint64_t heatCellsTouched = 0;
+    bool givenUp = false;              ///< ZoomPlanOptions::stop was set: no regions planned
 };
 
 /// Voxels of the grid that slices of `segment` can reach: slice centres grown

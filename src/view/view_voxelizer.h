@@ -9,8 +9,9 @@
 // the one asked for (view_region.h's refinePass), each taken as it
 // finishes (the coarse one only while no later run has been), so the view
 // refines where it looks. A request for another view replaces every pass
-// of an older one not yet started and gives up the passes under way at
-// their next zoom region boundary (VoxelizeJob::cancel: they write
+// of an older one not yet started and gives up the passes under way once
+// sliced, while planning or at their next zoom region boundary
+// (VoxelizeJob::cancel: they write
 // nothing, and the pages hear "dropped"), so a camera that moves on waits
 // for no run of where it was. Saves are never given up.
 #pragma once
