@@ -81,7 +81,7 @@ TEST_CASE("Zoom plan: a coarse grid's estimate keeps its fractions of a fragment
     CHECK(b / a < 12.0);
 }
 
-TEST_CASE("Zoom plan: a plan told to stop gives up with no regions; one whose stop stays unset plans as without it",
+TEST_CASE("Zoom plan: a plan told to stop gives up with no regions, and one whose stop stays unset plans as without it",
           "[plan][cancel]") {
     const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 4000, 1.0, 512);
     const std::uint64_t budget = std::uint64_t(expectedFragments(run) / 64) + 1;

@@ -109,6 +109,33 @@ class HeatMap {
     std::unique_ptr<std::atomic<std::uint64_t>[]> cells_;
 };
 
+/// Adds to `heat` the fragments expected of each slice of the `segments`:
+/// its square, projected on the face of its dominant axis, in supersampled
+/// pixels, times the cross-section's filled fraction, times the voxels each
+/// sample's slab is split over (1 + its depth in voxels, on average over
+/// where it starts), at the cell of its centre. On every core; a segment
+/// whose turn comes once `stopped()` adds nothing.
+void addSliceHeat(HeatMap& heat, const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs, int supersample,
+                  const std::vector<std::uint32_t>& segments, const std::function<bool()>& stopped) {
+    double filled = 0.0;
+    for (std::uint8_t d : xs.density) filled += d != 0;
+    filled /= double(xs.density.size());
+    const double side = 2.0 * plan.options.radius / grid.voxelSize * supersample;
+    const double perSlice = side * side * filled;
+    tbb::parallel_for(std::size_t(0), segments.size(), [&](std::size_t i) {
+        if (stopped()) return;
+        const SegmentRecord& seg = plan.segments[segments[i]];
+        const double depth = seg.length / seg.sliceCount / grid.voxelSize;
+        for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
+            const double t = (k + 0.5) / seg.sliceCount;
+            const glm::dvec3 c = evalCatmullRom(seg.points, t);
+            const glm::dvec3 d = glm::abs(glm::normalize(evalCatmullRomDerivative(seg.points, t)));
+            const double dominant = std::max({d.x, d.y, d.z});
+            heat.add(glm::ivec3(glm::floor((c - grid.origin) / grid.voxelSize)), perSlice * (dominant + depth));
+        }
+    });
+}
+
 /// Split position along one axis: the middle, rounded to the coarsest
 /// alignment that still leaves both halves non-empty.
 int splitPoint(int lo, int hi) {
@@ -141,32 +168,11 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     std::vector<std::uint32_t> reaching = reachingIn(all, root.min, root.max);
     HeatMap heat(root, zp.heatCell, box.has_value());
 
-    // Expected fragments of a slice: its square, projected on the face of its
-    // dominant axis, in supersampled pixels, times the filled fraction, times
-    // the voxels each sample's slab is split over (1 + its depth in voxels, on
-    // average over where it starts).
-    double filled = 0.0;
-    for (std::uint8_t d : xs.density) filled += d != 0;
-    filled /= double(xs.density.size());
-    const double side = 2.0 * plan.options.radius / grid.voxelSize * options.supersample;
-    const double perSlice = side * side * filled;
     // Whether the run was given up (ZoomPlanOptions::stop): each segment's
     // slices and each region's split look, so a plan of many slices stops
     // within one segment's work a core.
     const auto stopped = [&] { return options.stop && options.stop->load(std::memory_order_relaxed); };
-    // Only the slices that can reach the planned voxels (all of them without --bbox).
-    tbb::parallel_for(std::size_t(0), reaching.size(), [&](std::size_t i) {
-        if (stopped()) return;
-        const SegmentRecord& seg = plan.segments[reaching[i]];
-        const double depth = seg.length / seg.sliceCount / grid.voxelSize;
-        for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
-            const double t = (k + 0.5) / seg.sliceCount;
-            const glm::dvec3 c = evalCatmullRom(seg.points, t);
-            const glm::dvec3 d = glm::abs(glm::normalize(evalCatmullRomDerivative(seg.points, t)));
-            const double dominant = std::max({d.x, d.y, d.z});
-            heat.add(glm::ivec3(glm::floor((c - grid.origin) / grid.voxelSize)), perSlice * (dominant + depth));
-        }
-    });
+    addSliceHeat(heat, plan, grid, xs, options.supersample, reaching, stopped);
     if (stopped()) {
         zp.givenUp = true;
         return zp;
