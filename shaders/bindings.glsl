@@ -90,5 +90,6 @@ const int kSliceTileCountsBinding = 4;  // per slice: its tiles, then (scanned) 
 const int kSliceTileTotalsBinding = 5;  // the pairs, the slabs kept, and whether one spans too many tiles
 const int kSliceTileRangesBinding = 6;  // per tile: its first pair and one past its last
 const int kSliceTileEntriesBinding = 7; // the pairs' slices in (tile, depth) order
+const int kSliceTileRectsBinding = 7;   // per slice: its tiles, a byte each of x0, y0, x1, y1 (the count writes, the pairs read)
 const int kSliceTilesImageUnit = 0;     // the composited picture (image unit), written
 const int kSliceTilesPictureUnit = 2;   // and read by inspect_slices_composite.frag (texture unit)

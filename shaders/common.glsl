@@ -396,12 +396,12 @@ struct Slab {
     vec3 halfSize;
 };
 
-Slab sliceSlab(samplerBuffer slices, usamplerBuffer spans, uint i, float radius) {
+// Slice i's slab where it stands for `span` slices.
+Slab slabOf(samplerBuffer slices, uint i, uint span, float radius) {
     vec4 a = texelFetch(slices, int(2u * i));
     vec3 t = texelFetch(slices, int(2u * i + 1u)).xyz;
     vec3 centre = a.xyz;
     float thickness = a.w;
-    uint span = texelFetch(spans, int(i)).x;
     if (span > 1u) {
         vec4 last = texelFetch(slices, int(2u * (i + span - 1u)));
         vec3 chord = last.xyz - a.xyz;
@@ -418,6 +418,11 @@ Slab sliceSlab(samplerBuffer slices, usamplerBuffer spans, uint i, float radius)
     s.frame = mat3(r, cross(t, r), t);
     s.halfSize = vec3(radius, radius, 0.5 * thickness);
     return s;
+}
+
+// Slice i's slab, with the slices it stands for from `spans`.
+Slab sliceSlab(samplerBuffer slices, usamplerBuffer spans, uint i, float radius) {
+    return slabOf(slices, i, texelFetch(spans, int(i)).x, radius);
 }
 
 // The box of pixels the slab's eight corners project to on a picture of
@@ -451,6 +456,18 @@ vec4 slabPixelRange(vec4 box, vec2 origin, vec2 last) {
     const float rounding = 1.0 / 64.0;
     vec4 range = vec4(ceil(box.xy - origin - rounding - 0.5), floor(box.zw - origin + rounding - 0.5));
     return clamp(range, vec4(-1.0), vec4(last, last) + 1.0);
+}
+
+// The 16 x 16 tiles of a picture of `pixels` that hold pixels whose centre
+// lies in the slab's screen box, inclusive (x0, y0, x1, y1; none where
+// x0 > x1 or y0 > y1): every tile where its box is unbounded (the slices
+// composited by tiles, render/slice_tiles.h).
+ivec4 slabTiles(Slab s, mat4 viewProjection, vec2 pixels) {
+    vec4 box;
+    slabPixelBox(s, viewProjection, pixels, box);
+    vec4 range = slabPixelRange(box, vec2(0.0), pixels - 1.0);
+    ivec2 lo = max(ivec2(range.xy), ivec2(0)), hi = min(ivec2(range.zw), ivec2(pixels) - 1);
+    return lo.x <= hi.x && lo.y <= hi.y ? ivec4(lo >> 4, hi >> 4) : ivec4(1, 1, 0, 0);
 }
 
 // A ray's interval (enter, leave) in the slab's box, from its origin

@@ -24,6 +24,14 @@
 // across on screen, a bound from its bounding sphere, into `largestPixels`
 // (0xffffffff where a slab reaches the eye's plane): the renderer draws
 // points only where it is at most the largest point.
+//
+// Tiles (uTiles, render/slice_tiles.h): each kept slab also counts the
+// 16 x 16 tiles of the picture it touches (common.glsl's slabTiles) into
+// `tileCounts` (0 for a slice not drawn) and keeps them in `tileRects`, a
+// byte a coordinate; the slabs kept go into `keptSlabs`, the nearest and
+// farthest of their keys into `nearestKey` and `farthestKey`. One that spans
+// more than uMaxTilesPerSlab tiles counts none and sets `tooWide`: the frame
+// is drawn otherwise.
 layout(local_size_x = 256) in;
 
 layout(binding = kSliceTableUnit) uniform samplerBuffer slices; // per slice: (centre, thickness), (tangent, place in its run)
@@ -31,6 +39,12 @@ layout(std430, binding = kSortKeysInBinding) writeonly buffer Keys { uint keys[]
 layout(std430, binding = kSortValuesInBinding) writeonly buffer Values { uint values[]; };
 layout(std430, binding = kSliceSpansBinding) writeonly buffer Spans { uint spans[]; };
 layout(std430, binding = kSliceLargestBinding) coherent buffer Largest { uint largestPixels; };
+layout(std430, binding = kSliceTileCountsBinding) writeonly buffer Counts { uint tileCounts[]; };
+layout(std430, binding = kSliceTileTotalsBinding) buffer Totals {
+    uint pairs, keptSlabs, tooWide;
+    uint nearestKey, farthestKey; // cleared to 0 and ~0
+};
+layout(std430, binding = kSliceTileRectsBinding) writeonly buffer Rects { uint tileRects[]; }; // x0 | y0 << 8 | x1 << 16 | y1 << 24
 
 uniform uint uSlices;
 uniform vec3 uEye;
@@ -41,10 +55,31 @@ uniform int uLodLevels;    // the coarsest level (groups of 2^uLodLevels slices)
 uniform float uLodPixels;  // the longest a group's slab may be on screen, pixels
 uniform float uFocalPixels; // pixels a unit of length at unit depth spans
 uniform vec3 uForward;     // the view direction, unit
+uniform int uTiles;        // 1: count each kept slab's tiles
+uniform mat4 uViewProjection;
+uniform vec2 uPixels;      // the picture's size
+uniform uint uMaxTilesPerSlab;
 
 const uint kDropped = 0xffffffffu;
 
-shared uint groupLargest;
+shared uint groupLargest, groupKept, groupNearest, groupFarthest;
+
+// Per-thread sums of the tiles' counts, added to the group's and then the totals.
+uint kept = 0u, nearest = 0u, farthest = 0xffffffffu;
+bool anyWide = false;
+
+// Counts slice i's tiles where its slab stands for `span` slices (uTiles).
+void countTiles(uint i, uint span, uint key) {
+    ivec4 tiles = slabTiles(slabOf(slices, i, span, uRadius), uViewProjection, uPixels);
+    uint count = tiles.x <= tiles.z && tiles.y <= tiles.w ? uint(tiles.z - tiles.x + 1) * uint(tiles.w - tiles.y + 1) : 0u;
+    bool wide = count > uMaxTilesPerSlab;
+    tileCounts[i] = wide ? 0u : count;
+    if (count > 0u && !wide) tileRects[i] = uint(tiles.x) | uint(tiles.y) << 8 | uint(tiles.z) << 16 | uint(tiles.w) << 24;
+    kept++;
+    anyWide = anyWide || wide;
+    nearest = max(nearest, key);
+    farthest = min(farthest, key);
+}
 
 // A bound on the pixels a sphere covers across on screen: one of radius R at
 // depth z, a lateral distance l off the view axis, projects to at most
@@ -81,7 +116,10 @@ uint runFrom(uint i, float place, uint size) {
 }
 
 void main() {
-    if (gl_LocalInvocationIndex == 0u) groupLargest = 0u;
+    if (gl_LocalInvocationIndex == 0u) {
+        groupLargest = groupKept = groupNearest = 0u;
+        groupFarthest = 0xffffffffu;
+    }
     barrier();
     uint largest = 0u;
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
@@ -102,6 +140,7 @@ void main() {
         }
         if (!drawn) {
             values[i] = kDropped;
+            if (uTiles != 0) tileCounts[i] = 0u;
             continue;
         }
         vec3 centre = a.xyz;
@@ -116,16 +155,32 @@ void main() {
         float reach = sqrt(2.0 * uRadius * uRadius + 0.25 * thickness * thickness) * 1.001 + 1e-3;
         if (uCull != 0 && outside(centre, reach)) {
             values[i] = kDropped;
+            if (uTiles != 0) tileCounts[i] = 0u;
             continue;
         }
         largest = max(largest, coveredPixels(centre, reach));
         precise vec3 d = centre - uEye;
         precise float distance2 = d.x * d.x + d.y * d.y + d.z * d.z;
-        keys[i] = ~floatBitsToUint(distance2);
+        uint key = ~floatBitsToUint(distance2);
+        keys[i] = key;
         values[i] = i;
         spans[i] = span;
+        if (uTiles != 0) countTiles(i, span, key);
     }
     atomicMax(groupLargest, largest);
+    if (uTiles != 0) {
+        atomicAdd(groupKept, kept);
+        atomicMax(groupNearest, nearest);
+        atomicMin(groupFarthest, farthest);
+    }
     barrier();
-    if (gl_LocalInvocationIndex == 0u) atomicMax(largestPixels, groupLargest);
+    if (gl_LocalInvocationIndex == 0u) {
+        atomicMax(largestPixels, groupLargest);
+        if (uTiles != 0) {
+            atomicAdd(keptSlabs, groupKept);
+            atomicMax(nearestKey, groupNearest);
+            atomicMin(farthestKey, groupFarthest);
+        }
+    }
+    if (uTiles != 0 && anyWide) atomicOr(tooWide, 1u);
 }

@@ -158,6 +158,8 @@ void SliceRenderer::prepare(const Camera& camera) {
     const glm::dmat4 inverseView = glm::inverse(camera.view);
     const glm::vec3 forward(-glm::normalize(glm::dvec3(inverseView[2])));
     glUniform3fv(keys_.uniform("uForward"), 1, glm::value_ptr(forward));
+    if (tiles_) tiles_->setUpKeysPass(keys_, camera, GLuint(n));
+    else glUniform1i(keys_.uniform("uTiles"), 0);
     glBindTextureUnit(kSliceTableUnit, sliceTexture_.id());
     sort_->keys().bindStorage(kSortKeysInBinding);
     sort_->values().bindStorage(kSortValuesInBinding);
@@ -168,8 +170,7 @@ void SliceRenderer::prepare(const Camera& camera) {
     glDispatchCompute(GLuint(std::min<std::uint64_t>((n + kKeyGroup - 1) / kKeyGroup, maxGroups_)), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     if (tiles_) {
-        glBindTextureUnit(kSliceSpansUnit, spanTexture_.id());
-        if ((drewTiles_ = tiles_->prepare(camera, *sort_, GLuint(n), slices_.radius))) {
+        if ((drewTiles_ = tiles_->prepare(camera, *sort_, GLuint(n)))) {
             drawn_ = tiles_->kept();
             const GLuint none = 0; // neither raster draw
             glClearNamedBufferData(drawCommand_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);

@@ -30,40 +30,61 @@ SliceTiles::SliceTiles(std::uint64_t slices, GLuint maxGroups, std::uint64_t max
       blend_(GlProgram::graphics("inspect_fullscreen.vert", "inspect_slices_composite.frag")), scan_(slices_, maxGroups),
       sort_(slices_, maxGroups), emptyArray_(createVertexArray()) {
     counts_.reserve(slices_ * 4, nullptr);
+    rects_.reserve(slices_ * 4, nullptr);
     totals_.reserve(8 * 4, nullptr);
     entries_.reserve(slices_ * 4, nullptr);
 }
 
-bool SliceTiles::prepare(const Camera& camera, const RadixSort& keysPass, std::uint32_t slices, float radius) {
+namespace {
+
+/// The picture's tiles, and whether it may be composited by tiles at all.
+struct TileGrid {
+    int across = 0, down = 0;
+    std::uint64_t count = 0;
+    std::uint32_t bits = 0; ///< of a pair's key, for the tile
+    bool usable = false;
+};
+
+TileGrid tileGridOf(const Camera& camera) {
+    TileGrid g;
+    g.across = tilesAcross(camera.width);
+    g.down = tilesAcross(camera.height);
+    g.count = std::uint64_t(g.across) * std::uint64_t(g.down);
+    g.bits = std::uint32_t(std::max(1, int(std::bit_width(std::max<std::uint64_t>(g.count, 1) - 1))));
+    // A slab's tiles are kept a byte a coordinate (inspect_slices_keys.comp).
+    g.usable = g.count > 0 && g.across <= 256 && g.down <= 256 && 32 - g.bits >= kMinDepthBits;
+    return g;
+}
+
+} // namespace
+
+bool SliceTiles::setUpKeysPass(const GlProgram& keys, const Camera& camera, std::uint32_t slices) {
     YV_CHECK(slices <= slices_);
-    kept_ = pairs_ = 0;
-    const int tilesX = tilesAcross(camera.width), tilesY = tilesAcross(camera.height);
-    const std::uint64_t tiles = std::uint64_t(tilesX) * std::uint64_t(tilesY);
-    const std::uint32_t tileBits = std::max(1, int(std::bit_width(tiles - 1)));
-    if (tiles == 0 || 32 - tileBits < kMinDepthBits) return false;
+    counting_ = tileGridOf(camera).usable;
+    glUniform1i(keys.uniform("uTiles"), counting_ ? 1 : 0);
+    if (!counting_) return false;
     // The pairs stay within the scan's 32 bits whatever the slices.
     const std::uint32_t maxTiles = std::uint32_t(std::min<std::uint64_t>(
-        tiles, std::numeric_limits<std::uint32_t>::max() / std::max<std::uint64_t>(slices, 1)));
-
-    const GLuint groups = GLuint(std::clamp<std::uint64_t>((slices + kGroup - 1) / kGroup, 1, maxGroups_));
+        tileGridOf(camera).count, std::numeric_limits<std::uint32_t>::max() / std::max<std::uint64_t>(slices, 1)));
     const GLuint cleared[5] = {0, 0, 0, 0, 0xffffffffu}; // pairs, kept, too wide, nearest, farthest
     glNamedBufferSubData(totals_.id(), 0, sizeof cleared, cleared);
-    tiles_.use();
-    glUniform1ui(tiles_.uniform("uSlices"), slices);
     const glm::mat4 vp(camera.viewProjection());
-    glUniformMatrix4fv(tiles_.uniform("uViewProjection"), 1, GL_FALSE, glm::value_ptr(vp));
-    glUniform2f(tiles_.uniform("uPixels"), float(camera.width), float(camera.height));
-    glUniform1i(tiles_.uniform("uTilesX"), tilesX);
-    glUniform1f(tiles_.uniform("uRadius"), radius);
-    glUniform1ui(tiles_.uniform("uMaxTilesPerSlab"), maxTiles);
-    glUniform1ui(tiles_.uniform("uDepthBits"), 32 - tileBits);
-    keysPass.keys().bindStorage(kSortKeysInBinding);
-    keysPass.values().bindStorage(kSortValuesInBinding);
+    glUniformMatrix4fv(keys.uniform("uViewProjection"), 1, GL_FALSE, glm::value_ptr(vp));
+    glUniform2f(keys.uniform("uPixels"), float(camera.width), float(camera.height));
+    glUniform1ui(keys.uniform("uMaxTilesPerSlab"), maxTiles);
     counts_.bindStorage(kSliceTileCountsBinding);
     totals_.bindStorage(kSliceTileTotalsBinding);
-    glUniform1i(tiles_.uniform("uPhase"), 0);
-    glDispatchCompute(groups, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    rects_.bindStorage(kSliceTileRectsBinding);
+    return true;
+}
+
+bool SliceTiles::prepare(const Camera& camera, const RadixSort& keysPass, std::uint32_t slices) {
+    YV_CHECK(slices <= slices_);
+    kept_ = pairs_ = 0;
+    if (!counting_) return false;
+    counting_ = false;
+    const TileGrid grid = tileGridOf(camera);
+    const GLuint groups = GLuint(std::clamp<std::uint64_t>((slices + kGroup - 1) / kGroup, 1, maxGroups_));
     scan_.run(counts_, slices, &totals_);
 
     GLuint totals[3];
@@ -79,19 +100,23 @@ bool SliceTiles::prepare(const Camera& camera, const RadixSort& keysPass, std::u
     sort_.reserve(pairs_);
     entries_.reserve(pairs_ * 4, nullptr);
     tiles_.use();
+    glUniform1ui(tiles_.uniform("uSlices"), slices);
+    glUniform1i(tiles_.uniform("uTilesX"), grid.across);
+    glUniform1ui(tiles_.uniform("uDepthBits"), 32 - grid.bits);
     counts_.bindStorage(kSliceTileCountsBinding);
     totals_.bindStorage(kSliceTileTotalsBinding);
     keysPass.keys().bindStorage(kSortKeysInBinding);
     keysPass.values().bindStorage(kSortValuesInBinding);
     sort_.keys().bindStorage(kSliceTileKeysBinding);
     sort_.values().bindStorage(kSliceTileValuesBinding);
+    rects_.bindStorage(kSliceTileRectsBinding);
     glUniform1i(tiles_.uniform("uPhase"), 1);
     glDispatchCompute(groups, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     sort_.sort(GLuint(pairs_), entries_, /*withKeys=*/true);
 
-    ranges_.reserve(tiles * 2 * 4, nullptr);
-    ranges_.clear(tiles * 2 * 4);
+    ranges_.reserve(grid.count * 2 * 4, nullptr);
+    ranges_.clear(grid.count * 2 * 4);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     tiles_.use();
     glUniform1i(tiles_.uniform("uPhase"), 2);

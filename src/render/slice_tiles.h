@@ -3,17 +3,19 @@
 // of 41 M slices at 1280x720), setting up a primitive for each, point or
 // box, is what a frame waits for on a GPU whose raster is slow next to its
 // compute. As a tiled splatting renderer does:
-//   1. each slab the keys pass kept (inspect_slices_keys.comp) counts the
-//      16 x 16 tiles its screen box touches, and the counts are scanned;
-//   2. each writes a (tile, depth) pair for each tile, sorted by the radix
-//      sort: each tile's slabs nearest first;
+//   1. the keys pass (inspect_slices_keys.comp) has each slab it keeps count
+//      the 16 x 16 tiles holding pixels its screen box holds, and the counts
+//      are scanned;
+//   2. each writes a (tile, depth) pair for each (inspect_slices_tiles.comp),
+//      sorted by the radix sort: each tile's slabs nearest first;
 //   3. one work group a tile, one thread a pixel, casts the pixel's ray
 //      through the tile's slabs in that order and blends front to back,
 //      stopping once the tile's pixels are opaque
 //      (inspect_slices_composite.comp), then one full-screen draw blends the
 //      picture over the frame.
 // The host waits once a frame, for three words (the pairs, the slabs kept,
-// whether one spans too many tiles), to size the sort. A slab reaching the
+// whether one spans too many tiles), to size the sort. A picture of more
+// than 256 tiles (4096 pixels) across is drawn otherwise. A slab reaching the
 // eye's plane touches every tile. A frame whose pairs would pass 32 bits
 // (a slab over 2^32 / slices tiles) or the limit of pairs a slice is not
 // drawn here: prepare() says so and the renderer draws points or boxes.
@@ -43,13 +45,16 @@ class SliceTiles {
     /// may have; `maxPairs`: the most pairs a frame composited here may make.
     SliceTiles(std::uint64_t slices, GLuint maxGroups, std::uint64_t maxPairs);
 
+    /// Before the keys pass: has `keys` (inspect_slices_keys.comp, in use)
+    /// count each slab's tiles for this frame, or not (uTiles) where the
+    /// picture cannot be composited by tiles (false).
+    bool setUpKeysPass(const GlProgram& keys, const Camera& camera, std::uint32_t slices);
     /// After the keys pass, with its pairs in `keysPass`'s keys() and
-    /// values() (kept slices and their distances) and the slice table and
-    /// spans bound to their texture units: counts the frame's pairs and,
-    /// where they may be composited by tiles, sorts them. Waits for the
-    /// counts. False: a slab spans too many tiles or the pairs exceed the
-    /// limit, and nothing more was queued.
-    bool prepare(const Camera& camera, const RadixSort& keysPass, std::uint32_t slices, float radius);
+    /// values() (kept slices and their distances) and the tiles it counted:
+    /// where the frame may be composited by tiles, sorts its pairs. Waits for
+    /// the counts. False: the keys pass counted no tiles, a slab spans too
+    /// many or the pairs exceed the limit, and nothing more was queued.
+    bool prepare(const Camera& camera, const RadixSort& keysPass, std::uint32_t slices);
     /// The slabs the last prepare() kept (drawn or not).
     std::uint64_t kept() const { return kept_; }
     /// The pairs the last prepare() made (one a slab and tile).
@@ -70,11 +75,12 @@ class SliceTiles {
     GlProgram tiles_, composite_, blend_;
     GpuScan scan_;
     RadixSort sort_;
-    GlBuffer counts_, totals_, entries_, ranges_;
+    GlBuffer counts_, rects_, totals_, entries_, ranges_;
     GlTexture picture_;
     GlVertexArray emptyArray_;
     ReadbackBuffer readback_;
     int pictureWidth_ = 0, pictureHeight_ = 0;
+    bool counting_ = false; ///< the keys pass set up last counts tiles
     std::uint64_t kept_ = 0, pairs_ = 0;
 };
 
