@@ -15,27 +15,11 @@
 namespace yv {
 namespace {
 
-constexpr int kTilePixels = 16;          // inspect_slices_tiles.comp's kTileShift, the composite's group size
+constexpr int kTilePixels = 16;          // common.glsl's slabTiles (>> 4), the composite's group size
 constexpr std::uint64_t kGroup = 256;    // inspect_slices_tiles.comp's local_size_x
 constexpr std::uint32_t kMinDepthBits = 12; // fewer depth steps than this: too many tiles for one key
 
 int tilesAcross(int pixels) { return (pixels + kTilePixels - 1) / kTilePixels; }
-
-} // namespace
-
-SliceTiles::SliceTiles(std::uint64_t slices, GLuint maxGroups, std::uint64_t maxPairs)
-    : maxGroups_(maxGroups), slices_(std::max<std::uint64_t>(slices, 1)), maxPairs_(maxPairs),
-      tiles_(GlProgram::compute("inspect_slices_tiles.comp")),
-      composite_(GlProgram::compute("inspect_slices_composite.comp")),
-      blend_(GlProgram::graphics("inspect_fullscreen.vert", "inspect_slices_composite.frag")), scan_(slices_, maxGroups),
-      sort_(slices_, maxGroups), emptyArray_(createVertexArray()) {
-    counts_.reserve(slices_ * 4, nullptr);
-    rects_.reserve(slices_ * 4, nullptr);
-    totals_.reserve(8 * 4, nullptr);
-    entries_.reserve(slices_ * 4, nullptr);
-}
-
-namespace {
 
 /// The picture's tiles, and whether it may be composited by tiles at all.
 struct TileGrid {
@@ -57,6 +41,18 @@ TileGrid tileGridOf(const Camera& camera) {
 }
 
 } // namespace
+
+SliceTiles::SliceTiles(std::uint64_t slices, GLuint maxGroups, std::uint64_t maxPairs)
+    : maxGroups_(maxGroups), slices_(std::max<std::uint64_t>(slices, 1)), maxPairs_(maxPairs),
+      tiles_(GlProgram::compute("inspect_slices_tiles.comp")),
+      composite_(GlProgram::compute("inspect_slices_composite.comp")),
+      blend_(GlProgram::graphics("inspect_fullscreen.vert", "inspect_slices_composite.frag")), scan_(slices_, maxGroups),
+      sort_(slices_, maxGroups), emptyArray_(createVertexArray()) {
+    counts_.reserve(slices_ * 4, nullptr);
+    rects_.reserve(slices_ * 4, nullptr);
+    totals_.reserve(8 * 4, nullptr);
+    entries_.reserve(slices_ * 4, nullptr);
+}
 
 bool SliceTiles::setUpKeysPass(const GlProgram& keys, const Camera& camera, std::uint32_t slices) {
     YV_CHECK(slices <= slices_);
