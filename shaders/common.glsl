@@ -383,7 +383,7 @@ float layerShare(float v, float cellDensity[kCells], float cellZ0[kCells], float
 }
 
 // --- The slices render's slabs (inspect_slices.vert and .frag,
-// inspect_slices_tiles.comp, inspect_slices_composite.comp): a slice of the
+// inspect_slices_keys.comp, inspect_slices_composite.comp): a slice of the
 // table (per slice: (centre, thickness), (tangent, place in its run)) drawn
 // as the slab of yarn it stands for, a box of 2 radius x 2 radius x
 // thickness about its centre in the frame (right, up, tangent). At a coarser
