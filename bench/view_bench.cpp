@@ -1,7 +1,7 @@
 // yv_view_bench: drives a running `yarnvox view` through its WebSocket
-// protocol along a scripted camera path (an orbit, a close-up pan, a zoom
-// out, then stops that each voxelize what the camera sees, for a garment's
-// view) and prints one JSON line a phase: input-to-picture latency (a camera
+// protocol along a scripted camera path (a first frame on a line of its
+// own, an orbit, a close-up pan, a zoom out, then stops that each voxelize
+// what the camera sees, for a garment's view) and prints one JSON line a phase: input-to-picture latency (a camera
 // message sent to its frame received, one at a time), the server's render
 // and encode times, frame intervals, and bytes a frame, and (given the
 // view's process id, on the same machine) the CPU time the view's process
@@ -224,6 +224,26 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
     std::fflush(stdout);
 }
 
+/// The view's first frame, on a line of its own: it makes the renderers and
+/// loads what they draw (a garment's slices, a volume's bricks), which the
+/// phases after it, the orbit first, should not count in their CPU and latency.
+void runFirstFrame(Session& s, const Camera& camera, const Options& o) {
+    const double cpuBefore = processCpuSeconds(o.serverPid);
+    const Json f = s.frameOf(camera, o.moving);
+    const double cpuAfter = processCpuSeconds(o.serverPid);
+    const Json line = {{"phase", "first-frame"},
+                       {"mode", o.mode},
+                       {"input", s.hello()["name"]},
+                       {"renderer", s.hello()["renderer"]},
+                       {"width", o.width},
+                       {"height", o.height},
+                       {"latencyMs", f["latencyMs"]},
+                       {"renderMs", f["renderMs"]},
+                       {"serverCpuSeconds", cpuBefore >= 0.0 && cpuAfter >= cpuBefore ? Json(cpuAfter - cpuBefore) : Json()}};
+    std::printf("%s\n", line.dump().c_str());
+    std::fflush(stdout);
+}
+
 /// Stops at `stops` close-up cameras around the garment, each voxelized in view:
 /// from the request (the page sends it when the camera stops) to its picture.
 void runStopPhase(Session& s, int stops, const Options& o) {
@@ -298,8 +318,10 @@ int main(int argc, char** argv) {
     if (o.frames < 2 || o.port <= 0) return usage("--frames at least 2, --port above 0");
     try {
         Session s(o);
-        // A full turn around the garment at the default distance.
-        runPhase(s, "orbit", o.frames, [](double t) { return Camera{30.0 + 360.0 * t, 20.0, 4.0, 0.0, 0.0}; }, o);
+        // A full turn around the garment at the default distance, after the first frame.
+        const auto orbit = [](double t) { return Camera{30.0 + 360.0 * t, 20.0, 4.0, 0.0, 0.0}; };
+        runFirstFrame(s, orbit(0.0), o);
+        runPhase(s, "orbit", o.frames, orbit, o);
         // Close up, panning across the surface (the worst case for the slices: every slice still drawn).
         runPhase(s, "close-up", o.frames, [](double t) { return Camera{60.0, 10.0, 0.6, -0.5 + t, 0.2 * std::sin(6.0 * t)}; }, o);
         // Zooming back out from the close-up.
