@@ -2,8 +2,9 @@
 // where a frame would be late, full quality as soon as it stops, and a
 // switch that never degrades"), in-process on a garment's view: a moving
 // frame late for the slices' time draws the next at a coarser level of
-// detail (fewer slabs), the camera stopped draws at the level asked for
-// again, and a page that turned degrading off gets full quality throughout.
+// detail (fewer slabs) and every moving frame is a JPEG of less quality,
+// the camera stopped draws at the level and quality asked for again, and a
+// page that turned degrading off gets full quality throughout.
 #include "served_view.h"
 
 #include <catch2/catch.hpp>
@@ -20,6 +21,7 @@ struct Seen {
     double lod = -1.0;
     std::uint64_t slices = 0;
     bool degraded = false;
+    int quality = 0; ///< the frame's JPEG quality
 };
 
 Seen frameAt(Page& page, double azimuth, bool moving, std::uint64_t& seq) {
@@ -27,7 +29,8 @@ Seen frameAt(Page& page, double azimuth, bool moving, std::uint64_t& seq) {
     const Json stats = page.frameOf(seq).first;
     REQUIRE(stats["sliceLod"].is_number());
     CHECK(stats["moving"] == moving);
-    return {stats["sliceLod"].get<double>(), stats["slices"].get<std::uint64_t>(), stats["degraded"].get<bool>()};
+    return {stats["sliceLod"].get<double>(), stats["slices"].get<std::uint64_t>(), stats["degraded"].get<bool>(),
+            stats["quality"].get<int>()};
 }
 
 } // namespace
@@ -49,11 +52,13 @@ TEST_CASE("View: frames late while the camera moves draw fewer slices, a stopped
     const Seen still = frameAt(page, 30, false, seq);
     CHECK(still.lod == 1.0);
     CHECK_FALSE(still.degraded);
+    CHECK(still.quality == 85); // --quality's default
     REQUIRE(still.slices > 0);
 
     // Moving: each late frame doubles the next one's level of detail, up to 64 pixels.
     Seen moving = frameAt(page, 31, true, seq);
     CHECK(moving.lod == 1.0); // the first moving frame is drawn as asked; it was late, so...
+    CHECK(moving.quality == 70); // fewer bytes while moving (--moving-quality's default)
     double lod = moving.lod;
     for (int i = 0; i < 8; ++i) {
         moving = frameAt(page, 32 + i, true, seq);
@@ -68,6 +73,7 @@ TEST_CASE("View: frames late while the camera moves draw fewer slices, a stopped
     CHECK(coarse.slices < stoppedThere.slices);
     CHECK(stoppedThere.lod == 1.0);
     CHECK_FALSE(stoppedThere.degraded);
+    CHECK(stoppedThere.quality == 85);
 
     // The switch: moving frames at full quality while degrading is off.
     page.send(R"({"type":"quality","degrade":false})");
@@ -75,6 +81,7 @@ TEST_CASE("View: frames late while the camera moves draw fewer slices, a stopped
         const Seen full = frameAt(page, 46 + i, true, seq);
         CHECK(full.lod == 1.0);
         CHECK_FALSE(full.degraded);
+        CHECK(full.quality == 85);
     }
     // On again: the coarse level reached before is where moving frames go on.
     page.send(R"({"type":"quality","degrade":true})");

@@ -114,6 +114,11 @@ void addViewCommand(CLI::App& app) {
     cmd->add_option("--quality", a->request.jpegQuality, "JPEG quality of the frames, 1 to 100")
         ->capture_default_str()
         ->check(wholeNumber(1, 100));
+    cmd->add_option("--moving-quality", a->request.movingJpegQuality,
+                    "JPEG quality of the frames drawn while the camera moves, 1 to 100 (at most --quality; the "
+                    "frame after it stops, and every frame with the page's g key, at --quality)")
+        ->capture_default_str()
+        ->check(wholeNumber(1, 100));
     cmd->add_option("--slice-lod", a->request.quality.lodPixels,
                     "The slices' level of detail, in pixels: where a yarn's slices lie closer on screen, one slab is "
                     "drawn for 2, 4, ... 64 consecutive slices, none longer than this (0: every slice)")

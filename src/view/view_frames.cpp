@@ -5,13 +5,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 
 namespace yv {
 
-ViewFrames::ViewFrames(ViewScene& scene, int jpegQuality, int maxSideVoxels, std::function<void(const std::string&)> log)
-    : scene_(scene), quality_(jpegQuality), maxSideVoxels_(maxSideVoxels), log_(std::move(log)) {}
+ViewFrames::ViewFrames(ViewScene& scene, int jpegQuality, int movingQuality, int maxSideVoxels,
+                       std::function<void(const std::string&)> log)
+    : scene_(scene), quality_(jpegQuality), movingQuality_(std::min(movingQuality, jpegQuality)),
+      maxSideVoxels_(maxSideVoxels), log_(std::move(log)) {}
 
 Outgoing ViewFrames::screenshot(const ViewState& state) {
     Outgoing out = drawAt(state, 95, "screenshot");
@@ -52,6 +55,7 @@ Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* typ
                                   {"transfer", state.transfer},
                                   {"opacity", state.opacity},
                                   {"twist", state.twist},
+                                  {"quality", quality},
                                   {"width", state.width},
                                   {"height", state.height},
                                   {"renderMs", 1e3 * frame.renderSeconds},

@@ -31,8 +31,13 @@ class ViewFrames : public FrameSource {
   public:
     /// `log`: a line for each frame that could not be drawn.
     /// `maxSideVoxels`: the largest view voxelization, voxels along its longest side.
-    ViewFrames(ViewScene& scene, int jpegQuality, int maxSideVoxels, std::function<void(const std::string&)> log);
-    Outgoing draw(const ViewState& state) override { return drawAt(state, quality_, "stats"); }
+    /// `movingQuality`: the JPEG quality of a frame whose camera moves and may degrade.
+    ViewFrames(ViewScene& scene, int jpegQuality, int movingQuality, int maxSideVoxels,
+               std::function<void(const std::string&)> log);
+    /// The frame's stats, its quality in them: fewer bytes while the camera moves (ViewState::degrade).
+    Outgoing draw(const ViewState& state) override {
+        return drawAt(state, state.moving && state.degrade ? movingQuality_ : quality_, "stats");
+    }
     Outgoing voxelizeInView(const ViewState& state) override {
         return Outgoing{scene_.voxelizeInView(state, maxSideVoxels_), nullptr};
     }
@@ -45,7 +50,7 @@ class ViewFrames : public FrameSource {
 
     ViewScene& scene_;
     JpegEncoder encoder_;
-    int quality_, maxSideVoxels_;
+    int quality_, movingQuality_, maxSideVoxels_;
     std::function<void(const std::string&)> log_;
     std::uint64_t frames_ = 0;
 };

@@ -24,6 +24,10 @@ struct ViewRequest {
     std::uint64_t gpuBudgetBytes = 512ull << 20;
     ViewQuality quality;       ///< --slice-lod, --moving-ms
     int jpegQuality = 85;      ///< --quality
+    /// --moving-quality: the JPEG quality of frames drawn while the camera
+    /// moves and the page lets them degrade (at most jpegQuality): the
+    /// frame after the camera stops comes at jpegQuality.
+    int movingJpegQuality = 70;
     std::string saveDir = "."; ///< --save-dir: where the view's voxelizations are saved
     int maxSideVoxels = 1024;  ///< --view-voxels: a view voxelization's longest side, in voxels
 };
