@@ -19,7 +19,8 @@ std::uint64_t tilesFor(std::uint64_t pairs) { return (pairs + RadixSort::kTile -
 
 RadixSort::RadixSort(std::uint64_t capacity, GLuint maxGroups)
     : maxGroups_(maxGroups), histogram_(GlProgram::compute("radix_histogram.comp", tileDefines())),
-      scatter_(GlProgram::compute("radix_scatter.comp", tileDefines())), scan_(256 * tilesFor(std::max<std::uint64_t>(capacity, 1)), maxGroups) {
+      scatter_(GlProgram::compute("radix_scatter.comp", tileDefines())),
+      scan_(256 * tilesFor(std::max<std::uint64_t>(capacity, 1)), maxGroups) {
     reserve(capacity);
     kept_.reserve(16, nullptr);
     kept_.clear(16);
