@@ -1,9 +1,9 @@
-// The GPU radix sort (src/gpu/radix_sort.h), step 2 of a pass: the
-// exclusive prefix sum of the histogram, in place, as brick_scan.comp sums
-// its flags. Three phases (uPhase):
+// The exclusive prefix sum of an array of counts, in place (src/gpu/gpu_scan.h:
+// the radix sort's histograms, step 2 of each pass, and the slices' tile
+// counts), as brick_scan.comp sums its flags. Three phases (uPhase):
 //   0: each work group sums its 1024 counts into blockSums
-//   1: one work group scans blockSums; the first pass writes the total,
-//      the pairs it keeps, to `kept`
+//   1: one work group scans blockSums; where asked (uWriteTotal), writes
+//      the total to `kept` (the radix sort's first pass: the pairs it keeps)
 //   2: each work group rescans its counts and adds its block's offset.
 layout(local_size_x = 256) in;
 

@@ -192,10 +192,7 @@ TEST_CASE("slices on the GPU: the back-to-front order is sortBackToFront's, ties
     REQUIRE(n > 5000);
     const Camera camera = frameBox(t.box, ViewAngles{35.0, 25.0, 3.0}, 96, 72);
 
-    SliceSettings settings;
-    settings.lodPixels = 0.0; // every slice
-    settings.primitive = SlicePrimitive::Boxes; // as the host's order draws them
-    SliceRenderer gpu(t.slices, settings);
+    SliceRenderer gpu(t.slices, everySlice(SlicePrimitive::Boxes)); // boxes, as the host's order draws them
     gpu.prepare(camera);
     std::vector<std::uint32_t> expected;
     sortBackToFront(t.slices, camera.eye, expected);

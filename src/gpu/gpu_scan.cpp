@@ -19,10 +19,7 @@ GpuScan::GpuScan(std::uint64_t capacity, GLuint maxGroups)
 }
 
 void GpuScan::reserve(std::uint64_t capacity) {
-    capacity = std::max<std::uint64_t>(capacity, 1);
-    if (capacity <= capacity_) return;
-    blockSums_.reserve(blocksFor(capacity) * 4, nullptr);
-    capacity_ = capacity;
+    blockSums_.reserve(blocksFor(std::max<std::uint64_t>(capacity, 1)) * 4, nullptr); // grows, never shrinks
 }
 
 void GpuScan::run(const GlBuffer& counts, std::uint32_t count, const GlBuffer* total) {

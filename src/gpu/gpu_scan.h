@@ -27,7 +27,6 @@ class GpuScan {
 
   private:
     GLuint maxGroups_;
-    std::uint64_t capacity_ = 0;
     GlProgram program_;
     GlBuffer blockSums_;
 };

@@ -50,9 +50,9 @@ constexpr double kDefaultSliceLodPixels = 1.0;
 /// in compute by tiles of the picture, each pixel's ray through the slabs
 /// over its tile nearest first (render/slice_tiles.h; the same picture, less
 /// the blend's rounding), where no slab spans more than its limit of tiles,
-/// else boxes. Auto: tiles, else points, else boxes; on Mesa's software
-/// rasteriser, whose compute is no faster than its raster, points, else
-/// boxes. Hopper's raster sets up few triangles a second next to its
+/// else boxes. Auto: tiles, else points, else boxes on a GPU
+/// (GlInfo::hardware()); on Mesa's software rasteriser, whose compute is no
+/// faster than its raster, points, else boxes. Hopper's raster sets up few triangles a second next to its
 /// compute; a point is one primitive, a tile none.
 enum class SlicePrimitive { Auto, Tiles, Points, Boxes };
 

@@ -59,7 +59,7 @@ RenderReport renderSlices(RenderContext& context, const VoxelBox& box, const Ren
     RenderReport report;
     report.renderer = context.gl().info().renderer;
     const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<Renderer> renderer = makeRenderer(request, RenderInput{.slices = request.slices});
+    const std::unique_ptr<Renderer> renderer = makeRenderer(request, RenderInput{.slices = request.slices, .onGpu = context.gl().info().hardware()});
     report.loadSeconds = secondsSince(start);
     const Camera camera = frameBox(box, request.view, request.width, request.height);
     drawFrames(*renderer, camera, request.repeat, report);
@@ -99,7 +99,9 @@ std::unique_ptr<Renderer> makeRenderer(const RenderRequest& request, const Rende
     }
     case RenderKind::Slices:
         if (!input.slices) throw Error("--render slices needs the run's garment (--garment FILE.bcc)");
-        return std::make_unique<SliceRenderer>(*input.slices, SliceSettings{.lodPixels = request.sliceLodPixels, .primitive = request.slicePrimitive});
+        return std::make_unique<SliceRenderer>(
+            *input.slices,
+            SliceSettings{.lodPixels = request.sliceLodPixels, .primitive = request.slicePrimitive, .onGpu = input.onGpu});
     case RenderKind::VolumetricTriangles:
         if (!input.plan || !input.grid)
             throw Error("--render volumetric-triangles draws a garment's slices (renderVolumetricTriangles), not a volume's voxels");

@@ -28,6 +28,7 @@ struct RenderInput {
     const SlicePlan* plan = nullptr;
     const VoxelGrid* grid = nullptr;
     double yarnDensity = 1.0; ///< volumetric-triangles: the cross-section's mean density inside the yarn's disk
+    bool onGpu = false;       ///< slices: the context is a GPU's (GlInfo::hardware(); SliceSettings::onGpu)
 };
 
 /// The renderer of `request.kind` with its settings from `request`, for

@@ -56,12 +56,13 @@ SliceTiles::SliceTiles(std::uint64_t slices, GLuint maxGroups, std::uint64_t max
 
 bool SliceTiles::setUpKeysPass(const GlProgram& keys, const Camera& camera, std::uint32_t slices) {
     YV_CHECK(slices <= slices_);
-    counting_ = tileGridOf(camera).usable;
+    const TileGrid grid = tileGridOf(camera);
+    counting_ = grid.usable;
     glUniform1i(keys.uniform("uTiles"), counting_ ? 1 : 0);
     if (!counting_) return false;
     // The pairs stay within the scan's 32 bits whatever the slices.
     const std::uint32_t maxTiles = std::uint32_t(std::min<std::uint64_t>(
-        tileGridOf(camera).count, std::numeric_limits<std::uint32_t>::max() / std::max<std::uint64_t>(slices, 1)));
+        grid.count, std::numeric_limits<std::uint32_t>::max() / std::max<std::uint64_t>(slices, 1)));
     const GLuint cleared[5] = {0, 0, 0, 0, 0xffffffffu}; // pairs, kept, too wide, nearest, farthest
     glNamedBufferSubData(totals_.id(), 0, sizeof cleared, cleared);
     const glm::mat4 vp(camera.viewProjection());
@@ -133,7 +134,7 @@ void SliceTiles::draw(const Camera& camera) {
         pictureWidth_ = width;
         pictureHeight_ = height;
     }
-    const int tilesX = tilesAcross(width), tilesY = tilesAcross(height);
+    const TileGrid grid = tileGridOf(camera);
     if (pairs_ == 0) {
         const float clear[4] = {0.0f, 0.0f, 0.0f, 0.0f};
         glClearTexImage(picture_.id(), 0, GL_RGBA, GL_FLOAT, clear);
@@ -142,11 +143,11 @@ void SliceTiles::draw(const Camera& camera) {
         const glm::mat4 inverseVp(glm::inverse(camera.viewProjection()));
         glUniformMatrix4fv(composite_.uniform("inverseViewProjection"), 1, GL_FALSE, glm::value_ptr(inverseVp));
         glUniform2f(composite_.uniform("viewportPixels"), float(width), float(height));
-        glUniform1i(composite_.uniform("tilesX"), tilesX);
+        glUniform1i(composite_.uniform("tilesX"), grid.across);
         entries_.bindStorage(kSliceTileEntriesBinding);
         ranges_.bindStorage(kSliceTileRangesBinding);
         glBindImageTexture(kSliceTilesImageUnit, picture_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        glDispatchCompute(GLuint(tilesX), GLuint(tilesY), 1);
+        glDispatchCompute(GLuint(grid.across), GLuint(grid.down), 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     }
     blend_.use();

@@ -127,6 +127,7 @@ Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, Vi
         request.slices = &*volume_.slices;
         request.sliceLodPixels = quality_.lodPixels;
         input.slices = &*volume_.slices;
+        input.onGpu = context_.gl().info().hardware();
     } else {
         const bool orientation = request.kind == RenderKind::Orientation;
         // The cache keeps two atlases, plain and with orientation: the renderers' stay alive.
