@@ -164,7 +164,10 @@ TEST_CASE("yarnvox voxelize --backend cpu writes the same bytes on one core as o
     const std::string bcc = (scratch.path / "g.bcc").string();
     REQUIRE(test::runYarnvox("gen --pattern plain --shape cylinder --crossings 80 --seed 3 --quiet -o " + bcc).exitCode == 0);
     std::vector<std::uint8_t> first;
-    for (const std::string cores : {"taskset -c 0 ", ""}) {
+    // The run on all cores is repeated (at most five times) until a second
+    // thread took part in it: on a loaded 2-core machine TBB may leave a
+    // small run to one thread, a run that says nothing about the threads.
+    for (const std::string cores : {"taskset -c 0 ", "", "", "", "", ""}) {
         const std::string vdb = (scratch.path / "g.vdb").string(), stats = (scratch.path / "s.json").string();
         const auto r = test::runShell(cores + std::string(YV_BINARY_DIR) + "/yarnvox voxelize " + bcc + " -o " + vdb +
                                       " --backend cpu --cross-section disk --resolution 160 --fragment-budget 20000 --quiet --stats " +
@@ -174,11 +177,13 @@ TEST_CASE("yarnvox voxelize --backend cpu writes the same bytes on one core as o
         std::ifstream in(stats);
         const nlohmann::json backend = nlohmann::json::parse(in)["backend_stats"];
         CHECK(backend["zoom_regions"].get<int>() >= 16);
-        if (cores.empty()) CHECK(backend["threads"].get<int>() >= 2);
-        else CHECK(backend["threads"].get<int>() == 1);
+        const int threads = backend["threads"].get<int>();
+        if (!cores.empty()) CHECK(threads == 1);
         const std::vector<std::uint8_t> bytes = test::vdbBytesWithoutUuid(vdb);
         const bool sameBytes = first.empty() || bytes == first; // not CHECKed directly: megabytes to print
         CHECK(sameBytes);
         if (first.empty()) first = bytes;
+        else if (threads >= 2) return;
     }
+    FAIL("five runs on all cores each sampled on one thread: the comparison was never made across threads");
 }

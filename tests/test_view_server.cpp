@@ -144,6 +144,22 @@ TEST_CASE("View: frames arrive as JPEG over the WebSocket, follow the camera, an
     CHECK(!view.failure);
 }
 
+TEST_CASE("View: the slices are drawn with the primitive asked for (auto: points on llvmpipe, tiles on a GPU)", "[view][gl]") {
+    YV_REQUIRE_GL();
+    for (const auto& [asked, drawn] : {std::pair{yv::SlicePrimitive::Auto, "points"}, std::pair{yv::SlicePrimitive::Boxes, "boxes"},
+                                       std::pair{yv::SlicePrimitive::Tiles, "tiles"}}) {
+        ServedView view(false, [asked](yv::ViewRequest& r) { r.quality.slicePrimitive = asked; });
+        Page page(view.port.get_future().get());
+        page.sendCamera(30, 1);
+        const Json stats = page.frameOf(1).first;
+        INFO(stats.dump());
+        const bool llvmpipe = page.hello["renderer"].get<std::string>().find("llvmpipe") != std::string::npos;
+        CHECK(stats["slicePrimitive"] == (asked == yv::SlicePrimitive::Auto && !llvmpipe ? "tiles" : drawn));
+        CHECK(stats["slices"].get<std::uint64_t>() > 0);
+        CHECK(view.failure == nullptr);
+    }
+}
+
 TEST_CASE("View: a .vdb is ray cast full width, and every mode it offers draws a frame", "[view][gl]") {
     YV_REQUIRE_GL();
     ServedView view(true);
@@ -221,6 +237,9 @@ TEST_CASE("yarnvox view refuses a port in use, a missing file and a bad option i
     const auto bind = yv::test::runYarnvox("view " + bcc.string() + " --bind localhost-ish --port 0");
     CHECK(bind.exitCode == 1);
     CHECK(bind.output.find("--bind 'localhost-ish': not an IP address") != std::string::npos);
+    const auto primitive = yv::test::runYarnvox("view " + bcc.string() + " --port 0 --slice-primitive quads");
+    CHECK(primitive.exitCode == 1);
+    CHECK(primitive.output == "yarnvox: error: --slice-primitive 'quads': expected auto, tiles, points or boxes\n");
 }
 
 TEST_CASE("yarnvox view says its address and the ssh -L line, and stops cleanly on SIGTERM", "[view][cli][gl]") {

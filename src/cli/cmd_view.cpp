@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/voxelize_settings.h"
+#include "inspect/render_request.h"
 #include "view/view_run.h"
 
 #include <CLI/CLI.hpp>
@@ -22,6 +23,7 @@ namespace {
 struct ViewArgs {
     ViewRequest request;
     std::string size = "960x540";
+    std::string slicePrimitive = "auto"; ///< --slice-primitive
 };
 
 /// "WxH", each within the frame limits the page's size messages have too.
@@ -65,6 +67,7 @@ void addVoxelizeOptions(CLI::App* cmd, VoxelizeJob& job) {
 
 void runViewCommand(ViewArgs& a) {
     parseFrameSize(a.size, a.request.initial);
+    a.request.quality.slicePrimitive = parseSlicePrimitive(a.slicePrimitive);
     ViewRequest& r = a.request;
     if (r.voxelize.resolution == 0 && r.voxelize.voxelSize == 0.0) r.voxelize.resolution = 256;
     r.voxelize.device = r.device;
@@ -124,6 +127,10 @@ void addViewCommand(CLI::App& app) {
                     "drawn for 2, 4, ... 64 consecutive slices, none longer than this (0: every slice)")
         ->capture_default_str()
         ->check(finiteRange(0.0, 1e6));
+    cmd->add_option("--slice-primitive", a->slicePrimitive,
+                    "How the slices' slabs are drawn: tiles (composited in compute), points, boxes, or auto (tiles "
+                    "on a GPU, points on llvmpipe; each falls back where a frame's slabs do not fit it); as inspect's")
+        ->capture_default_str();
     cmd->add_option_function<double>(
            "--moving-ms", [a](double ms) { a->request.quality.movingSeconds = ms / 1e3; },
            "While the camera moves, the milliseconds each half of a frame (the slices, the volume) may take: a "

@@ -69,6 +69,7 @@ Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* typ
                                   {"level", frame.level},
                                   {"slices", frame.slices},
                                   {"sliceLod", frame.sliceLod >= 0.0 ? nlohmann::json(frame.sliceLod) : nlohmann::json()},
+                                  {"slicePrimitive", frame.slicePrimitive.empty() ? nlohmann::json() : nlohmann::json(frame.slicePrimitive)},
                                   {"moving", state.moving},
                                   {"degrade", state.degrade},
                                   {"degraded", frame.degraded},

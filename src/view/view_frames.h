@@ -5,7 +5,7 @@
 //    "renderer", "activeVoxels",
 //    "voxelSize" (world units; null where the volume's place in the world is not known), "width", "height"}
 //   {"type":"stats", "frame", "seq", "mode", "blend", "width", "height", "renderMs", "drawMs", "encodeMs", "bytes",
-//    "activeVoxels", "level", "slices", "sliceLod" (null: no slices drawn), "moving", "degrade", "degraded",
+//    "activeVoxels", "level", "slices", "sliceLod" and "slicePrimitive" (null: no slices drawn), "moving", "degrade", "degraded",
 //    "gpuBytes", "gpuFreeBytes" (-1: unknown), "detail",
 //    "pixelSize" (a pixel's width at the point looked at), "pixelUnits" ("world" or "voxels")}   (a binary JPEG message follows)
 //   {"type":"notice", "text"}                         (a refusal, or what could not be drawn)

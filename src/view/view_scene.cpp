@@ -126,6 +126,7 @@ Renderer& ViewScene::rendererFor(VolumeLayer& layer, const std::string& mode, Vi
     if (request.kind == RenderKind::Slices) {
         request.slices = &*volume_.slices;
         request.sliceLodPixels = quality_.lodPixels;
+        request.slicePrimitive = quality_.slicePrimitive;
         input.slices = &*volume_.slices;
         input.onGpu = context_.gl().info().hardware();
     } else {
@@ -235,6 +236,7 @@ void ViewScene::takePicture(QueuedPicture& queued, RgbImage& out, ViewFrame& fra
     const double seconds = report.frameSeconds + report.sortSeconds;
     frame.drawSeconds += seconds;
     frame.slices += report.slices;
+    if (queued.slices) frame.slicePrimitive = report.slicePrimitive;
     if (queued.slices && queued.degrading) adaptMovingSliceLod(seconds);
     if (!queued.slices) {
         frame.coarserLevels = queued.coarser;

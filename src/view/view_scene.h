@@ -58,6 +58,8 @@ struct ViewQuality {
     /// --slice-lod: the level of detail, in pixels (SliceSettings::lodPixels),
     /// of every frame once the camera stops.
     double lodPixels = kDefaultSliceLodPixels;
+    /// --slice-primitive: how the slices' slabs are drawn (SliceSettings::primitive).
+    SlicePrimitive slicePrimitive = SlicePrimitive::Auto;
     /// --moving-ms: while the camera moves (and the page lets frames
     /// degrade), each half of a frame may take this long: slices that took
     /// longer double the level of detail of the next frame's (1, 2, 4, ...
@@ -74,6 +76,7 @@ struct ViewFrame {
     double drawSeconds = 0.0;   ///< the renderers' draw calls to glFinish (the slices' also their sort)
     int level = 0;              ///< the level of detail drawn
     std::uint64_t slices = 0, gpuBytes = 0;
+    std::string slicePrimitive; ///< how the slices were drawn (RenderReport::slicePrimitive); empty: no slices
     /// The slices' level of detail drawn, in pixels (-1: no slices drawn), and
     /// whether it was coarser than ViewQuality::lodPixels because the camera moved.
     double sliceLod = -1.0;
