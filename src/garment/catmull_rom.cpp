@@ -56,40 +56,6 @@ SegmentPoints segmentPoints(const Yarn& yarn, std::size_t segment, CurveType typ
     return {before, a, b, after};
 }
 
-glm::dvec3 evalCatmullRom(const SegmentPoints& p, double t) {
-    // Rows of the paper's basis matrix M (times 1/2) applied to [1 t t^2 t^3].
-    const double t2 = t * t, t3 = t2 * t;
-    const double w0 = -t + 2.0 * t2 - t3;
-    const double w1 = 2.0 - 5.0 * t2 + 3.0 * t3;
-    const double w2 = t + 4.0 * t2 - 3.0 * t3;
-    const double w3 = -t2 + t3;
-    return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
-}
-
-glm::dvec3 evalCatmullRomDerivative(const SegmentPoints& p, double t) {
-    const double t2 = t * t;
-    const double w0 = -1.0 + 4.0 * t - 3.0 * t2;
-    const double w1 = -10.0 * t + 9.0 * t2;
-    const double w2 = 1.0 + 8.0 * t - 9.0 * t2;
-    const double w3 = -2.0 * t + 3.0 * t2;
-    return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
-}
-
-double catmullRomArcLength(const SegmentPoints& p, double t0, double t1) {
-    const double mid = 0.5 * (t0 + t1), half = 0.5 * (t1 - t0), node = std::sqrt(0.6) * half;
-    return half * (5.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid - node)) +
-                   8.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid)) +
-                   5.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid + node)));
-}
-
-glm::dvec3 evalCatmullRomSecondDerivative(const SegmentPoints& p, double t) {
-    const double w0 = 4.0 - 6.0 * t;
-    const double w1 = -10.0 + 18.0 * t;
-    const double w2 = 8.0 - 18.0 * t;
-    const double w3 = -2.0 + 6.0 * t;
-    return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
-}
-
 glm::dvec3 evalCatmullRomThirdDerivative(const SegmentPoints& p) {
     return 3.0 * (-p[0] + 3.0 * p[1] - 3.0 * p[2] + p[3]);
 }

@@ -1,11 +1,15 @@
-// Uniform Catmull-Rom segments in the paper's matrix form (section 3.2).
+// Uniform Catmull-Rom segments in the paper's matrix form (section 3.2). The
+// evaluations are inline: slicing calls them for every slice (hundreds of
+// millions at 50 slices a segment), and a call each cost more than its sums.
 #pragma once
 
 #include "garment/garment.h"
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 
 namespace yv {
@@ -26,17 +30,43 @@ using SegmentPoints = std::array<glm::dvec3, 4>;
 SegmentPoints segmentPoints(const Yarn& yarn, std::size_t segment, CurveType type);
 
 /// Position at t in [0, 1]: 1/2 [1 t t^2 t^3] M [P[i-1] P[i] P[i+1] P[i+2]]^T.
-glm::dvec3 evalCatmullRom(const SegmentPoints& p, double t);
+inline glm::dvec3 evalCatmullRom(const SegmentPoints& p, double t) {
+    // Rows of the paper's basis matrix M (times 1/2) applied to [1 t t^2 t^3].
+    const double t2 = t * t, t3 = t2 * t;
+    const double w0 = -t + 2.0 * t2 - t3;
+    const double w1 = 2.0 - 5.0 * t2 + 3.0 * t3;
+    const double w2 = t + 4.0 * t2 - 3.0 * t3;
+    const double w3 = -t2 + t3;
+    return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
+}
 
 /// Derivative with respect to t.
-glm::dvec3 evalCatmullRomDerivative(const SegmentPoints& p, double t);
+inline glm::dvec3 evalCatmullRomDerivative(const SegmentPoints& p, double t) {
+    const double t2 = t * t;
+    const double w0 = -1.0 + 4.0 * t - 3.0 * t2;
+    const double w1 = -10.0 * t + 9.0 * t2;
+    const double w2 = 1.0 + 8.0 * t - 9.0 * t2;
+    const double w3 = -2.0 * t + 3.0 * t2;
+    return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
+}
 
 /// Arc length of the curve for t in [t0, t1]: three-point Gauss-Legendre
 /// quadrature of the speed (shaders/common.glsl: catmullRomArcLength).
-double catmullRomArcLength(const SegmentPoints& p, double t0, double t1);
+inline double catmullRomArcLength(const SegmentPoints& p, double t0, double t1) {
+    const double mid = 0.5 * (t0 + t1), half = 0.5 * (t1 - t0), node = std::sqrt(0.6) * half;
+    return half * (5.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid - node)) +
+                   8.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid)) +
+                   5.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid + node)));
+}
 
 /// Second derivative with respect to t.
-glm::dvec3 evalCatmullRomSecondDerivative(const SegmentPoints& p, double t);
+inline glm::dvec3 evalCatmullRomSecondDerivative(const SegmentPoints& p, double t) {
+    const double w0 = 4.0 - 6.0 * t;
+    const double w1 = -10.0 + 18.0 * t;
+    const double w2 = 8.0 - 18.0 * t;
+    const double w3 = -2.0 + 6.0 * t;
+    return 0.5 * (w0 * p[0] + w1 * p[1] + w2 * p[2] + w3 * p[3]);
+}
 
 /// Third derivative with respect to t (a cubic's is the same for every t).
 glm::dvec3 evalCatmullRomThirdDerivative(const SegmentPoints& p);

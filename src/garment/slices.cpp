@@ -1,6 +1,7 @@
 #include "garment/slices.h"
 
 #include "core/error.h"
+#include "garment/slice_measures.h"
 
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
@@ -99,13 +100,10 @@ glm::dvec3 rotateMinimal(const glm::dvec3& v, const glm::dvec3& from, const glm:
 
 namespace {
 
-/// One segment's slice count (from the spacing where one is asked for),
-/// length, bounds of its slice centres and how far from its centre a slice's
-/// samples reach: the square's half-diagonal in its plane, plus half the
-/// slab's depth along the projection axis, which a bend thickens on its
-/// outer side by up to kappa r sqrt(2). Each slice's geometry is found once,
-/// without its frame, which the bounds do not need. Returns the largest
-/// slice thickness; `flat`: a slice has no tangent (repeated control points).
+/// One segment's slice count (from the spacing where one is asked for) and
+/// what measureSlices finds of its slices: length, bounds of the slice
+/// centres and reach. Returns the largest slice thickness; `flat`: a slice
+/// has no tangent (repeated control points).
 double measureSegment(SegmentRecord& rec, const SliceOptions& options, double halfDiagonal, bool& flat) {
     std::uint32_t k = static_cast<std::uint32_t>(options.slicesPerSegment);
     if (options.spacing > 0.0) {
@@ -118,28 +116,13 @@ double measureSegment(SegmentRecord& rec, const SliceOptions& options, double ha
         k = static_cast<std::uint32_t>(std::clamp(std::ceil(fastest / options.spacing * (1.0 - 1e-12)), 1.0, 1.0e6));
     }
     rec.sliceCount = k;
-    glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
-    double len = 0.0, reach = halfDiagonal, spacing = 0.0;
-    for (std::uint32_t j = 0; j < k; ++j) {
-        const SliceOnCurve g = sliceOnCurve(rec, j);
-        len += g.thickness;
-        lo = glm::min(lo, g.center);
-        hi = glm::max(hi, g.center);
-        spacing = std::max(spacing, g.thickness);
-        if (!g.hasTangent) {
-            flat = true;
-            continue;
-        }
-        const glm::dvec3 t = glm::abs(g.tangent);
-        const double dominant = std::max({t.x, t.y, t.z});
-        const double depth = (1.0 + glm::length(g.curvature) * halfDiagonal) * g.thickness / dominant;
-        reach = std::max(reach, halfDiagonal + 0.5 * depth);
-    }
-    rec.length = len;
-    rec.centerMin = lo;
-    rec.centerMax = hi;
-    rec.reach = reach;
-    return spacing;
+    const SegmentMeasures m = measureSlices(rec, halfDiagonal);
+    rec.length = m.length;
+    rec.centerMin = m.centerMin;
+    rec.centerMax = m.centerMax;
+    rec.reach = m.reach;
+    flat = flat || m.flat;
+    return m.spacing;
 }
 
 /// The plan's bounds of slice centres, largest reach and largest spacing.

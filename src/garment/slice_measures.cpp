@@ -1,0 +1,140 @@
+#include "garment/slice_measures.h"
+
+#include "core/cpu_features.h"
+#include "core/double_lanes.h"
+#include "garment/slice_lanes.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace yv {
+
+namespace lanes {
+/// Four slices in AVX (slice_measures_avx.cpp, built with -mavx): only call where cpuHasAvx().
+void measureSliceLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, double halfDiagonal,
+                          double (&out)[4][kSliceMeasureValues]);
+/// Four slices on the grid in AVX: only call where cpuHasAvx().
+void sliceInGridLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
+                         double voxelSize, double (&out)[4][kSliceInGridValues]);
+} // namespace lanes
+
+namespace {
+
+/// As sliceOnCurve's hasTangent.
+constexpr double kLeastSpeed = 1e-12;
+
+/// Adds one slice to the measures, in slice order (the length is a sum).
+/// `moves`: the curve has a tangent there (else `reach` is meaningless).
+void addSlice(SegmentMeasures& m, const glm::dvec3& centre, double thickness, bool moves, double reach) {
+    m.length += thickness;
+    m.centerMin = glm::min(m.centerMin, centre);
+    m.centerMax = glm::max(m.centerMax, centre);
+    m.spacing = std::max(m.spacing, thickness);
+    if (!moves) {
+        m.flat = true;
+        return;
+    }
+    m.reach = std::max(m.reach, reach);
+}
+
+/// Slice k one at a time, through sliceOnCurve.
+void addScalar(SegmentMeasures& m, const SegmentRecord& segment, std::uint32_t k, double halfDiagonal) {
+    const SliceOnCurve g = sliceOnCurve(segment, k);
+    double reach = 0.0;
+    if (g.hasTangent) {
+        const glm::dvec3 t = glm::abs(g.tangent);
+        const double dominant = std::max({t.x, t.y, t.z});
+        const double depth = (1.0 + glm::length(g.curvature) * halfDiagonal) * g.thickness / dominant;
+        reach = halfDiagonal + 0.5 * depth;
+    }
+    addSlice(m, g.center, g.thickness, g.hasTangent, reach);
+}
+
+void segmentPointsOf(const SegmentRecord& segment, double (&p)[4][3]) {
+    for (int i = 0; i < 4; ++i)
+        for (int a = 0; a < 3; ++a) p[i][a] = segment.points[i][a];
+}
+
+/// Whole groups of `width` slices from slice `k` on through `measure`;
+/// returns the first slice not done.
+template <int width, class Measure>
+std::uint32_t addGroups(SegmentMeasures& m, const SegmentRecord& segment, double halfDiagonal, std::uint32_t k,
+                        Measure&& measure) {
+    double p[4][3];
+    segmentPointsOf(segment, p);
+    const std::uint32_t count = segment.sliceCount;
+    for (; k + width <= count; k += width) {
+        double out[width][lanes::kSliceMeasureValues];
+        measure(p, count, k, halfDiagonal, out);
+        for (int l = 0; l < width; ++l)
+            addSlice(m, glm::dvec3(out[l][0], out[l][1], out[l][2]), out[l][3], out[l][4] > kLeastSpeed, out[l][5]);
+    }
+    return k;
+}
+
+} // namespace
+
+SegmentMeasures measureSlices(const SegmentRecord& segment, double halfDiagonal, SliceLanes lanes) {
+    SegmentMeasures m;
+    m.reach = halfDiagonal;
+    m.centerMin = glm::dvec3(HUGE_VAL);
+    m.centerMax = glm::dvec3(-HUGE_VAL);
+    std::uint32_t done = 0;
+#if defined(__x86_64__) || defined(__i386__)
+    if (lanes == SliceLanes::Avx || (lanes == SliceLanes::Auto && cpuHasAvx()))
+        done = addGroups<4>(m, segment, halfDiagonal, done, lanes::measureSliceLanesAvx);
+#endif
+#if defined(__SSE2__)
+    if (lanes != SliceLanes::Scalar)
+        done = addGroups<2>(m, segment, halfDiagonal, done, lanes::measureSliceLanes<lanes::Sse2Lanes>);
+#endif
+    for (std::uint32_t k = done; k < segment.sliceCount; ++k) addScalar(m, segment, k, halfDiagonal);
+    return m;
+}
+
+namespace {
+
+/// Whole groups of `width` slices from slice `k` on, up to `end`, onto the
+/// grid; returns the first not done.
+template <int width, class Place>
+std::uint32_t gridGroups(const SegmentRecord& segment, std::uint32_t k, std::uint32_t end, const double (&origin)[3],
+                         double voxelSize, SliceInGrid* out, std::uint32_t first, Place&& place) {
+    double p[4][3];
+    segmentPointsOf(segment, p);
+    for (; k + width <= end; k += width) {
+        double values[width][lanes::kSliceInGridValues];
+        place(p, segment.sliceCount, k, origin, voxelSize, values);
+        for (int l = 0; l < width; ++l)
+            out[k - first + l] = {glm::ivec3(glm::dvec3(values[l][0], values[l][1], values[l][2])), values[l][3]};
+    }
+    return k;
+}
+
+} // namespace
+
+void slicesInGrid(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, const glm::dvec3& origin,
+                  double voxelSize, SliceInGrid* out, SliceLanes lanes) {
+    const std::uint32_t end = first + count;
+    const double from[3] = {origin.x, origin.y, origin.z};
+    std::uint32_t k = first;
+#if defined(__x86_64__) || defined(__i386__)
+    if (lanes == SliceLanes::Avx || (lanes == SliceLanes::Auto && cpuHasAvx()))
+        k = gridGroups<4>(segment, k, end, from, voxelSize, out, first, lanes::sliceInGridLanesAvx);
+#endif
+#if defined(__SSE2__)
+    if (lanes != SliceLanes::Scalar)
+        k = gridGroups<2>(segment, k, end, from, voxelSize, out, first, lanes::sliceInGridLanes<lanes::Sse2Lanes>);
+#endif
+    for (; k < end; ++k) {
+        const double t = (k + 0.5) / segment.sliceCount;
+        const glm::dvec3 d = glm::abs(glm::normalize(evalCatmullRomDerivative(segment.points, t)));
+        out[k - first] = {glm::ivec3(glm::floor((evalCatmullRom(segment.points, t) - origin) / voxelSize)),
+                          std::max({d.x, d.y, d.z})};
+    }
+}
+
+} // namespace yv

@@ -1,0 +1,25 @@
+// Four slices at a time in AVX (garment/slice_lanes.h): their measures and where they lie on the grid. This file is built
+// with -mavx and called only where the CPU has AVX (cpuHasAvx). So that no
+// inline function of a shared header is emitted here in AVX code (and picked
+// by the linker for callers on any CPU), it includes only the lanes
+// template and core/double_lanes.h (internal to each file).
+#include "garment/slice_lanes.h"
+
+#if defined(__AVX__)
+#include "core/double_lanes.h"
+
+namespace yv::lanes {
+
+void measureSliceLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, double halfDiagonal,
+                          double (&out)[4][kSliceMeasureValues]) {
+    measureSliceLanes<AvxLanes>(p, count, first, halfDiagonal, out);
+}
+
+void sliceInGridLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
+                         double voxelSize, double (&out)[4][kSliceInGridValues]) {
+    sliceInGridLanes<AvxLanes>(p, count, first, origin, voxelSize, out);
+}
+
+} // namespace yv::lanes
+
+#endif

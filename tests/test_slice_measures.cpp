@@ -1,0 +1,143 @@
+// A segment's slices measured in lanes (measureSlices and the zoom plan's
+// slicesInGrid: SSE2's two, AVX's four) against one at a time (sliceOnCurve,
+// glm): the same bits for every measure, on every kind of segment (straight,
+// bent, a cusp, a segment that does not move) and every slice count, whole
+// groups of lanes or not.
+#include "core/cpu_features.h"
+#include "garment/catmull_rom.h"
+#include "garment/slice_measures.h"
+
+#include <catch2/catch.hpp>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+using namespace yv;
+
+namespace {
+
+SegmentRecord segmentOf(const SegmentPoints& points, std::uint32_t slices) {
+    SegmentRecord s{};
+    s.points = points;
+    s.sliceCount = slices;
+    return s;
+}
+
+/// Random segments of a yarn's scale and shape, and the awkward ones.
+std::vector<SegmentPoints> testSegments() {
+    std::vector<SegmentPoints> all = {
+        {glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(2, 0, 0)},         // straight, along x
+        {glm::dvec3(0, 0, -1), glm::dvec3(0, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, 0, 2)},         // straight, along z
+        {glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 0)},          // turns straight back (cusps)
+        {glm::dvec3(0.5, 0.5, 0.5), glm::dvec3(0.5, 0.5, 0.5), glm::dvec3(0.5, 0.5, 0.5), glm::dvec3(0.5, 0.5, 0.5)}, // does not move
+        {glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(1, 1, 0)},          // a tight bend
+    };
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> coordinate(-40.0, 40.0), step(-0.6, 0.6);
+    for (int i = 0; i < 400; ++i) {
+        glm::dvec3 p(coordinate(rng), coordinate(rng), coordinate(rng));
+        SegmentPoints s;
+        for (auto& q : s) {
+            q = p;
+            p += glm::dvec3(0.3, 0.0, 0.0) + glm::dvec3(step(rng), step(rng), step(rng));
+        }
+        all.push_back(s);
+    }
+    return all;
+}
+
+bool sameBits(const SegmentMeasures& a, const SegmentMeasures& b) {
+    return std::memcmp(&a.length, &b.length, sizeof(double)) == 0 && std::memcmp(&a.spacing, &b.spacing, sizeof(double)) == 0 &&
+           std::memcmp(&a.reach, &b.reach, sizeof(double)) == 0 &&
+           std::memcmp(&a.centerMin, &b.centerMin, sizeof(glm::dvec3)) == 0 &&
+           std::memcmp(&a.centerMax, &b.centerMax, sizeof(glm::dvec3)) == 0 && a.flat == b.flat;
+}
+
+} // namespace
+
+TEST_CASE("measureSlices gives one slice at a time's bits in every lane, for every slice count", "[slices]") {
+    std::vector<SliceLanes> paths = {SliceLanes::Sse2, SliceLanes::Auto};
+    if (cpuHasAvx()) paths.push_back(SliceLanes::Avx);
+    else WARN("this CPU has no AVX: the AVX lanes are not checked here");
+    const double halfDiagonal = 0.1 * std::sqrt(2.0);
+    std::size_t compared = 0, flat = 0;
+    for (const SegmentPoints& points : testSegments())
+        for (std::uint32_t slices : {1u, 2u, 3u, 4u, 5u, 7u, 8u, 9u, 25u, 50u, 51u}) {
+            const SegmentRecord segment = segmentOf(points, slices);
+            const SegmentMeasures want = measureSlices(segment, halfDiagonal, SliceLanes::Scalar);
+            flat += want.flat;
+            for (SliceLanes lanes : paths) {
+                const SegmentMeasures got = measureSlices(segment, halfDiagonal, lanes);
+                INFO("slices " << slices << ", lanes " << int(lanes) << ": length " << got.length << " want "
+                               << want.length << ", reach " << got.reach << " want " << want.reach);
+                CHECK(sameBits(got, want));
+                ++compared;
+            }
+        }
+    CHECK(compared > 8000);
+    CHECK(flat > 0); // the segment that does not move was measured flat in every path
+}
+
+TEST_CASE("measureSlices: a straight segment's length, bounds and reach are the analytic ones", "[slices]") {
+    // Along x from 0 to 1 at uniform speed: slice k's centre at (k + 0.5) / K.
+    const SegmentRecord segment =
+        segmentOf({glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(2, 0, 0)}, 10);
+    const double halfDiagonal = 0.25;
+    for (SliceLanes lanes : {SliceLanes::Scalar, SliceLanes::Sse2, SliceLanes::Auto}) {
+        const SegmentMeasures m = measureSlices(segment, halfDiagonal, lanes);
+        CHECK(m.length == Approx(1.0).epsilon(1e-12));
+        CHECK(m.spacing == Approx(0.1).epsilon(1e-12));
+        CHECK(m.centerMin.x == Approx(0.05).epsilon(1e-12));
+        CHECK(m.centerMax.x == Approx(0.95).epsilon(1e-12));
+        CHECK(m.centerMin.y == 0.0);
+        // Straight: the slab's depth is its thickness, along x.
+        CHECK(m.reach == Approx(halfDiagonal + 0.5 * 0.1).epsilon(1e-12));
+        CHECK_FALSE(m.flat);
+    }
+}
+
+TEST_CASE("slicesInGrid gives one slice at a time's bits in every lane, for any run of slices", "[slices]") {
+    std::vector<SliceLanes> paths = {SliceLanes::Sse2, SliceLanes::Auto};
+    if (cpuHasAvx()) paths.push_back(SliceLanes::Avx);
+    // Voxels of two sizes, one a power of two, from an origin inside the segments: floors below zero too.
+    const glm::dvec3 origin(-20.25, -10.5, 3.0);
+    std::size_t compared = 0, negative = 0;
+    for (double voxelSize : {0.0625, 0.37})
+        for (const SegmentPoints& points : testSegments())
+            for (std::uint32_t slices : {1u, 3u, 8u, 50u, 51u}) {
+                const SegmentRecord segment = segmentOf(points, slices);
+                // What the zoom plan's heat computed for each slice before it used these.
+                std::vector<SliceInGrid> want(slices);
+                for (std::uint32_t k = 0; k < slices; ++k) {
+                    const double t = (k + 0.5) / slices;
+                    const glm::dvec3 d = glm::abs(glm::normalize(evalCatmullRomDerivative(points, t)));
+                    want[k] = {glm::ivec3(glm::floor((evalCatmullRom(points, t) - origin) / voxelSize)),
+                               std::max({d.x, d.y, d.z})};
+                }
+                for (SliceLanes lanes : paths)
+                    for (std::uint32_t first : {0u, 1u, slices / 2}) {
+                        const std::uint32_t count = slices - first;
+                        std::vector<SliceInGrid> got(count);
+                        slicesInGrid(segment, first, count, origin, voxelSize, got.data(), lanes);
+                        for (std::uint32_t j = 0; j < count; ++j) {
+                            const SliceInGrid& w = want[first + j];
+                            INFO("slices " << slices << ", first " << first << ", slice " << first + j << ", lanes "
+                                           << int(lanes) << ", voxel size " << voxelSize);
+                            // A segment that does not move has no tangent: NaN in every path.
+                            const bool dominantSame = std::memcmp(&got[j].dominant, &w.dominant, sizeof(double)) == 0 ||
+                                                      (std::isnan(got[j].dominant) && std::isnan(w.dominant));
+                            CHECK(got[j].voxel == w.voxel);
+                            CHECK(dominantSame);
+                            negative += w.voxel.x < 0;
+                            ++compared;
+                        }
+                    }
+            }
+    CHECK(compared > 100000);
+    CHECK(negative > 0); // centres before the origin: floor, not truncation
+}
