@@ -141,3 +141,31 @@ TEST_CASE("slicesInGrid gives one slice at a time's bits in every lane, for any 
     CHECK(compared > 100000);
     CHECK(negative > 0); // centres before the origin: floor, not truncation
 }
+
+TEST_CASE("sliceAxes gives sliceOnCurve's centre, tangent and thickness in every lane", "[slices]") {
+    std::vector<SliceLanes> paths = {SliceLanes::Scalar, SliceLanes::Sse2, SliceLanes::Auto};
+    if (cpuHasAvx()) paths.push_back(SliceLanes::Avx);
+    std::size_t compared = 0;
+    const std::vector<SegmentPoints> segments = testSegments();
+    for (std::size_t s = 0; s < segments.size(); ++s) {
+        if (s == 2 || s == 3) continue; // the cusp's ends and the segment that does not move have no tangent
+        for (std::uint32_t slices : {1u, 3u, 8u, 50u, 51u}) {
+            const SegmentRecord segment = segmentOf(segments[s], slices);
+            for (SliceLanes lanes : paths)
+                for (std::uint32_t first : {0u, 1u, slices / 2}) {
+                    const std::uint32_t count = slices - first;
+                    std::vector<SliceAxis> got(count);
+                    sliceAxes(segment, first, count, got.data(), lanes);
+                    for (std::uint32_t j = 0; j < count; ++j) {
+                        const SliceOnCurve want = sliceOnCurve(segment, first + j);
+                        INFO("segment " << s << ", slices " << slices << ", slice " << first + j << ", lanes " << int(lanes));
+                        CHECK(std::memcmp(&got[j].centre, &want.center, sizeof(glm::dvec3)) == 0);
+                        CHECK(std::memcmp(&got[j].tangent, &want.tangent, sizeof(glm::dvec3)) == 0);
+                        CHECK(std::memcmp(&got[j].thickness, &want.thickness, sizeof(double)) == 0);
+                        ++compared;
+                    }
+                }
+        }
+    }
+    CHECK(compared > 50000);
+}

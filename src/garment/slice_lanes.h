@@ -62,10 +62,11 @@ typename L::V sliceIndexLanes(std::uint32_t first) {
     return L::load(index);
 }
 
-/// What SegmentMeasures takes from each slice: its centre (x, y, z), its
-/// thickness, the curve's speed there, and the reach its samples have when
-/// the curve moves there (speed above kLeastSpeed; else the value is meaningless).
-constexpr int kSliceMeasureValues = 6;
+/// What measureSliceLanes gives of each slice: its centre (x, y, z), its
+/// thickness, the curve's speed there, the reach its samples have and its
+/// unit tangent (x, y, z), the last two where the curve moves there (speed
+/// above kLeastSpeed; else they are meaningless).
+constexpr int kSliceMeasureValues = 9;
 
 /// Slices first .. first + L::width - 1 of a segment with control points `p`
 /// and `count` slices, into out[lane][...]; `halfDiagonal`: the slice square's.
@@ -129,6 +130,7 @@ void measureSliceLanes(const double (&p)[4][3], std::uint32_t count, std::uint32
     L::store(lanesOf[3], thickness);
     L::store(lanesOf[4], speed);
     L::store(lanesOf[5], reach);
+    for (int a = 0; a < 3; ++a) L::store(lanesOf[6 + a], tangent[a]);
     for (int l = 0; l < L::width; ++l)
         for (int v = 0; v < kSliceMeasureValues; ++v) out[l][v] = lanesOf[v][l];
 }

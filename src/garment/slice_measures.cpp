@@ -59,20 +59,34 @@ void segmentPointsOf(const SegmentRecord& segment, double (&p)[4][3]) {
         for (int a = 0; a < 3; ++a) p[i][a] = segment.points[i][a];
 }
 
-/// Whole groups of `width` slices from slice `k` on through `measure`;
+/// Whole groups of `width` slices from slice `k` up to `end` through
+/// `measure`, each slice's values handed to `take(k, values)` in order;
 /// returns the first slice not done.
-template <int width, class Measure>
-std::uint32_t addGroups(SegmentMeasures& m, const SegmentRecord& segment, double halfDiagonal, std::uint32_t k,
-                        Measure&& measure) {
+template <int width, class Measure, class Take>
+std::uint32_t measureGroups(const SegmentRecord& segment, double halfDiagonal, std::uint32_t k, std::uint32_t end,
+                            Measure&& measure, Take&& take) {
     double p[4][3];
     segmentPointsOf(segment, p);
-    const std::uint32_t count = segment.sliceCount;
-    for (; k + width <= count; k += width) {
+    for (; k + width <= end; k += width) {
         double out[width][lanes::kSliceMeasureValues];
-        measure(p, count, k, halfDiagonal, out);
-        for (int l = 0; l < width; ++l)
-            addSlice(m, glm::dvec3(out[l][0], out[l][1], out[l][2]), out[l][3], out[l][4] > kLeastSpeed, out[l][5]);
+        measure(p, segment.sliceCount, k, halfDiagonal, out);
+        for (int l = 0; l < width; ++l) take(k + l, out[l]);
     }
+    return k;
+}
+
+/// measureGroups in the widest lanes `lanes` allows, then SSE2's; returns the first slice not done.
+template <class Take>
+std::uint32_t measureInLanes(const SegmentRecord& segment, double halfDiagonal, std::uint32_t k, std::uint32_t end,
+                             SliceLanes lanes, Take&& take) {
+#if defined(__x86_64__) || defined(__i386__)
+    if (lanes == SliceLanes::Avx || (lanes == SliceLanes::Auto && cpuHasAvx()))
+        k = measureGroups<4>(segment, halfDiagonal, k, end, lanes::measureSliceLanesAvx, take);
+#endif
+#if defined(__SSE2__)
+    if (lanes != SliceLanes::Scalar)
+        k = measureGroups<2>(segment, halfDiagonal, k, end, lanes::measureSliceLanes<lanes::Sse2Lanes>, take);
+#endif
     return k;
 }
 
@@ -83,17 +97,25 @@ SegmentMeasures measureSlices(const SegmentRecord& segment, double halfDiagonal,
     m.reach = halfDiagonal;
     m.centerMin = glm::dvec3(HUGE_VAL);
     m.centerMax = glm::dvec3(-HUGE_VAL);
-    std::uint32_t done = 0;
-#if defined(__x86_64__) || defined(__i386__)
-    if (lanes == SliceLanes::Avx || (lanes == SliceLanes::Auto && cpuHasAvx()))
-        done = addGroups<4>(m, segment, halfDiagonal, done, lanes::measureSliceLanesAvx);
-#endif
-#if defined(__SSE2__)
-    if (lanes != SliceLanes::Scalar)
-        done = addGroups<2>(m, segment, halfDiagonal, done, lanes::measureSliceLanes<lanes::Sse2Lanes>);
-#endif
+    const std::uint32_t done =
+        measureInLanes(segment, halfDiagonal, 0, segment.sliceCount, lanes, [&](std::uint32_t, const double* v) {
+            addSlice(m, glm::dvec3(v[0], v[1], v[2]), v[3], v[4] > kLeastSpeed, v[5]);
+        });
     for (std::uint32_t k = done; k < segment.sliceCount; ++k) addScalar(m, segment, k, halfDiagonal);
     return m;
+}
+
+void sliceAxes(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, SliceAxis* out,
+               SliceLanes lanes) {
+    const std::uint32_t end = first + count;
+    // The reach's half-diagonal does not matter here.
+    std::uint32_t k = measureInLanes(segment, 1.0, first, end, lanes, [&](std::uint32_t slice, const double* v) {
+        out[slice - first] = {glm::dvec3(v[0], v[1], v[2]), glm::dvec3(v[6], v[7], v[8]), v[3]};
+    });
+    for (; k < end; ++k) {
+        const SliceOnCurve g = sliceOnCurve(segment, k);
+        out[k - first] = {g.center, g.tangent, g.thickness};
+    }
 }
 
 namespace {

@@ -36,6 +36,19 @@ struct SegmentMeasures {
 /// to kappa r sqrt(2).
 SegmentMeasures measureSlices(const SegmentRecord& segment, double halfDiagonal, SliceLanes lanes = SliceLanes::Auto);
 
+/// What drawing a slice takes of it (sliceOnCurve's centre, tangent and
+/// thickness; no frame).
+struct SliceAxis {
+    glm::dvec3 centre, tangent;
+    double thickness;
+};
+
+/// Slices first .. first + count - 1 of `segment` (within its sliceCount),
+/// each the values sliceOnCurve gives, into out[0 .. count - 1]. The curve
+/// must move at every slice (planSlices refuses a segment where it does not).
+void sliceAxes(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, SliceAxis* out,
+               SliceLanes lanes = SliceLanes::Auto);
+
 /// Where a slice lies, as the zoom plan's heat estimates it (at t = (k +
 /// 0.5) / K, divided): the voxel holding that point of the curve, and the
 /// largest component of its unit tangent there.

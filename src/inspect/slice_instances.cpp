@@ -1,6 +1,8 @@
 #include "inspect/slice_instances.h"
 
 #include "core/error.h"
+#include "core/trace.h"
+#include "garment/slice_measures.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -8,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <limits>
 
@@ -21,14 +24,23 @@ SliceInstances sliceInstances(const SlicePlan& plan, const VoxelGrid& grid) {
     out.records.resize(std::size_t(plan.sliceCount) * 2u);
     const double h = grid.voxelSize;
     const float radius = float(plan.options.radius / h);
+    const TraceSpan span("place the slices for drawing");
     tbb::parallel_for(std::size_t(0), plan.segments.size(), [&](std::size_t s) {
         const SegmentRecord& seg = plan.segments[s];
-        for (std::uint32_t k = 0; k < seg.sliceCount; ++k) {
-            const Slice slice = placeSlice(seg, k);
-            const glm::dvec3 c = (slice.center - grid.origin) / h;
-            const std::size_t i = std::size_t(seg.firstSlice + k) * 2u;
-            out.records[i] = glm::vec4(glm::vec3(c), float(slice.thickness / h));
-            out.records[i + 1] = glm::vec4(glm::vec3(slice.tangent), float(k % kRunPlaces));
+        // Centre, tangent and thickness only (the frame is the shader's),
+        // several slices at a time.
+        constexpr std::uint32_t kChunk = 64;
+        SliceAxis chunk[kChunk];
+        for (std::uint32_t first = 0; first < seg.sliceCount; first += kChunk) {
+            const std::uint32_t count = std::min(kChunk, seg.sliceCount - first);
+            sliceAxes(seg, first, count, chunk);
+            for (std::uint32_t j = 0; j < count; ++j) {
+                const std::uint32_t k = first + j;
+                const glm::dvec3 c = (chunk[j].centre - grid.origin) / h;
+                const std::size_t i = std::size_t(seg.firstSlice + k) * 2u;
+                out.records[i] = glm::vec4(glm::vec3(c), float(chunk[j].thickness / h));
+                out.records[i + 1] = glm::vec4(glm::vec3(chunk[j].tangent), float(k % kRunPlaces));
+            }
         }
     });
     out.radius = radius;
