@@ -136,3 +136,59 @@ TEST_CASE("View: a moving camera's late frames draw the volume a level coarser, 
     CHECK(frame(40, true).first["level"] == 0);
     CHECK(!view.failure);
 }
+
+TEST_CASE("View: moving frames over --moving-mbit are drawn at half the size until the full size fits again, never "
+          "the stopped camera's or with degrading off",
+          "[view][gl]") {
+    YV_REQUIRE_GL();
+    // 2.16 Mbit/s at 30 frames a second: 9000 bytes a frame. The garment
+    // close up at 512x256 takes more; far away, a half-size frame takes
+    // under a quarter of 0.8 of it.
+    ServedView view(false, [](yv::ViewRequest& r) {
+        r.movingMbitPerSecond = 2.16;
+        r.quality.movingSeconds = 1e3; // no slice level of detail in the way
+        r.initial.width = 512;
+        r.initial.height = 256;
+    });
+    Page page(view.port.get_future().get());
+    std::uint64_t seq = 0;
+    const auto frame = [&](double azimuth, double distance, bool moving) {
+        page.sendCamera(azimuth, 20, distance, ++seq, moving);
+        Json stats = page.frameOf(seq).first;
+        INFO(stats.dump());
+        CHECK(stats["bytes"].get<double>() > 0);
+        return stats;
+    };
+    const Json still = frame(30, 1.2, false);
+    CHECK(still["width"] == 512);
+    REQUIRE(still["bytes"].get<double>() > 9000.0);
+
+    // The first moving frame is full size and over the bytes: the next ones are half as wide and high.
+    const Json first = frame(31, 1.2, true);
+    CHECK(first["width"] == 512);
+    CHECK(first["quality"] == 70);
+    CHECK(first["bytes"].get<double>() > 9000.0);
+    for (int i = 0; i < 3; ++i) {
+        const Json half = frame(32 + i, 1.2, true);
+        CHECK(half["width"] == 256);
+        CHECK(half["height"] == 128);
+        CHECK(half["degraded"] == true);
+    }
+    // Stopped: the page's size again, whatever the moving frames were.
+    const Json stopped = frame(35, 1.2, false);
+    CHECK(stopped["width"] == 512);
+    CHECK(stopped["height"] == 256);
+    CHECK(stopped["degraded"] == false);
+
+    // Far away the garment is a few pixels: a half-size frame shows the full size fits, and the next is full size.
+    const Json far = frame(36, 60, true);
+    CHECK(far["width"] == 256);
+    CHECK(4.0 * far["bytes"].get<double>() < 0.8 * 9000.0);
+    CHECK(frame(37, 60, true)["width"] == 512);
+
+    // Degrading off: moving frames at the page's size even where they take more.
+    frame(38, 1.2, true); // over the bytes again
+    page.send(R"({"type":"quality","degrade":false})");
+    for (int i = 0; i < 2; ++i) CHECK(frame(39 + i, 1.2, true)["width"] == 512);
+    CHECK(!view.failure);
+}

@@ -122,6 +122,12 @@ void addViewCommand(CLI::App& app) {
                     "frame after it stops, and every frame with the page's g key, at --quality)")
         ->capture_default_str()
         ->check(wholeNumber(1, 100));
+    cmd->add_option("--moving-mbit", a->request.movingMbitPerSecond,
+                    "While the camera moves, the megabits a second (at 30 frames a second) its frames may take: a "
+                    "frame over it makes the next moving ones half as wide and high, scaled up by the page (0: "
+                    "never smaller; the frame after the camera stops is at the page's size)")
+        ->capture_default_str()
+        ->check(finiteRange(0.0, 1e6));
     cmd->add_option("--slice-lod", a->request.quality.lodPixels,
                     "The slices' level of detail, in pixels: where a yarn's slices lie closer on screen, one slab is "
                     "drawn for 2, 4, ... 64 consecutive slices, none longer than this (0: every slice)")

@@ -11,10 +11,36 @@
 
 namespace yv {
 
-ViewFrames::ViewFrames(ViewScene& scene, int jpegQuality, int movingQuality, int maxSideVoxels,
+ViewFrames::ViewFrames(ViewScene& scene, const FrameEncoding& encoding, int maxSideVoxels,
                        std::function<void(const std::string&)> log)
-    : scene_(scene), quality_(jpegQuality), movingQuality_(std::min(movingQuality, jpegQuality)),
-      maxSideVoxels_(maxSideVoxels), log_(std::move(log)) {}
+    : scene_(scene), encoding_(encoding), maxSideVoxels_(maxSideVoxels), log_(std::move(log)) {
+    encoding_.movingQuality = std::min(encoding_.movingQuality, encoding_.quality);
+}
+
+Outgoing ViewFrames::draw(const ViewState& state) {
+    if (!(state.moving && state.degrade)) return drawAt(state, encoding_.quality, "stats");
+    // A moving frame: at the moving quality, and at half the page's width and
+    // height while full-size ones would pass the bytes a second allowed. The
+    // picture's camera, ruler and overlay follow the size drawn; the page
+    // scales it to fit.
+    ViewState drawn = state;
+    if (movingHalf_) {
+        drawn.width = std::max(kMinViewSide, state.width / 2);
+        drawn.height = std::max(kMinViewSide, state.height / 2);
+    }
+    Outgoing out = drawAt(drawn, encoding_.movingQuality, "stats", movingHalf_);
+    if (encoding_.movingMbitPerSecond > 0.0 && out.jpeg) {
+        constexpr double kFramesPerSecond = 30.0;
+        const double allowed = encoding_.movingMbitPerSecond * 1e6 / 8.0 / kFramesPerSecond; // bytes a frame
+        const double bytes = double(out.jpeg->size());
+        // A half-size frame has a quarter of the pixels: about a quarter of
+        // the bytes (JPEG's bytes follow the pixels), so the full size would
+        // take four times its bytes; back to it only with room to spare.
+        if (!movingHalf_ && bytes > allowed) movingHalf_ = true;
+        else if (movingHalf_ && 4.0 * bytes < 0.8 * allowed) movingHalf_ = false;
+    }
+    return out;
+}
 
 Outgoing ViewFrames::screenshot(const ViewState& state) {
     Outgoing out = drawAt(state, 95, "screenshot");
@@ -22,7 +48,7 @@ Outgoing ViewFrames::screenshot(const ViewState& state) {
     return out;
 }
 
-Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* type) {
+Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* type, bool smaller) {
     ViewFrame frame;
     try {
         frame = scene_.render(state);
@@ -72,7 +98,7 @@ Outgoing ViewFrames::drawAt(const ViewState& state, int quality, const char* typ
                                   {"slicePrimitive", frame.slicePrimitive.empty() ? nlohmann::json() : nlohmann::json(frame.slicePrimitive)},
                                   {"moving", state.moving},
                                   {"degrade", state.degrade},
-                                  {"degraded", frame.degraded},
+                                  {"degraded", frame.degraded || smaller},
                                   {"coarserLevels", frame.coarserLevels},
                                   {"gpuBytes", frame.gpuBytes},
                                   {"gpuFreeBytes", frame.gpuFreeBytes},

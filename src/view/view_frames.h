@@ -4,7 +4,8 @@
 //   {"type":"hello", "modes":[...], "mode", "sideBySide", "name", "beside" (the second volume's name, or null),
 //    "renderer", "activeVoxels",
 //    "voxelSize" (world units; null where the volume's place in the world is not known), "width", "height"}
-//   {"type":"stats", "frame", "seq", "mode", "blend", "width", "height", "renderMs", "drawMs", "encodeMs", "bytes",
+//   {"type":"stats", "frame", "seq", "mode", "blend", "width", "height" (the picture's: half the page's for a
+//    moving frame over --moving-mbit), "quality", "renderMs", "drawMs", "encodeMs", "bytes",
 //    "activeVoxels", "level", "slices", "sliceLod" and "slicePrimitive" (null: no slices drawn), "moving", "degrade", "degraded",
 //    "gpuBytes", "gpuFreeBytes" (-1: unknown), "detail",
 //    "pixelSize" (a pixel's width at the point looked at), "pixelUnits" ("world" or "voxels")}   (a binary JPEG message follows)
@@ -27,17 +28,26 @@
 
 namespace yv {
 
+/// How frames are encoded: fewer bytes while the camera moves and frames may
+/// degrade (ViewState::degrade), the page's size and --quality once it stops.
+struct FrameEncoding {
+    int quality = 85;       ///< --quality
+    int movingQuality = 70; ///< --moving-quality (at most quality)
+    /// --moving-mbit: the megabits a second, at 30 frames a second, moving
+    /// frames may take: one that takes more makes the next moving frames half
+    /// as wide and high (the page scales them to its size) until a half-size
+    /// one shows the full size would fit again (0: never smaller).
+    double movingMbitPerSecond = 25.0;
+};
+
 class ViewFrames : public FrameSource {
   public:
     /// `log`: a line for each frame that could not be drawn.
     /// `maxSideVoxels`: the largest view voxelization, voxels along its longest side.
-    /// `movingQuality`: the JPEG quality of a frame whose camera moves and may degrade.
-    ViewFrames(ViewScene& scene, int jpegQuality, int movingQuality, int maxSideVoxels,
+    ViewFrames(ViewScene& scene, const FrameEncoding& encoding, int maxSideVoxels,
                std::function<void(const std::string&)> log);
-    /// The frame's stats, its quality in them: fewer bytes while the camera moves (ViewState::degrade).
-    Outgoing draw(const ViewState& state) override {
-        return drawAt(state, state.moving && state.degrade ? movingQuality_ : quality_, "stats");
-    }
+    /// The frame's stats, its quality and size in them.
+    Outgoing draw(const ViewState& state) override;
     Outgoing voxelizeInView(const ViewState& state) override {
         return Outgoing{scene_.voxelizeInView(state, maxSideVoxels_), nullptr};
     }
@@ -46,11 +56,14 @@ class ViewFrames : public FrameSource {
     Outgoing screenshot(const ViewState& state) override;
 
   private:
-    Outgoing drawAt(const ViewState& state, int quality, const char* type);
+    /// `smaller`: drawn at less than the page's size (counts as degraded).
+    Outgoing drawAt(const ViewState& state, int quality, const char* type, bool smaller = false);
 
     ViewScene& scene_;
     JpegEncoder encoder_;
-    int quality_, movingQuality_, maxSideVoxels_;
+    FrameEncoding encoding_;
+    int maxSideVoxels_;
+    bool movingHalf_ = false; ///< moving frames are drawn at half the page's width and height
     std::function<void(const std::string&)> log_;
     std::uint64_t frames_ = 0;
 };

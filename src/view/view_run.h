@@ -28,6 +28,10 @@ struct ViewRequest {
     /// moves and the page lets them degrade (at most jpegQuality): the
     /// frame after the camera stops comes at jpegQuality.
     int movingJpegQuality = 70;
+    /// --moving-mbit: while the camera moves and frames may degrade, a
+    /// frame whose JPEG would take more than this many megabits a second at
+    /// 30 frames a second makes the next ones half as wide and high (0: never).
+    double movingMbitPerSecond = 25.0;
     std::string saveDir = "."; ///< --save-dir: where the view's voxelizations are saved
     int maxSideVoxels = 1024;  ///< --view-voxels: a view voxelization's longest side, in voxels
 };
