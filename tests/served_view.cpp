@@ -6,6 +6,7 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 
@@ -29,11 +30,15 @@ ServedView::ServedView(bool asVdb, const std::function<void(yv::ViewRequest&)>& 
     request.voxelize.resolution = 48;
     request.saveDir = scratch.path.string();
     if (adjust) adjust(request);
-    // A frame that never comes must fail the test, not hang it: after 300 s the
-    // server stops, which closes the pages and ends their blocking reads.
-    watchdog = std::thread([this] {
+    // A frame that never comes must fail the test, not hang it: after 300 s
+    // (times YV_TEST_TIME_SCALE, which a sanitizer's run sets: ThreadSanitizer
+    // runs the view several times slower) the server stops, which closes the
+    // pages and ends their blocking reads.
+    const char* scale = std::getenv("YV_TEST_TIME_SCALE");
+    const double limit = 300.0 * (scale ? std::max(1.0, std::atof(scale)) : 1.0);
+    watchdog = std::thread([this, limit] {
         std::unique_lock lock(doneMutex);
-        if (!doneWake.wait_for(lock, std::chrono::seconds(300), [this] { return done; })) stop = true;
+        if (!doneWake.wait_for(lock, std::chrono::duration<double>(limit), [this] { return done; })) stop = true;
     });
     thread = std::thread([this, request] {
         try {
