@@ -69,11 +69,11 @@ class HeatMap {
     }
     /// Fragments are kept in 1/1024ths: at coarse resolutions a slice
     /// expects less than one fragment, which rounded to whole ones was none.
-    /// A slice centred outside a box's map adds nothing (only its edge can
-    /// reach the box); in the grid's map it goes to the nearest cell.
     static std::uint64_t units(double fragments) { return static_cast<std::uint64_t>(fragments * kUnits + 0.5); }
     /// Adds `units` (units() of a slice's fragments, or a sum of them: whole
-    /// numbers, so any order gives the same map) at `voxel`'s cell.
+    /// numbers, so any order gives the same map) at `voxel`'s cell. A slice
+    /// centred outside a box's map adds nothing (only its edge can reach the
+    /// box); in the grid's map it goes to the nearest cell.
     void addUnits(glm::ivec3 voxel, std::uint64_t units) {
         glm::ivec3 c = voxel / cell_ - first_;
         const bool outside = glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, dims_));
