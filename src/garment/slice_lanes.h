@@ -65,7 +65,7 @@ typename L::V sliceIndexLanes(std::uint32_t first) {
 /// What measureSliceLanes gives of each slice: its centre (x, y, z), its
 /// thickness, the curve's speed there, the reach its samples have and its
 /// unit tangent (x, y, z), the last two where the curve moves there (speed
-/// above kLeastSpeed; else they are meaningless).
+/// above kLeastCurveSpeed; else they are meaningless).
 constexpr int kSliceMeasureValues = 9;
 
 /// Slices first .. first + L::width - 1 of a segment with control points `p`

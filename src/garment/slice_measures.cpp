@@ -24,9 +24,6 @@ void sliceInGridLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint
 
 namespace {
 
-/// As sliceOnCurve's hasTangent.
-constexpr double kLeastSpeed = 1e-12;
-
 /// Adds one slice to the measures, in slice order (the length is a sum).
 /// `moves`: the curve has a tangent there (else `reach` is meaningless).
 void addSlice(SegmentMeasures& m, const glm::dvec3& centre, double thickness, bool moves, double reach) {
@@ -99,7 +96,7 @@ SegmentMeasures measureSlices(const SegmentRecord& segment, double halfDiagonal,
     m.centerMax = glm::dvec3(-HUGE_VAL);
     const std::uint32_t done =
         measureInLanes(segment, halfDiagonal, 0, segment.sliceCount, lanes, [&](std::uint32_t, const double* v) {
-            addSlice(m, glm::dvec3(v[0], v[1], v[2]), v[3], v[4] > kLeastSpeed, v[5]);
+            addSlice(m, glm::dvec3(v[0], v[1], v[2]), v[3], v[4] > kLeastCurveSpeed, v[5]);
         });
     for (std::uint32_t k = done; k < segment.sliceCount; ++k) addScalar(m, segment, k, halfDiagonal);
     return m;

@@ -26,8 +26,6 @@ glm::dvec3 anyPerpendicular(const glm::dvec3& t) {
     return glm::normalize(glm::cross(t, a));
 }
 
-/// Below this speed |dC/dt| the curve has no tangent.
-constexpr double kLeastSpeed = 1e-12;
 
 Error noTangent(std::uint32_t yarn) {
     return Error("yarn " + std::to_string(yarn) + ": repeated control points leave the curve without a tangent");
@@ -36,7 +34,7 @@ Error noTangent(std::uint32_t yarn) {
 /// The unit tangent from the curve's derivative `d` at a point of `yarn`.
 glm::dvec3 unitTangent(const glm::dvec3& d, std::uint32_t yarn) {
     const double len = glm::length(d);
-    if (!(len > kLeastSpeed)) throw noTangent(yarn);
+    if (!(len > kLeastCurveSpeed)) throw noTangent(yarn);
     return d / len;
 }
 
@@ -268,7 +266,7 @@ SliceOnCurve sliceOnCurve(const SegmentRecord& segment, std::uint32_t k) {
     g.derivative = evalCatmullRomDerivative(segment.points, t);
     g.thickness = catmullRomArcLength(segment.points, k * invK, (k + 1) * invK);
     const double speed = glm::length(g.derivative);
-    g.hasTangent = speed > kLeastSpeed;
+    g.hasTangent = speed > kLeastCurveSpeed;
     if (!g.hasTangent) return g;
     g.tangent = g.derivative / speed;
     const glm::dvec3 d2 = evalCatmullRomSecondDerivative(segment.points, t);

@@ -101,6 +101,9 @@ inline double slabScale(const Slice& slice, double x, double y) {
 /// repeated points that leave no tangent.
 SlicePlan planSlices(const Garment& garment, const SliceOptions& options);
 
+/// Below this speed |dC/dt| the curve has no tangent (SliceOnCurve::hasTangent).
+constexpr double kLeastCurveSpeed = 1e-12;
+
 /// What the slice bounds need of slice `k`: where it sits, how thick it is
 /// and how the curve bends there, without its frame.
 struct SliceOnCurve {
