@@ -3,7 +3,8 @@
 // own, an orbit, a close-up pan, a zoom out, then stops that each voxelize
 // what the camera sees, for a garment's view) and prints one JSON line a phase: input-to-picture latency (a camera
 // message sent to its frame received, one at a time), the server's render
-// and encode times, frame intervals, and bytes a frame, and (given the
+// and encode times, frame intervals, bytes a frame, the JPEG quality and
+// how many frames came smaller than asked (--moving-mbit), and (given the
 // view's process id, on the same machine) the CPU time the view's process
 // took a frame. The view and the benchmark may run on different machines;
 // the numbers include the network.
@@ -175,7 +176,8 @@ class Session {
 
 void runPhase(Session& s, const std::string& phase, int frames, const std::function<Camera(double)>& path,
               const Options& o) {
-    std::vector<double> latency, render, encode, bytes, interval, slices, sliceLod;
+    std::vector<double> latency, render, encode, bytes, interval, slices, sliceLod, quality;
+    int smaller = 0; // frames drawn at less than the asked size (--moving-mbit)
     auto last = Clock::now();
     const auto start = last;
     const double cpuBefore = processCpuSeconds(o.serverPid);
@@ -190,6 +192,8 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
         bytes.push_back(f["receivedBytes"]);
         slices.push_back(f.value("slices", 0.0));
         if (f["sliceLod"].is_number()) sliceLod.push_back(f["sliceLod"]);
+        if (f["quality"].is_number()) quality.push_back(f["quality"]);
+        smaller += f.value("width", o.width) < o.width;
     }
     double meanBytes = 0.0;
     for (double b : bytes) meanBytes += b / double(bytes.size());
@@ -219,6 +223,8 @@ void runPhase(Session& s, const std::string& phase, int frames, const std::funct
                        {"moving", o.moving},
                        {"slices", percentiles(slices)},
                        {"sliceLod", sliceLod.empty() ? Json() : percentiles(sliceLod)},
+                       {"quality", quality.empty() ? Json() : percentiles(quality)},
+                       {"smallerFrames", smaller},
                        {"serverCpu", serverCpu}};
     std::printf("%s\n", line.dump().c_str());
     std::fflush(stdout);
