@@ -145,7 +145,7 @@ TEST_CASE("View: moving frames over --moving-mbit are drawn at half the size unt
     // close up at 512x256 takes more; far away, a half-size frame takes
     // under a quarter of 0.8 of it.
     ServedView view(false, [](yv::ViewRequest& r) {
-        r.movingMbitPerSecond = 2.16;
+        r.encoding.movingMbitPerSecond = 2.16;
         r.quality.movingSeconds = 1e3; // no slice level of detail in the way
         r.initial.width = 512;
         r.initial.height = 256;

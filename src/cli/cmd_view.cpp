@@ -114,15 +114,15 @@ void addViewCommand(CLI::App& app) {
     cmd->add_option("--device", a->request.device, "EGL device index (default: first GPU, else llvmpipe)")
         ->check(wholeNumber(0, 1023));
     cmd->add_option("--size", a->size, "Frame size until the page sends its own, WIDTHxHEIGHT")->capture_default_str();
-    cmd->add_option("--quality", a->request.jpegQuality, "JPEG quality of the frames, 1 to 100")
+    cmd->add_option("--quality", a->request.encoding.quality, "JPEG quality of the frames, 1 to 100")
         ->capture_default_str()
         ->check(wholeNumber(1, 100));
-    cmd->add_option("--moving-quality", a->request.movingJpegQuality,
+    cmd->add_option("--moving-quality", a->request.encoding.movingQuality,
                     "JPEG quality of the frames drawn while the camera moves, 1 to 100 (at most --quality; the "
                     "frame after it stops, and every frame with the page's g key, at --quality)")
         ->capture_default_str()
         ->check(wholeNumber(1, 100));
-    cmd->add_option("--moving-mbit", a->request.movingMbitPerSecond,
+    cmd->add_option("--moving-mbit", a->request.encoding.movingMbitPerSecond,
                     "While the camera moves, the megabits a second (at 30 frames a second) its frames may take: a "
                     "frame over it makes the next moving ones half as wide and high, scaled up by the page (0: "
                     "never smaller; the frame after the camera stops is at the page's size)")

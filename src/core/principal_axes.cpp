@@ -30,12 +30,10 @@ int inGroups(const double (*tensors)[6], glm::dvec3* axes, int count, Eigenvecto
 
 } // namespace
 
-bool avxAxisLanesAvailable() { return cpuHasAvx(); }
-
 void principalAxes(const double (*tensors)[6], glm::dvec3* axes, int count, AxisLanes lanes) {
     int done = 0;
 #if defined(__x86_64__) || defined(__i386__)
-    const bool avx = lanes == AxisLanes::Avx || (lanes == AxisLanes::Auto && avxAxisLanesAvailable());
+    const bool avx = lanes == AxisLanes::Avx || (lanes == AxisLanes::Auto && cpuHasAvx());
     if (avx) done = inGroups<8>(tensors, axes, count, jacobi::largestEigenvectorsAvx);
 #endif
 #if defined(__SSE2__)

@@ -17,7 +17,4 @@ enum class AxisLanes { Auto, Sse2, Avx };
 /// axes[i] = principalAxis(tensors[i]) for i < count, bit for bit (xx yy zz xy xz yz each).
 void principalAxes(const double (*tensors)[6], glm::dvec3* axes, int count, AxisLanes lanes = AxisLanes::Auto);
 
-/// Whether this machine can run the AVX path.
-bool avxAxisLanesAvailable();
-
 } // namespace yv

@@ -1,5 +1,5 @@
 // Eight lanes of principalAxis in AVX. This file is built with -mavx and is
-// called only where the CPU has AVX (avxAxisLanesAvailable). So that no
+// called only where the CPU has AVX (cpuHasAvx). So that no
 // inline function of a shared header is emitted here in AVX code (and picked
 // by the linker for callers on any CPU), it includes only the Jacobi
 // template and the lanes (core/double_lanes.h, internal to each file).

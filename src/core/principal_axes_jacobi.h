@@ -68,7 +68,7 @@ void largestEigenvectors(const double* const (&t)[L::width], double (&axes)[L::w
 }
 
 /// Eight lanes with AVX (principal_axes_avx.cpp, built with -mavx): only
-/// call where avxAxisLanesAvailable().
+/// call where cpuHasAvx() (core/cpu_features.h).
 void largestEigenvectorsAvx(const double* const (&t)[8], double (&axes)[8][3]);
 
 } // namespace yv::jacobi

@@ -56,35 +56,51 @@ void segmentPointsOf(const SegmentRecord& segment, double (&p)[4][3]) {
         for (int a = 0; a < 3; ++a) p[i][a] = segment.points[i][a];
 }
 
-/// Whole groups of `width` slices from slice `k` up to `end` through
-/// `measure`, each slice's values handed to `take(k, values)` in order;
-/// returns the first slice not done.
-template <int width, class Measure, class Take>
-std::uint32_t measureGroups(const SegmentRecord& segment, double halfDiagonal, std::uint32_t k, std::uint32_t end,
-                            Measure&& measure, Take&& take) {
+/// Whole groups of `width` slices from slice `k` up to `end`, each group
+/// through `kernel(p, first, out)` (out: double[width][values]) and each
+/// slice's values handed to `take(slice, values)` in order; returns the
+/// first slice not done.
+template <int width, int values, class Kernel, class Take>
+std::uint32_t inGroups(const SegmentRecord& segment, std::uint32_t k, std::uint32_t end, Kernel&& kernel, Take&& take) {
     double p[4][3];
     segmentPointsOf(segment, p);
     for (; k + width <= end; k += width) {
-        double out[width][lanes::kSliceMeasureValues];
-        measure(p, segment.sliceCount, k, halfDiagonal, out);
+        double out[width][values];
+        kernel(p, k, out);
         for (int l = 0; l < width; ++l) take(k + l, out[l]);
     }
     return k;
 }
 
-/// measureGroups in the widest lanes `lanes` allows, then SSE2's; returns the first slice not done.
+/// inGroups in AVX's four lanes where `lanes` allows them, then in SSE2's
+/// two; returns the first slice not done (the caller does the rest one at a time).
+template <int values, class AvxKernel, class Sse2Kernel, class Take>
+std::uint32_t inLanes(const SegmentRecord& segment, std::uint32_t k, std::uint32_t end, SliceLanes lanes,
+                      AvxKernel&& avx, Sse2Kernel&& sse2, Take&& take) {
+#if defined(__x86_64__) || defined(__i386__)
+    if (lanes == SliceLanes::Avx || (lanes == SliceLanes::Auto && cpuHasAvx()))
+        k = inGroups<4, values>(segment, k, end, avx, take);
+#endif
+#if defined(__SSE2__)
+    if (lanes != SliceLanes::Scalar) k = inGroups<2, values>(segment, k, end, sse2, take);
+#endif
+    return k;
+}
+
+/// inLanes through measureSliceLanes.
 template <class Take>
 std::uint32_t measureInLanes(const SegmentRecord& segment, double halfDiagonal, std::uint32_t k, std::uint32_t end,
                              SliceLanes lanes, Take&& take) {
-#if defined(__x86_64__) || defined(__i386__)
-    if (lanes == SliceLanes::Avx || (lanes == SliceLanes::Auto && cpuHasAvx()))
-        k = measureGroups<4>(segment, halfDiagonal, k, end, lanes::measureSliceLanesAvx, take);
-#endif
-#if defined(__SSE2__)
-    if (lanes != SliceLanes::Scalar)
-        k = measureGroups<2>(segment, halfDiagonal, k, end, lanes::measureSliceLanes<lanes::Sse2Lanes>, take);
-#endif
-    return k;
+    const std::uint32_t count = segment.sliceCount;
+    return inLanes<lanes::kSliceMeasureValues>(
+        segment, k, end, lanes,
+        [&](const double (&p)[4][3], std::uint32_t first, double (&out)[4][lanes::kSliceMeasureValues]) {
+            lanes::measureSliceLanesAvx(p, count, first, halfDiagonal, out);
+        },
+        [&](const double (&p)[4][3], std::uint32_t first, double (&out)[2][lanes::kSliceMeasureValues]) {
+            lanes::measureSliceLanes<lanes::Sse2Lanes>(p, count, first, halfDiagonal, out);
+        },
+        take);
 }
 
 } // namespace
@@ -115,39 +131,21 @@ void sliceAxes(const SegmentRecord& segment, std::uint32_t first, std::uint32_t 
     }
 }
 
-namespace {
-
-/// Whole groups of `width` slices from slice `k` on, up to `end`, onto the
-/// grid; returns the first not done.
-template <int width, class Place>
-std::uint32_t gridGroups(const SegmentRecord& segment, std::uint32_t k, std::uint32_t end, const double (&origin)[3],
-                         double voxelSize, SliceInGrid* out, std::uint32_t first, Place&& place) {
-    double p[4][3];
-    segmentPointsOf(segment, p);
-    for (; k + width <= end; k += width) {
-        double values[width][lanes::kSliceInGridValues];
-        place(p, segment.sliceCount, k, origin, voxelSize, values);
-        for (int l = 0; l < width; ++l)
-            out[k - first + l] = {glm::ivec3(glm::dvec3(values[l][0], values[l][1], values[l][2])), values[l][3]};
-    }
-    return k;
-}
-
-} // namespace
-
 void slicesInGrid(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, const glm::dvec3& origin,
                   double voxelSize, SliceInGrid* out, SliceLanes lanes) {
-    const std::uint32_t end = first + count;
+    const std::uint32_t end = first + count, slices = segment.sliceCount;
     const double from[3] = {origin.x, origin.y, origin.z};
-    std::uint32_t k = first;
-#if defined(__x86_64__) || defined(__i386__)
-    if (lanes == SliceLanes::Avx || (lanes == SliceLanes::Auto && cpuHasAvx()))
-        k = gridGroups<4>(segment, k, end, from, voxelSize, out, first, lanes::sliceInGridLanesAvx);
-#endif
-#if defined(__SSE2__)
-    if (lanes != SliceLanes::Scalar)
-        k = gridGroups<2>(segment, k, end, from, voxelSize, out, first, lanes::sliceInGridLanes<lanes::Sse2Lanes>);
-#endif
+    std::uint32_t k = inLanes<lanes::kSliceInGridValues>(
+        segment, first, end, lanes,
+        [&](const double (&p)[4][3], std::uint32_t group, double (&values)[4][lanes::kSliceInGridValues]) {
+            lanes::sliceInGridLanesAvx(p, slices, group, from, voxelSize, values);
+        },
+        [&](const double (&p)[4][3], std::uint32_t group, double (&values)[2][lanes::kSliceInGridValues]) {
+            lanes::sliceInGridLanes<lanes::Sse2Lanes>(p, slices, group, from, voxelSize, values);
+        },
+        [&](std::uint32_t slice, const double* v) {
+            out[slice - first] = {glm::ivec3(glm::dvec3(v[0], v[1], v[2])), v[3]};
+        });
     for (; k < end; ++k) {
         const double t = (k + 0.5) / segment.sliceCount;
         const glm::dvec3 d = glm::abs(glm::normalize(evalCatmullRomDerivative(segment.points, t)));

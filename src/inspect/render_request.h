@@ -52,8 +52,9 @@ constexpr double kDefaultSliceLodPixels = 1.0;
 /// the blend's rounding), where no slab spans more than its limit of tiles,
 /// else boxes. Auto: tiles, else points, else boxes on a GPU
 /// (GlInfo::hardware()); on Mesa's software rasteriser, whose compute is no
-/// faster than its raster, points, else boxes. Hopper's raster sets up few triangles a second next to its
-/// compute; a point is one primitive, a tile none.
+/// faster than its raster, points, else boxes. Hopper's raster sets up few
+/// triangles a second next to its compute; a point is one primitive, a tile
+/// none.
 enum class SlicePrimitive { Auto, Tiles, Points, Boxes };
 
 /// "auto", "tiles", "points" or "boxes"; throws yv::Error listing the names otherwise.

@@ -31,8 +31,11 @@ namespace yv {
 /// How frames are encoded: fewer bytes while the camera moves and frames may
 /// degrade (ViewState::degrade), the page's size and --quality once it stops.
 struct FrameEncoding {
-    int quality = 85;       ///< --quality
-    int movingQuality = 70; ///< --moving-quality (at most quality)
+    int quality = 85; ///< --quality
+    /// --moving-quality: the JPEG quality of frames drawn while the camera
+    /// moves and the page lets them degrade (at most quality): the frame
+    /// after the camera stops comes at quality.
+    int movingQuality = 70;
     /// --moving-mbit: the megabits a second, at 30 frames a second, moving
     /// frames may take: one that takes more makes the next moving frames half
     /// as wide and high (the page scales them to its size) until a half-size

@@ -36,8 +36,7 @@ void runView(const ViewRequest& request, const std::function<void(int port)>& re
             std::optional<ViewVolume> beside;
             if (!request.beside.empty()) beside.emplace(openViewVolume(request.beside, request.voxelize, log));
             ViewScene scene(std::move(volume), request.device, request.gpuBudgetBytes, request.quality, std::move(beside));
-            ViewFrames frames(scene, {request.jpegQuality, request.movingJpegQuality, request.movingMbitPerSecond},
-                              request.maxSideVoxels, log);
+            ViewFrames frames(scene, request.encoding, request.maxSideVoxels, log);
             ViewState initial = request.initial;
             initial.mode = scene.modes().front();
             initial.twist = scene.twist();

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "pipeline/voxelize_job.h"
+#include "view/view_frames.h"
 #include "view/view_scene.h"
 #include "view/view_server.h"
 
@@ -23,15 +24,7 @@ struct ViewRequest {
     VoxelizeJob voxelize;      ///< how a garment is voxelized (its input and output are set by the view)
     std::uint64_t gpuBudgetBytes = 512ull << 20;
     ViewQuality quality;       ///< --slice-lod, --moving-ms
-    int jpegQuality = 85;      ///< --quality
-    /// --moving-quality: the JPEG quality of frames drawn while the camera
-    /// moves and the page lets them degrade (at most jpegQuality): the
-    /// frame after the camera stops comes at jpegQuality.
-    int movingJpegQuality = 70;
-    /// --moving-mbit: while the camera moves and frames may degrade, a
-    /// frame whose JPEG would take more than this many megabits a second at
-    /// 30 frames a second makes the next ones half as wide and high (0: never).
-    double movingMbitPerSecond = 25.0;
+    FrameEncoding encoding;    ///< --quality, --moving-quality, --moving-mbit
     std::string saveDir = "."; ///< --save-dir: where the view's voxelizations are saved
     int maxSideVoxels = 1024;  ///< --view-voxels: a view voxelization's longest side, in voxels
 };
