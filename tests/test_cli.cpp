@@ -1,7 +1,9 @@
 // The yarnvox binary end to end: exit codes, messages, files left behind.
+#include "core/json_fields.h"
 #include "gpu/egl_context.h"
 #include "run_cli.h"
 #include "test_helpers.h"
+#include "vdb_bytes.h"
 
 #include <catch2/catch.hpp>
 
@@ -12,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <unistd.h>
 
@@ -353,4 +356,46 @@ TEST_CASE("CLI: several garments and --list write one output each into the -o di
     CHECK(none.exitCode == 1);
     CHECK_THAT(none.output, Catch::Contains("give a garment file"));
     fs::remove_all(dir);
+}
+
+TEST_CASE("CLI: YV_WRITER_THREADS sets the writer's threads and keeps the bytes, a bad count is one line", "[cli]") {
+    const fs::path bcc = scratch("writers.bcc");
+    REQUIRE(run("gen --pattern plain --crossings 64 -o " + bcc.string()).exitCode == 0);
+    // Small passes, so that the run has regions enough for every writer.
+    const auto voxelize = [&](const std::string& threads, const fs::path& vdb, const fs::path& trace) {
+        fs::remove(vdb);
+        return run_shell("YV_WRITER_THREADS=" + threads + " YV_TRACE=" + trace.string() + " " +
+                         std::string(YV_BINARY_DIR) + "/yarnvox voxelize " + bcc.string() + " -o " + vdb.string() +
+                         " --backend cpu --resolution 96 --fragment-budget 20000 --quiet");
+    };
+    // The threads that wrote a region, from the timeline.
+    const auto writerThreadsIn = [](const fs::path& trace) {
+        std::ifstream in(trace);
+        const yv::Json json = yv::Json::parse(in);
+        std::set<int> tids;
+        for (const yv::Json& e : json["traceEvents"])
+            if (e.value("name", "") == "write a region") tids.insert(e["tid"].get<int>());
+        return tids.size();
+    };
+    const fs::path one = scratch("writers-1.vdb"), three = scratch("writers-3.vdb");
+    const RunResult a = voxelize("1", one, scratch("writers-1.json"));
+    INFO(a.output);
+    REQUIRE(a.exitCode == 0);
+    const RunResult b = voxelize("3", three, scratch("writers-3.json"));
+    INFO(b.output);
+    REQUIRE(b.exitCode == 0);
+    CHECK(writerThreadsIn(scratch("writers-1.json")) == 1);
+    const std::size_t used = writerThreadsIn(scratch("writers-3.json"));
+    CHECK(used >= 2);
+    CHECK(used <= 3);
+    CHECK(yv::test::vdbBytesWithoutUuid(one) == yv::test::vdbBytesWithoutUuid(three));
+
+    for (const char* bad : {"0", "4x", "300", ""}) {
+        const fs::path vdb = scratch("writers-bad.vdb");
+        const RunResult r = voxelize(bad, vdb, scratch("writers-bad.json"));
+        INFO(bad << ": " << r.output);
+        CHECK(r.exitCode != 0);
+        CHECK(r.output.find(std::string("YV_WRITER_THREADS=") + bad + ": not a count of threads") != std::string::npos);
+        CHECK_FALSE(fs::exists(vdb));
+    }
 }

@@ -26,7 +26,7 @@ class MemoryDestination : public RegionDestination {
                   if (job_.keepBricks) job_.keepBricks->add(packed);
                   if (assembler_) assembler_->add(packed, regionName(id));
               },
-              setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), writerThreads()),
+              setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), setup.writerThreads),
           sink_(writer_, setup.job.cancel.get()) {
         if (!job_.bricksOnly()) assembler_.emplace(job_.output, setup.grid, setup.settings.reduce, setup.writeOptions);
     }

@@ -71,6 +71,7 @@ struct DestinationSetup {
     VoxelizeSettings settings;
     VdbWriteOptions writeOptions;
     StoreManifest manifest; ///< a work dir's identity (unused in memory)
+    unsigned writerThreads = 2; ///< writerThreads() for the run's backend
 };
 
 /// The .vdb's leaves straight from the regions: no work dir.
@@ -83,7 +84,12 @@ std::unique_ptr<RegionDestination> makeClusterDestination(const DestinationSetup
 
 /// Host memory the writer queue may hold: an eighth of physical memory, at most 4 GiB.
 std::size_t writerQueueBytes();
-/// Writer threads: unpacking or resolving regions and compressing them keep several cores busy.
-unsigned writerThreads();
+/// Writer threads: unpacking or resolving regions and encoding their leaves
+/// keep several cores busy. `hostRasterizes` (the CPU backend): the
+/// rasterizer's own threads want the cores, so the writers take half; a GPU
+/// run's host thread mostly waits on the GPU, so its writers take all but
+/// two. YV_WRITER_THREADS=N sets the count (1 to 256; anything else throws
+/// yv::Error).
+unsigned writerThreads(bool hostRasterizes);
 
 } // namespace yv

@@ -15,7 +15,7 @@ WorkDirDestination::WorkDirDestination(const DestinationSetup& setup)
 
 WorkDirDestination::WorkDirDestination(const DestinationSetup& setup, std::unique_ptr<BrickStore> store)
     : job_(setup.job), regions_(setup.regions), workDir_(workDirOf(setup.job)), writeOptions_(setup.writeOptions), store_(std::move(store)) {
-    writer_.emplace(*store_, setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), writerThreads());
+    writer_.emplace(*store_, setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), setup.writerThreads);
     // Said if the run must stop at once (a rank of an MPI run gone, a signal under mpirun).
     setStopNote("the regions written so far are kept in " + workDir_ + "; " + goOnWith());
 }
