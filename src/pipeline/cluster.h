@@ -17,6 +17,8 @@ class Cluster {
     virtual int size() const = 0;
     /// Rank among the processes on this node (picks the GPU).
     virtual int localRank() const = 0;
+    /// Processes on this node (they share its cores).
+    virtual int localSize() const = 0;
     /// Rank 0's `value`, on every rank (collective).
     virtual std::uint64_t broadcast(std::uint64_t value) = 0;
     /// Starts handing out the items 0..count-1, in that order, each to the

@@ -127,6 +127,7 @@ class MpiCluster : public Cluster {
         MPI_Comm node;
         MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
         MPI_Comm_rank(node, &localRank_);
+        MPI_Comm_size(node, &localSize_);
         MPI_Comm_free(&node);
         if (size_ > 1) {
             answerSignalsAtOnce("rank " + std::to_string(rank_) + ": ");
@@ -142,6 +143,7 @@ class MpiCluster : public Cluster {
     int rank() const override { return rank_; }
     int size() const override { return size_; }
     int localRank() const override { return localRank_; }
+    int localSize() const override { return localSize_; }
 
     std::uint64_t broadcast(std::uint64_t value) override {
         MPI_Request request;
@@ -223,7 +225,7 @@ class MpiCluster : public Cluster {
     }
 
     MPI_Comm comm_ = MPI_COMM_NULL;
-    int rank_ = 0, size_ = 1, localRank_ = 0;
+    int rank_ = 0, size_ = 1, localRank_ = 0, localSize_ = 1;
     std::mutex mutex_;
     std::uint64_t count_ = 0, next_ = 0;
     bool exhausted_ = false;

@@ -85,11 +85,12 @@ std::unique_ptr<RegionDestination> makeClusterDestination(const DestinationSetup
 /// Host memory the writer queue may hold: an eighth of physical memory, at most 4 GiB.
 std::size_t writerQueueBytes();
 /// Writer threads: unpacking or resolving regions and encoding their leaves
-/// keep several cores busy. `hostRasterizes` (the CPU backend): the
-/// rasterizer's own threads want the cores, so the writers take half; a GPU
-/// run's host thread mostly waits on the GPU, so its writers take all but
-/// two. YV_WRITER_THREADS=N sets the count (1 to 256; anything else throws
-/// yv::Error).
-unsigned writerThreads(bool hostRasterizes);
+/// keep several cores busy. Of this process's share of the cores (the
+/// machine's over `processesHere`, the MPI ranks on it): with
+/// `hostRasterizes` (the CPU backend), whose own threads want the cores,
+/// half; a GPU run's host thread mostly waits on the GPU, so all but two.
+/// Two at least. YV_WRITER_THREADS=N sets the count (1 to 256; anything
+/// else throws yv::Error).
+unsigned writerThreads(bool hostRasterizes, int processesHere = 1);
 
 } // namespace yv

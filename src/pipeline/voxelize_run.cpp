@@ -155,7 +155,8 @@ SparseRun runSparse(const VoxelizeJob& job, Backend backend, const SlicedGarment
         tell("plan: " + std::to_string(zoom.regions.size()) + " zoom regions, " + numberText(zoom.estimatedFragments) +
              " fragments expected, budget " + std::to_string(rasterizer->fragmentBudget()) + " per pass");
 
-    DestinationSetup setup{job, zoom.regions, note, grid, settings, writeOptions, {}, writerThreads(backend == Backend::Cpu)};
+    DestinationSetup setup{job, zoom.regions, note, grid, settings, writeOptions, {},
+                           writerThreads(backend == Backend::Cpu, group ? group->localSize() : 1)};
     const std::unique_ptr<RegionDestination> destination = makeDestination(setup, group, backend, sliced, zoom, meta);
     {
         const InterruptScope interruptible;
