@@ -1,6 +1,7 @@
 #include "plan/zoom_plan.h"
 
 #include "core/error.h"
+#include "core/trace.h"
 #include "core/sampling.h"
 #include "garment/slice_measures.h"
 
@@ -185,6 +186,7 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     std::vector<std::uint32_t> all(plan.segments.size());
     for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
     std::vector<std::uint32_t> reaching = reachingIn(all, root.min, root.max);
+    std::optional<TraceSpan> part(std::in_place, "the zoom plan's heat map");
     HeatMap heat(root, zp.heatCell, box.has_value());
 
     // Whether the run was given up (ZoomPlanOptions::stop): each segment's
@@ -198,6 +200,7 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     }
     zp.heatCellsTouched = heat.touched();
     zp.estimatedFragments = heat.sum(root.min, root.max);
+    part.emplace("the zoom plan's split");
 
     // Octree split; children in z, y, x order, and regions listed depth
     // first, so ids follow space. Children are split on every core, each
