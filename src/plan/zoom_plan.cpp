@@ -1,8 +1,8 @@
 #include "plan/zoom_plan.h"
 
 #include "core/error.h"
-#include "core/trace.h"
 #include "core/sampling.h"
+#include "core/trace.h"
 #include "garment/slice_measures.h"
 
 #include <glm/common.hpp>
