@@ -18,6 +18,14 @@ with the same bytes: a .vdb apart from its header's UUID (bytes 21 to 56,
 formats/vdb-subset.md), a .json (--stats) apart from keys that are times,
 rates, memory or the output path. Prints one line of text and writes the JSON
 report (--json); exits 1 when the outputs differ, 2 on a failed run or build.
+
+Two settings of one build: the same binary on both sides, with --a-env and
+--b-env, or with --a-arg and --b-arg (arguments appended to one side's
+command line); --differ-key names a --stats key the setting changes (say
+slice_primitive), which the comparison then leaves out:
+
+    bench/ab.py --a-bin build/yarnvox --b-bin build/yarnvox --b-arg=--sample-items \\
+        --b-arg=raster --differ-key slice_primitive --differ-key primitives_drawn -- voxelize ...
 """
 import argparse
 import hashlib
@@ -78,11 +86,14 @@ def build(rev, patch, work, jobs):
     return binary, name
 
 
+DIFFER_KEYS = set()  # --differ-key: what the sides' settings change
+
+
 def strip_volatile(v):
     """The stats without their volatile keys; a whole number written as a
     double ("0.0" where another build writes "0") read as the integer."""
     if isinstance(v, dict):
-        return {k: strip_volatile(x) for k, x in v.items() if not VOLATILE_KEY.search(k)}
+        return {k: strip_volatile(x) for k, x in v.items() if not VOLATILE_KEY.search(k) and k not in DIFFER_KEYS}
     if isinstance(v, list):
         return [strip_volatile(x) for x in v]
     if isinstance(v, float) and v.is_integer():
@@ -128,7 +139,7 @@ def differences(dir_a, dir_b):
 def run_once(side, args, out):
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
-    cmd = [side["bin"]] + [a.replace("{out}", out) for a in args]
+    cmd = [side["bin"]] + [a.replace("{out}", out) for a in args + side["args"]]
     env = {**os.environ, **side["env"]}
     t0 = time.monotonic()
     r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
@@ -164,6 +175,11 @@ def main():
     p.add_argument("--a-env", action="append", default=[], metavar="NAME=VALUE",
                    help="environment for side A's runs (e.g. YV_SHADER_DIR=DIR); repeatable")
     p.add_argument("--b-env", action="append", default=[], metavar="NAME=VALUE", help="the same for side B")
+    p.add_argument("--a-arg", action="append", default=[], metavar="ARG",
+                   help="an argument appended to side A's command line (repeat for more; --a-arg=--option)")
+    p.add_argument("--b-arg", action="append", default=[], metavar="ARG", help="the same for side B")
+    p.add_argument("--differ-key", action="append", default=[], metavar="KEY",
+                   help="a --stats key the two sides' settings change, left out of the comparison")
     p.add_argument("--rounds", type=int, default=5, help="timed rounds (default 5)")
     p.add_argument("--warmup", type=int, default=1, help="untimed runs of each side first (default 1)")
     p.add_argument("--work", default=os.path.join(ROOT, "build-ab"),
@@ -185,10 +201,12 @@ def main():
         fail("--b-patch applies to side A's commit: give --a")
     work = os.path.abspath(o.work)
     os.makedirs(work, exist_ok=True)
+    DIFFER_KEYS.update(o.differ_key)
 
     sides = []
-    for name, rev, patch, binary, env in (("A", o.a, None, o.a_bin, o.a_env),
-                                         ("B", o.b or (o.a if o.b_patch else None), o.b_patch, o.b_bin, o.b_env)):
+    for name, rev, patch, binary, env, extra in (("A", o.a, None, o.a_bin, o.a_env, o.a_arg),
+                                                ("B", o.b or (o.a if o.b_patch else None), o.b_patch, o.b_bin, o.b_env,
+                                                 o.b_arg)):
         if binary:
             if not os.access(binary, os.X_OK):
                 fail(f"side {name}: {binary} is not an executable")
@@ -196,7 +214,7 @@ def main():
             binary = os.path.abspath(binary)
         else:
             binary, label = build(rev, patch, work, o.jobs)
-        sides.append({"name": name, "bin": binary, "label": label, "env": env_pairs(env),
+        sides.append({"name": name, "bin": binary, "label": label, "env": env_pairs(env), "args": extra,
                       "commit": git("rev-parse", "--short=12", rev) if rev else None, "patch": patch, "walls": []})
 
     outs = [os.path.join(work, "out-a"), os.path.join(work, "out-b")]
@@ -215,8 +233,9 @@ def main():
     report = {
         "command": ["yarnvox"] + args, "rounds": o.rounds, "warmup": o.warmup,
         "machine": {"host": platform.node(), "cpus": os.cpu_count()},
-        "a": {**{k: sides[0][k] for k in ("label", "commit", "patch", "env")}, **a},
-        "b": {**{k: sides[1][k] for k in ("label", "commit", "patch", "env")}, **b},
+        "a": {**{k: sides[0][k] for k in ("label", "commit", "patch", "env", "args")}, **a},
+        "b": {**{k: sides[1][k] for k in ("label", "commit", "patch", "env", "args")}, **b},
+        "differ_keys": sorted(DIFFER_KEYS),
         "ratio_b_over_a": round(b["median"] / a["median"], 4) if a["median"] else None,
         "identical": not diffs, "differences": diffs[:20],
     }
@@ -226,7 +245,7 @@ def main():
         f.write("\n")
 
     def side_text(name, s, r):
-        env = "".join(f" {k}={v}" for k, v in s["env"].items())
+        env = "".join(f" {k}={v}" for k, v in s["env"].items()) + "".join(" " + a for a in s["args"])
         return f"{name} {s['label']}{env}: median {r['median']:.3f} s ({r['min']:.3f}-{r['max']:.3f}, spread {100 * r['spread']:.1f} %)"
     print(f"{side_text('A', sides[0], a)}; {side_text('B', sides[1], b)}; B/A {report['ratio_b_over_a']}; "
           f"{o.rounds} rounds; outputs " + ("identical" if not diffs else f"DIFFER ({diffs[0]})"))

@@ -305,6 +305,81 @@ float footprintNearest(vec2 xy, vec2 edgeB, vec2 edgeC, float radius) {
     return length(xy / radius) - 0.5 * (length(edgeB) + length(edgeC));
 }
 
+// Relative slack of the item test's support bound (the exact test is
+// sample.comp's): float rounding there must never drop a sample it keeps.
+const float kSupportSlack = 1e-3;
+
+// One slice on the face of its projection axis `a`: what the sample items'
+// test needs of it (append.frag, with the terms slice.vert works out once a
+// slice; slice_items.comp). `radius`: the yarn's, voxel units; `support`:
+// textureSupport(), units of the radius; `S`: the supersampling;
+// `regionMin`: the region's first voxel.
+struct SliceTerms {
+    float reach;    // voxel units in the slice plane: the disk holding every footprint centre whose sample can read fibre
+    float extent;   // voxel units: half the side of the slice's square grown by two pixels
+    vec2 atOrigin;  // slice-local (x, y), units of the radius, where the column through face pixel `origin` meets the slice
+    vec4 steps;     // xy: (x, y) a pixel along the face's axis b (footprintEdgeB); zw: along c (footprintEdgeC)
+    float limit;    // the farthest |(x, y)| a kept sample can have: the support, its slack and the footprint's reach
+};
+
+SliceTerms sliceTerms(SliceRecord s, int a, ivec2 origin, float radius, float support, int supersample, ivec3 regionMin) {
+    vec3 center = s.center.xyz, right = s.right.xyz, sliceUp = s.up.xyz, tangent = s.tangent.xyz;
+    SliceTerms t;
+    // The slice's square grown by two pixels of margin in the plane: those
+    // are at least one pixel on the face, since the face foreshortens the
+    // plane by |tangent[a]| >= 1/sqrt(3), so every pixel whose square meets
+    // the slice square has its centre in it.
+    float S = float(supersample);
+    t.extent = radius + 2.0 / S;
+    // A sample can hold fibre only where what it reads of its footprint (the
+    // pixel seen on the slice plane, a parallelogram) comes within the
+    // support: with the disk, the whole parallelogram, whose farthest point
+    // lies half its longer diagonal from its centre; with a texture, the
+    // centres of its cells (footprintCells), (m - 1) / 2m of that diagonal.
+    // footprintCells skips by half the edges' sum, which is never less: a
+    // footprint between the bounds reads 0 there. A disk of radius `reach`
+    // in the plane (the margin covers float rounding and the rasterizer's
+    // snapping).
+#if CROSS_SECTION_DISK
+    const float kFootprintReach = 0.5;
+#else
+    const float kFootprintReach = 0.5 * float(kFootprintCells - 1) / float(kFootprintCells);
+#endif
+    vec3 centerA = axisFirst(center, a), rightA = axisFirst(right, a), upA = axisFirst(sliceUp, a);
+    float det = tangent[a];
+    vec2 edgeB = footprintEdgeB(rightA, upA, det, S, radius), edgeC = footprintEdgeC(rightA, upA, det, S, radius);
+    float footprintReach = kFootprintReach * max(length(edgeB + edgeC), length(edgeB - edgeC)); // units of the radius
+    t.reach = (support + footprintReach) * radius * 1.001 + 0.05 / S;
+
+    ivec3 anchorA = axisFirst(s.anchor.xyz, a), regionMinA = axisFirst(regionMin, a);
+    t.atOrigin = columnCrossing(origin + regionMinA.yz * supersample, supersample, anchorA, centerA, rightA, upA, det) / radius;
+    t.steps = vec4(edgeB, edgeC);
+    t.limit = support * (1.0 + kSupportSlack) + kSupportSlack + footprintReach;
+    return t;
+}
+
+// The face pixel (region-local) holding the slice's centre, on the face of
+// its projection axis `a`: the item test's terms are expanded about it.
+ivec2 sliceFacePixel(SliceRecord s, int a, ivec3 regionMin, int supersample) {
+    ivec3 anchorA = axisFirst(s.anchor.xyz, a), regionMinA = axisFirst(regionMin, a);
+    return ivec2(floor((vec2(anchorA.yz - regionMinA.yz) + axisFirst(s.center.xyz, a).yz) * float(supersample)));
+}
+
+// The axis-aligned box on the face (region-local pixels: xy its low
+// corner, zw its high one) around the slice's disk of radius t.reach, or
+// around its square's corners where that is smaller: every pixel whose
+// sample can hold fibre has its centre in it.
+vec4 sliceFaceBox(SliceRecord s, int a, SliceTerms t, ivec3 regionMin, float S) {
+    int b = (a + 1) % 3, c = (a + 2) % 3;
+    vec3 right = s.right.xyz, sliceUp = s.up.xyz;
+    float halfSide = t.reach <= t.extent
+                     ? t.reach * max(length(vec2(right[b], sliceUp[b])), length(vec2(right[c], sliceUp[c])))
+                     : t.extent * max(abs(right[b]) + abs(sliceUp[b]), abs(right[c]) + abs(sliceUp[c]));
+    vec3 fromRegion = vec3(s.anchor.xyz - regionMin) + s.center.xyz;
+    vec2 pixel = vec2(fromRegion[b], fromRegion[c]) * S;
+    return vec4(pixel - halfSide * S, pixel + halfSide * S);
+}
+
 // Where the centre of footprint cell (p, q) lies on the slice, in units of
 // the radius: first + p stepP + q stepQ (the pixel's sub-squares seen on the
 // slice plane, about the column's crossing (x, y), voxel units; det =

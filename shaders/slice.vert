@@ -55,55 +55,6 @@ flat out ivec4 vRun;
 flat out vec4 vAt[kRunSlices];
 flat out vec4 vSteps[kRunSlices];
 
-// Relative slack of append.frag's support test (the exact test is
-// sample.comp's): float rounding here must never drop a sample it keeps.
-const float kSupportSlack = 1e-3;
-
-// One slice on the face of its projection axis `a`.
-struct SliceTerms {
-    float reach;    // voxel units in the slice plane: the disk holding every footprint centre whose sample can read fibre
-    float extent;   // voxel units: half the side of the slice's square grown by two pixels
-    vec2 atOrigin;  // the test's terms about face pixel `origin` (vAt, vSteps)
-    vec4 steps;
-    float limit;
-};
-
-SliceTerms sliceTerms(SliceRecord s, int a, ivec2 origin) {
-    vec3 center = s.center.xyz, right = s.right.xyz, sliceUp = s.up.xyz, tangent = s.tangent.xyz;
-    SliceTerms t;
-    // The slice's square grown by two pixels of margin in the plane: those
-    // are at least one pixel on the face, since the face foreshortens the
-    // plane by |tangent[a]| >= 1/sqrt(3), so every pixel whose square meets
-    // the slice square has its centre in it.
-    float S = float(uSupersample);
-    t.extent = uRadius + 2.0 / S;
-    // A sample can hold fibre only where what it reads of its footprint (the
-    // pixel seen on the slice plane, a parallelogram) comes within the
-    // support: with the disk, the whole parallelogram, whose farthest point
-    // lies half its longer diagonal from its centre; with a texture, the
-    // centres of its cells (footprintCells), (m - 1) / 2m of that diagonal.
-    // footprintCells skips by half the edges' sum, which is never less: a
-    // footprint between the bounds reads 0 there. A disk of radius `reach`
-    // in the plane (the margin covers float rounding and the rasterizer's
-    // snapping).
-#if CROSS_SECTION_DISK
-    const float kFootprintReach = 0.5;
-#else
-    const float kFootprintReach = 0.5 * float(kFootprintCells - 1) / float(kFootprintCells);
-#endif
-    vec3 centerA = axisFirst(center, a), rightA = axisFirst(right, a), upA = axisFirst(sliceUp, a);
-    float det = tangent[a];
-    vec2 edgeB = footprintEdgeB(rightA, upA, det, S, uRadius), edgeC = footprintEdgeC(rightA, upA, det, S, uRadius);
-    float footprintReach = kFootprintReach * max(length(edgeB + edgeC), length(edgeB - edgeC)); // units of the radius
-    t.reach = (uSupport + footprintReach) * uRadius * 1.001 + 0.05 / S;
-
-    ivec3 anchorA = axisFirst(s.anchor.xyz, a), regionMinA = axisFirst(uRegionMin, a);
-    t.atOrigin = columnCrossing(origin + regionMinA.yz * uSupersample, uSupersample, anchorA, centerA, rightA, upA, det) / uRadius;
-    t.steps = vec4(edgeB, edgeC);
-    t.limit = uSupport * (1.0 + kSupportSlack) + kSupportSlack + footprintReach;
-    return t;
-}
-
 void main() {
 #if SLICE_POINTS && SLICE_RUN > 1
     uvec2 run = runs[gl_VertexID];
@@ -120,8 +71,7 @@ void main() {
 
     // The face pixel holding the first slice's centre: the tests' terms are
     // expanded about it.
-    ivec3 anchorA = axisFirst(s.anchor.xyz, a), regionMinA = axisFirst(uRegionMin, a);
-    ivec2 origin = ivec2(floor((vec2(anchorA.yz - regionMinA.yz) + axisFirst(s.center.xyz, a).yz) * S));
+    ivec2 origin = sliceFacePixel(s, a, uRegionMin, uSupersample);
     ivec2 face = axisFirst(uRegionBricks * 8, a).yz * uSupersample; // at most 1024 x 16 pixels (regionCap_)
     vRun = ivec4(origin, first, face.x | (face.y << 16));
 
@@ -135,17 +85,12 @@ void main() {
     for (int i = 0; i < kRunSlices; ++i) {
         if (i < count) {
             SliceRecord si = slices[first + i];
-            vec3 right = si.right.xyz, sliceUp = si.up.xyz;
-            SliceTerms t = sliceTerms(si, a, origin);
+            SliceTerms t = sliceTerms(si, a, origin, uRadius, uSupport, uSupersample, uRegionMin);
             vAt[i] = vec4(t.atOrigin, t.limit * t.limit, 0.0);
             vSteps[i] = t.steps;
-            float halfSide = t.reach <= t.extent
-                             ? t.reach * max(length(vec2(right[b], sliceUp[b])), length(vec2(right[c], sliceUp[c])))
-                             : t.extent * max(abs(right[b]) + abs(sliceUp[b]), abs(right[c]) + abs(sliceUp[c]));
-            vec3 fromRegion = vec3(si.anchor.xyz - uRegionMin) + si.center.xyz;
-            vec2 pixel = vec2(fromRegion[b], fromRegion[c]) * S;
-            lo = min(lo, pixel - halfSide * S);
-            hi = max(hi, pixel + halfSide * S);
+            vec4 box = sliceFaceBox(si, a, t, uRegionMin, S);
+            lo = min(lo, box.xy);
+            hi = max(hi, box.zw);
         } else {
             vAt[i] = vec4(0.0, 0.0, -1.0, 0.0); // no pixel passes
             vSteps[i] = vec4(0.0);
@@ -154,7 +99,7 @@ void main() {
     gl_Position = vec4((0.5 * (lo + hi) + float(uMargin)) / uViewport * 2.0 - 1.0, 0.0, 1.0);
     gl_PointSize = max(hi.x - lo.x, hi.y - lo.y) + 0.1;
 #else
-    SliceTerms t = sliceTerms(s, a, origin);
+    SliceTerms t = sliceTerms(s, a, origin, uRadius, uSupport, uSupersample, uRegionMin);
     vAt[0] = vec4(t.atOrigin, t.limit * t.limit, 0.0);
     vSteps[0] = t.steps;
 

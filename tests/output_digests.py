@@ -29,7 +29,8 @@ What is normalised (everything else is digested as written):
 - --stats JSON: a whole number written as a double ("0.0", as nlohmann's
   writer has it since 8d8d9c1's "0") as the integer; and the values (not the
   keys, whose order and formatting are kept) of the keys in STATS_VARYING below: times, rates over times, the
-  process's memory, the machine's thread count and GL driver; under mpirun
+  process's memory, the machine's thread count and GL driver, how the GL
+  backend found its sample items; under mpirun
   also rank 0's own counts (STATS_VARYING_MPI), and with --method dense the
   sums over its racy values (STATS_VARYING_DENSE); and the process id in the
   name of the temporary .vdb that `voxelize -o X.vol|X.nvdb` gives as its
@@ -96,6 +97,11 @@ STATS_VARYING = {
     # the machine: its core count, and the GL driver's name and EGL platform
     # (llvmpipe names its LLVM version and vector width)
     "threads", "renderer", "platform",
+    # how the GL backend found its sample items: chosen by the device and by
+    # --sample-items (a raster's triangles or point sprites, or a compute
+    # pass), and the primitives that drew them; the items, fragments and
+    # every output byte are the same whichever it was
+    "slice_primitive", "primitives_drawn",
 }
 # Any key ending in these is a time too.
 STATS_VARYING_SUFFIXES = ("_seconds", "_per_second", "_ms")

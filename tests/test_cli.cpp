@@ -14,9 +14,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <string>
 #include <unistd.h>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -220,6 +222,43 @@ TEST_CASE("CLI: --stats of a GL run times the raster and its placing, and counts
     CHECK(jsonNumber(json, "slices_drawn") >= jsonNumber(json, "slices")); // a slice is drawn in every region it reaches
     CHECK(jsonNumber(json, "sample_items") > 0.0);
     CHECK(jsonNumber(json, "fragments") > 0.0);
+}
+
+TEST_CASE("CLI: --sample-items raster and compute write the same bytes and say which ran and go with gl only", "[cli][gl]") {
+    YV_REQUIRE_GL();
+    const fs::path bcc = scratch("items.bcc");
+    REQUIRE(run("gen --pattern twill --crossings 40 --shape cylinder -o " + bcc.string()).exitCode == 0);
+    std::map<std::string, std::vector<std::uint8_t>> bytes;
+    for (const std::string items : {"raster", "compute", "auto"}) {
+        const fs::path vdb = scratch("items-" + items + ".vdb"), stats = scratch("items-" + items + ".json");
+        const RunResult r = run("voxelize " + bcc.string() + " -o " + vdb.string() +
+                                " --backend gl --resolution 64 --quiet --sample-items " + items + " --stats " +
+                                stats.string());
+        INFO(items << ": " << r.output);
+        REQUIRE(r.exitCode == 0);
+        const std::string json = readText(stats);
+        // The raster draws triangles on llvmpipe, point sprites on a GPU.
+        const bool llvmpipe = json.find("llvmpipe") != std::string::npos;
+        const std::string expected = items != "raster" ? "compute" : llvmpipe ? "triangle" : "point";
+        CHECK(json.find("\"slice_primitive\": \"" + expected + "\"") != std::string::npos);
+        CHECK(jsonNumber(json, "sample_items") > 0.0);
+        bytes[items] = yv::test::vdbBytesWithoutUuid(vdb);
+    }
+    CHECK(bytes["raster"] == bytes["compute"]);
+    CHECK(bytes["raster"] == bytes["auto"]);
+    for (const std::string refused : {"--backend cpu", "--method dense"}) {
+        const fs::path vdb = scratch("items-refused.vdb");
+        const RunResult r = run("voxelize " + bcc.string() + " -o " + vdb.string() + " --resolution 64 " + refused +
+                                " --sample-items compute");
+        INFO(refused << ": " << r.output);
+        CHECK(r.exitCode != 0);
+        CHECK(r.output.find("--sample-items compute: goes with the GL backend's sparse method") != std::string::npos);
+        CHECK_FALSE(fs::exists(vdb));
+    }
+    const RunResult bad = run("voxelize " + bcc.string() + " -o " + scratch("items-bad.vdb").string() +
+                              " --resolution 64 --sample-items points");
+    CHECK(bad.exitCode != 0);
+    CHECK(bad.output.find("--sample-items") != std::string::npos);
 }
 
 TEST_CASE("CLI: slices follow the voxel size by default, and a coarse explicit spacing warns", "[cli]") {

@@ -167,7 +167,7 @@ TEST_CASE("GL: texels read by one gather, by four fetches or from the quad textu
     CHECK(cmp.densityWithinShare() >= 0.9999);
 }
 
-TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or runs of slices) give the same voxels bit for bit", "[gl][agreement]") {
+TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or runs of slices) or tested in compute give the same voxels bit for bit", "[gl][agreement]") {
     YV_REQUIRE_GL();
     const GlContext context;
     // A twisted cylinder (every tangent direction, so every projection axis
@@ -190,6 +190,19 @@ TEST_CASE("GL: slices drawn as triangles or as point sprites (a slice each or ru
             CHECK(drawnAsPoints.fragments == drawnAsTriangles.fragments);
             CHECK(identical(a, b));
             CHECK(drawnAsTriangles.primitivesDrawn == drawnAsTriangles.slicesDrawn);
+            // The items appended in compute (slice_items.comp): no draw, the
+            // same test over a box that holds every sprite's pixels.
+            GlVoxelizeSettings computed = glSettings();
+            computed.base.supersample = supersample;
+            computed.slicePrimitive = SlicePrimitive::Compute;
+            GlVoxelizeCounters appendedInCompute;
+            CHECK(identical(a, voxelizeGl(run.plan, xs, run.grid, computed, context, &appendedInCompute)));
+            CHECK(appendedInCompute.slicePrimitive == "compute");
+            CHECK(appendedInCompute.fragments == drawnAsTriangles.fragments);
+            CHECK(appendedInCompute.sampleItems >= drawnAsPoints.sampleItems);
+            CHECK(appendedInCompute.sampleItems >= drawnAsTriangles.sampleItems);
+            CHECK(appendedInCompute.primitivesDrawn == 0);
+            CHECK(appendedInCompute.slicesDrawn == drawnAsTriangles.slicesDrawn);
             // Point sprites a slice each, or runs of consecutive slices
             // (slice_runs.comp): fewer points than slices (runs break where
             // the projection axis changes), the same voxels.
@@ -245,6 +258,13 @@ TEST_CASE("GL: a tiny fragment list overflows, is redone in pieces, and loses no
         CHECK(tiny.plannedRegions > ample.plannedRegions);
         CHECK(tiny.fragments == ample.fragments);
         CHECK(identical(a, b));
+        // The same with the sample items appended in compute.
+        GlVoxelizeSettings computed = glSettings(r, 8 * 64 * 5);
+        computed.slicePrimitive = SlicePrimitive::Compute;
+        GlVoxelizeCounters tinyComputed;
+        CHECK(identical(a, voxelizeGl(plan, xs, grid, computed, context, &tinyComputed)));
+        CHECK(tinyComputed.overflows >= 1);
+        CHECK(tinyComputed.fragments == ample.fragments);
     }
 }
 
@@ -342,18 +362,24 @@ TEST_CASE("GL: fragment and item lists that start small grow and the pass is red
     const GlContext context;
     const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 64, 1.0, 64);
     const CrossSection xs = makeFiberCrossSection();
-    GlVoxelizeCounters plain, grown;
-    const BrickVolume reference = voxelizeGl(run.plan, xs, run.grid, glSettings(), context, &plain);
-    GlVoxelizeSettings small = glSettings();
-    small.initialListSlots = 64;
-    const BrickVolume volume = voxelizeGl(run.plan, xs, run.grid, small, context, &grown);
-    REQUIRE(plain.sampleItems > 1000);
-    CHECK(plain.listGrowths == 0);
-    CHECK(grown.listGrowths >= 1);
-    CHECK(grown.overflows == 0);
-    CHECK(grown.fragments == plain.fragments);
-    CHECK(grown.sampleItems == plain.sampleItems);
-    CHECK(identical(reference, volume));
+    // Items from the raster, and from the compute pass (slice_items.comp).
+    for (SlicePrimitive primitive : {SlicePrimitive::Raster, SlicePrimitive::Compute}) {
+        GlVoxelizeSettings settings = glSettings();
+        settings.slicePrimitive = primitive;
+        GlVoxelizeCounters plain, grown;
+        const BrickVolume reference = voxelizeGl(run.plan, xs, run.grid, settings, context, &plain);
+        INFO("items appended by " << plain.slicePrimitive);
+        GlVoxelizeSettings small = settings;
+        small.initialListSlots = 64;
+        const BrickVolume volume = voxelizeGl(run.plan, xs, run.grid, small, context, &grown);
+        REQUIRE(plain.sampleItems > 1000);
+        CHECK(plain.listGrowths == 0);
+        CHECK(grown.listGrowths >= 1);
+        CHECK(grown.overflows == 0);
+        CHECK(grown.fragments == plain.fragments);
+        CHECK(grown.sampleItems == plain.sampleItems);
+        CHECK(identical(reference, volume));
+    }
 }
 
 TEST_CASE("GL: an append counter that wraps past 2^32 is caught and the pass redone, losing nothing", "[gl][overflow]") {
@@ -370,10 +396,13 @@ TEST_CASE("GL: an append counter that wraps past 2^32 is caught and the pass red
     REQUIRE(plain.sampleItems > 1000);
     CHECK(plain.overflows == 0);
     // 256 slots before the 32-bit counter wraps: the fragments' counter (the
-    // sampling pass), or the sample items' (the raster).
-    for (bool items : {false, true}) {
-        INFO((items ? "sample item counter" : "fragment counter"));
+    // sampling pass), or the sample items' (the raster, or the compute pass
+    // in its place).
+    for (int counter = 0; counter < 3; ++counter) {
+        const bool items = counter > 0;
+        INFO((!items ? "fragment counter" : counter == 1 ? "sample item counter, raster" : "sample item counter, compute"));
         GlVoxelizeSettings nearWrap = glSettings();
+        if (counter == 2) nearWrap.slicePrimitive = SlicePrimitive::Compute;
         (items ? nearWrap.firstItemCounterStart : nearWrap.firstCounterStart) = 0xffffff00u;
         GlVoxelizeCounters wrapped;
         const BrickVolume volume = voxelizeGl(plan, xs, grid, nearWrap, context, &wrapped);

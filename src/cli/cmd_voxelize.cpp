@@ -271,6 +271,13 @@ void addVoxelizeCommand(CLI::App& app) {
                     "(a benchmark baseline, limited to one texture, max reduction)")
         ->default_str("sparse")
         ->transform(oneOf(kMethodWords));
+    cmd->add_option("--sample-items", a->sampleItems,
+                    "GL backend: how the pixels each slice can put fibre in are found: raster (the slices drawn as "
+                    "point sprites or triangles, the fragment shader appending them) or compute (a compute pass "
+                    "testing each slice's pixels, on every unit of the GPU); auto: compute, the faster on GPUs and on "
+                    "llvmpipe. The same voxels either way")
+        ->default_str("auto")
+        ->transform(oneOf(kSampleItemsWords));
     addGeometryOptions(cmd, *a);
     addVolumeOptions(cmd, *a);
     addRunOptions(cmd, *a);

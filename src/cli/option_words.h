@@ -28,6 +28,8 @@ std::map<std::string, Enum> wordsOf(std::initializer_list<Enum> values) {
 
 inline const auto kBackendWords = wordsOf({BackendRequest::Auto, BackendRequest::Gl, BackendRequest::Cpu});
 inline const auto kMethodWords = wordsOf({VoxelizeMethod::Sparse, VoxelizeMethod::Dense});
+inline const auto kSampleItemsWords =
+    wordsOf({SampleItemsRequest::Auto, SampleItemsRequest::Raster, SampleItemsRequest::Compute});
 inline const auto kReduceWords = wordsOf({Reduce::Mean, Reduce::Max});
 inline const auto kOverlapWords = wordsOf({Overlap::Clamp, Overlap::Sum});
 inline const auto kCompressionWords =

@@ -15,7 +15,11 @@ SliceDrawing chooseSliceDrawing(const GlVoxelizeSettings& settings, const SliceP
                                 double support, const GlInfo& info) {
     SliceDrawing drawing;
     const SlicePrimitive asked = settings.slicePrimitive;
-    if (asked == SlicePrimitive::Triangle || (asked == SlicePrimitive::Auto && !info.hardware())) return drawing;
+    if (asked == SlicePrimitive::Compute || asked == SlicePrimitive::Auto) {
+        drawing.compute = true;
+        return drawing;
+    }
+    if (asked == SlicePrimitive::Triangle || (asked != SlicePrimitive::Point && !info.hardware())) return drawing;
     const double S = settings.base.supersample, r = plan.options.radius / grid.voxelSize;
     // Runs of slices, one sprite each, where the yarn is thin on the face:
     // there a point's fixed cost is most of its time, and two slices'

@@ -18,14 +18,17 @@ struct SliceDrawing {
     /// sprite's centre in the viewport (a point whose centre is clipped is
     /// dropped whole); 0: triangles.
     int pointMargin = 0;
-    /// Slices a point sprite draws at most; 1 with triangles.
+    /// Slices a point sprite draws at most; 1 with triangles and in compute.
     int runSlices = 1;
+    /// No draw: the sample items appended by a compute pass (slice_items.comp).
+    bool compute = false;
     bool points() const { return pointMargin > 0; }
-    /// "point" or "triangle", as --stats says it.
-    const char* name() const { return points() ? "point" : "triangle"; }
+    /// "compute", "point" or "triangle", as --stats says it.
+    const char* name() const { return compute ? "compute" : (points() ? "point" : "triangle"); }
 };
 
-/// Point sprites where asked for (Auto: on a GPU) and where the driver's
+/// Sample items in compute where asked for (and by Auto); else point
+/// sprites where asked for (Raster: on a GPU) and where the driver's
 /// point sizes hold the largest sprite the vertex shader can ask for; runs of
 /// slices where the yarn is thin on the face. `support`: textureSupport() of
 /// the cross-section. Throws yv::Error for a sliceRun out of range.

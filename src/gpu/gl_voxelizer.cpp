@@ -278,7 +278,7 @@ PassResult GlBackend::Impl::buildBricks(const WorkItem& item, RegionInFlight& re
     }
     counters_.sampleItems += counts.items;
     counters_.slicesDrawn += instances_;
-    counters_.primitivesDrawn += drawing_.runSlices > 1 ? counts.runs : instances_;
+    counters_.primitivesDrawn += drawing_.compute ? 0 : (drawing_.runSlices > 1 ? counts.runs : instances_);
     if (counts.fragments == 0) return PassResult::Done;
 
     const std::optional<GLuint> active = bricks_->build(item, counts.fragments, *lists_, small_, budget_.brickBudget);

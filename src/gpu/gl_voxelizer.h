@@ -31,18 +31,22 @@ namespace yv {
 /// same cores; Gpu on a GPU. Both give the same bricks, bit for bit.
 enum class BrickResolve { Auto, Gpu, Host };
 
-/// What each slice is drawn as. Both cover every pixel whose sample can hold
-/// fibre, and the sampling decides from the pixel alone, so both give
-/// the same voxels, bit for bit. Point: one sprite, an axis-aligned square
+/// What each slice is drawn as. Each covers every pixel whose sample can hold
+/// fibre, and the sampling decides from the pixel alone, so all give the
+/// same voxels, bit for bit. Compute: no draw; a compute pass tests the
+/// pixels of each slice's box on the face and appends its sample items
+/// (shaders/slice_items.comp), on every unit of the GPU where the raster
+/// runs on few of them. Point: one sprite, an axis-aligned square
 /// on the face around the slice's projection (no inner edge, so no 2x2 quad
 /// is shaded twice; 11 to 18 % off the raster on the H100 for the sweater and
 /// the draped garment), or around a run of consecutive slices' projections
 /// where the yarn is thin on the face (GlVoxelizeSettings::sliceRun).
 /// Triangle: one triangle around the fibre's disk, or the slice's square (17
-/// to 20 % faster than sprites on llvmpipe). Auto:
-/// Point on a GPU, Triangle on llvmpipe, and Triangle where the driver's
-/// largest point size cannot hold the largest sprite.
-enum class SlicePrimitive { Auto, Triangle, Point };
+/// to 20 % faster than sprites on llvmpipe). Raster: Point on a GPU,
+/// Triangle on llvmpipe, and Triangle where the driver's largest point size
+/// cannot hold the largest sprite. Auto: Compute (the raster's step 3 times
+/// faster on llvmpipe, the same items).
+enum class SlicePrimitive { Auto, Raster, Triangle, Point, Compute };
 
 struct GlVoxelizeSettings {
     VoxelizeSettings base;
@@ -74,7 +78,7 @@ struct GlVoxelizeSettings {
 
 struct GlVoxelizeCounters {
     std::string renderer, platform;
-    std::string slicePrimitive; ///< "point" or "triangle", as drawn
+    std::string slicePrimitive; ///< "compute", "point" or "triangle", as drawn
     std::uint64_t fragments = 0;        ///< fragments appended, summed over passes that fit
     std::uint64_t sampleItems = 0;      ///< sample items (slice and pixel) the raster appended, likewise
     std::uint64_t slicesDrawn = 0;      ///< slices drawn (a slice near a region's edge is drawn in each region it reaches), likewise

@@ -21,6 +21,12 @@ std::vector<std::string> rasterDefines(std::vector<std::string> defines, const S
     return defines;
 }
 
+/// The pass's program: the raster's, or its compute stand-in's.
+GlProgram itemProgram(const SliceDrawing& drawing, std::vector<std::string> defines) {
+    if (drawing.compute) return GlProgram::compute("slice_items.comp", defines);
+    return GlProgram::graphics("slice.vert", "append.frag", rasterDefines(std::move(defines), drawing));
+}
+
 } // namespace
 
 RasterPass::RasterPass(const SlicePlan& plan, const GlBuffer& segments, const SliceDrawing& drawing,
@@ -29,8 +35,11 @@ RasterPass::RasterPass(const SlicePlan& plan, const GlBuffer& segments, const Sl
     : plan_(plan), segments_(segments), drawing_(drawing), uniformSlices_(budget.uniformSlices),
       maxBlock_(budget.maxBlock), gpuBytes_(gpuBytes),
       placer_(drawing.runSlices, rasterDefines(defines, drawing)),
-      program_(GlProgram::graphics("slice.vert", "append.frag", rasterDefines(std::move(defines), drawing))),
+      program_(itemProgram(drawing, std::move(defines))),
       vao_(createVertexArray()), fbo_(createFramebuffer()), placeTimer_(timerQueries), drawTimer_(timerQueries) {
+    GLint groups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
+    maxGroups_ = static_cast<GLuint>(std::clamp(groups, 1, 65535));
     runDraw_.reserve(16, gpuBytes_); // with point sprites, the draw's command (its first word: the runs)
     runDraw_.clear(16);
 }
@@ -60,8 +69,29 @@ std::optional<std::uint64_t> RasterPass::run(const WorkItem& item, const Samplin
             placer_.joinRuns(instances, uniforms.supersample, kSliceRunSpread, slices_, runs_, runDraw_, gpuBytes_);
     }
     placeTimer_.end();
-    draw(item, uniforms, lists, instances);
+    if (drawing_.compute)
+        appendInCompute(uniforms, item, lists, instances);
+    else
+        draw(item, uniforms, lists, instances);
     return instances;
+}
+
+void RasterPass::appendInCompute(const SamplingUniforms& uniforms, const WorkItem& item, const SampleLists& lists,
+                                 std::uint64_t instances) {
+    drawTimer_.begin();
+    const TraceSpan appending("append the sample items");
+    program_.use();
+    uniforms.set(program_, item);
+    glUniform1ui(program_.uniform("uItemCapacity"), static_cast<GLuint>(lists.itemSlots()));
+    glUniform1ui(program_.uniform("uInstances"), static_cast<GLuint>(instances));
+    slices_.bindStorage(kSlicesBinding);
+    lists.items().bindStorage(kItemsBinding);
+    lists.itemCounter().bindStorage(kItemCounterBinding);
+    const std::uint64_t groups = (instances + kItemGroupSize - 1) / kItemGroupSize;
+    if (groups > 0) glDispatchCompute(static_cast<GLuint>(std::min<std::uint64_t>(groups, maxGroups_)), 1, 1);
+    drawTimer_.end();
+    checkGlError("sample items in compute");
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
 }
 
 void RasterPass::draw(const WorkItem& item, const SamplingUniforms& uniforms, const SampleLists& lists,

@@ -1,7 +1,8 @@
 // The GL backend's first pass over a work item: its slices placed on the GPU
 // (slice_placer.h), then drawn over the item's face, as triangles or point
 // sprites (slice.vert), and one sample item appended per pixel that can hold
-// fibre (append.frag).
+// fibre (append.frag); or, in place of the draw, the same items appended by
+// a compute pass (slice_items.comp).
 #pragma once
 
 #include "garment/slices.h"
@@ -44,6 +45,11 @@ class RasterPass {
 
   private:
     void draw(const WorkItem& item, const SamplingUniforms& uniforms, const SampleLists& lists, std::uint64_t instances);
+    void appendInCompute(const SamplingUniforms& uniforms, const WorkItem& item, const SampleLists& lists,
+                         std::uint64_t instances);
+
+    /// slice_items.comp's local size.
+    static constexpr std::uint64_t kItemGroupSize = 256;
 
     const SlicePlan& plan_;
     const GlBuffer& segments_;
@@ -51,6 +57,7 @@ class RasterPass {
     std::uint32_t uniformSlices_;
     std::uint64_t maxBlock_;
     std::uint64_t* gpuBytes_;
+    GLuint maxGroups_ = 65535;
     SlicePlacer placer_;
     GlProgram program_;
     GlVertexArray vao_;

@@ -20,6 +20,9 @@ void checkJob(const VoxelizeJob& job, bool sharedByRanks) {
     if (job.box && dense) throw Error(job.box->named() + ": a box needs the sparse method (--method dense voxelizes the whole grid)");
     if (dense && sharedByRanks) throw Error("--method dense runs in one process, not under mpirun -np 2 or more");
     if (dense && job.backend == BackendRequest::Cpu) throw Error("--method dense needs --backend gl");
+    if (job.sampleItems != SampleItemsRequest::Auto && (dense || job.backend == BackendRequest::Cpu))
+        throw Error(std::string("--sample-items ") + toString(job.sampleItems) +
+                    ": goes with the GL backend's sparse method (not --backend cpu or --method dense)");
     if (dense && (!job.workDir.empty() || job.resume)) throw Error("--work-dir and --resume need the sparse method");
     // Without it the run went to memory and --resume was silently ignored.
     if (job.resume && job.workDir.empty())
@@ -52,6 +55,15 @@ const char* toString(BackendRequest b) {
     case BackendRequest::Gl: return "gl";
     case BackendRequest::Cpu: return "cpu";
     case BackendRequest::Auto: break;
+    }
+    return "auto";
+}
+
+const char* toString(SampleItemsRequest r) {
+    switch (r) {
+    case SampleItemsRequest::Raster: return "raster";
+    case SampleItemsRequest::Compute: return "compute";
+    case SampleItemsRequest::Auto: break;
     }
     return "auto";
 }

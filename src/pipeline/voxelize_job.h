@@ -29,11 +29,17 @@ using Tell = std::function<void(const std::string&)>;
 enum class BackendRequest { Auto, Gl, Cpu };
 /// --method: yarnvox's sparse bricks, or the paper's dense 3D textures (a benchmark baseline).
 enum class VoxelizeMethod { Sparse, Dense };
+/// --sample-items: how the GL backend finds the pixels each slice can put
+/// fibre in: the slices drawn and the fragment shader appending them
+/// (Raster), or a compute pass testing each slice's pixels (Compute); Auto
+/// settles it by the device (rasterizers.cpp).
+enum class SampleItemsRequest { Auto, Raster, Compute };
 
 /// One garment's voxelization (option names in the comments).
 struct VoxelizeJob {
     std::string input, output;                          ///< INPUT, -o
     BackendRequest backend = BackendRequest::Auto;      ///< --backend
+    SampleItemsRequest sampleItems = SampleItemsRequest::Auto; ///< --sample-items
     VoxelizeMethod method = VoxelizeMethod::Sparse;     ///< --method
     std::string crossSection = "fibers";                ///< --cross-section: fibers, disk or FILE.png
     Reduce reduce = Reduce::Mean;                       ///< --reduce
@@ -113,6 +119,7 @@ LodRequest lodOf(const VoxelizeJob& job);
 
 /// "auto", "gl" or "cpu", as the option is spelled.
 const char* toString(BackendRequest b);
+const char* toString(SampleItemsRequest r);
 /// "sparse" or "dense".
 const char* toString(VoxelizeMethod m);
 
