@@ -153,6 +153,13 @@ Extremes planExtremes(std::span<const SegmentRecord> segments, const std::vector
 } // namespace
 
 SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
+    glm::dvec3 curveMin, curveMax;
+    curveBounds(garment, curveMin, curveMax);
+    return planSlices(garment, options, curveMin, curveMax);
+}
+
+SlicePlan planSlices(const Garment& garment, const SliceOptions& options, const glm::dvec3& curveMin,
+                     const glm::dvec3& curveMax) {
     if (options.slicesPerSegment < 1 && options.spacing <= 0.0)
         throw Error("slices per segment must be at least 1 (got " + std::to_string(options.slicesPerSegment) + ")");
     if (!(options.radius > 0.0)) throw Error("yarn radius must be positive");
@@ -230,7 +237,8 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options) {
     plan.centerMax = all.hi;
     plan.maxReach = all.reach;
     plan.maxSpacing = all.spacing;
-    curveBounds(garment, plan.curveMin, plan.curveMax);
+    plan.curveMin = curveMin;
+    plan.curveMax = curveMax;
     return plan;
 }
 

@@ -100,6 +100,10 @@ inline double slabScale(const Slice& slice, double x, double y) {
 /// is unchanged. Throws yv::Error on a yarn with fewer than 2 points or with
 /// repeated points that leave no tangent.
 SlicePlan planSlices(const Garment& garment, const SliceOptions& options);
+/// The same, given the curves' bounds as curveBounds finds them (a caller
+/// that has found them already: a pass over every segment less).
+SlicePlan planSlices(const Garment& garment, const SliceOptions& options, const glm::dvec3& curveMin,
+                     const glm::dvec3& curveMax);
 
 /// Below this speed |dC/dt| the curve has no tangent (SliceOnCurve::hasTangent).
 constexpr double kLeastCurveSpeed = 1e-12;

@@ -94,7 +94,10 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
     s.sliceOptions.radius = s.radius.radius;
     // Slices follow the voxel size, not the garment's control points: one
     // slice per (supersampled) voxel along the yarn, unless asked otherwise.
-    const double voxelSize = voxelSizeFor(s.garment(), s.radius.radius, job.resolution, job.voxelSize);
+    // The curves' bounds once: the voxel size and the plan both want them.
+    glm::dvec3 curveMin, curveMax;
+    curveBounds(s.garment(), curveMin, curveMax);
+    const double voxelSize = voxelSizeForCurves(curveMin, curveMax, s.radius.radius, job.resolution, job.voxelSize);
     // A run that would leave no voxels is refused before any slicing.
     const RunScale scale{s.radius.radius, s.radius.description, voxelSize, scaleOption(job), job.supersample, job.spacing};
     for (const std::string& w : checkRunScale(scale, s.xs)) tell("warning: " + w);
@@ -111,7 +114,7 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
     if (!s.slicePlan) {
         const TraceSpan span("plan the slices");
         try {
-            s.slicePlan = std::make_shared<const SlicePlan>(planSlices(s.garment(), s.sliceOptions));
+            s.slicePlan = std::make_shared<const SlicePlan>(planSlices(s.garment(), s.sliceOptions, curveMin, curveMax));
         } catch (const Error& e) {
             throw Error(job.input + ": " + e.what());
         }

@@ -47,8 +47,14 @@ double voxelSizeForBox(glm::dvec3 lo, glm::dvec3 hi, int resolution, double voxe
 } // namespace
 
 double voxelSizeFor(const Garment& garment, double radius, int resolution, double voxelSize) {
-    glm::dvec3 curveMin, curveMax, lo, hi;
+    glm::dvec3 curveMin, curveMax;
     curveBounds(garment, curveMin, curveMax);
+    return voxelSizeForCurves(curveMin, curveMax, radius, resolution, voxelSize);
+}
+
+double voxelSizeForCurves(const glm::dvec3& curveMin, const glm::dvec3& curveMax, double radius, int resolution,
+                          double voxelSize) {
+    glm::dvec3 lo, hi;
     if (!(curveMin.x <= curveMax.x)) throw Error("the garment has no curves: nothing to voxelize");
     garmentBox(curveMin, curveMax, radius, lo, hi);
     return voxelSizeForBox(lo, hi, resolution, voxelSize);

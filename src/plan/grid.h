@@ -26,5 +26,8 @@ VoxelGrid makeGrid(const SlicePlan& plan, int resolution, double voxelSize);
 /// radius: known before the slices are planned, so that the slice spacing can
 /// follow it (defaultSliceSpacing).
 double voxelSizeFor(const Garment& garment, double radius, int resolution, double voxelSize);
+/// The same from the curves' bounds (curveBounds), where the caller has them.
+double voxelSizeForCurves(const glm::dvec3& curveMin, const glm::dvec3& curveMax, double radius, int resolution,
+                          double voxelSize);
 
 } // namespace yv
