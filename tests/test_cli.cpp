@@ -255,6 +255,16 @@ TEST_CASE("CLI: --sample-items raster and compute write the same bytes and say w
         CHECK(r.output.find("--sample-items compute: goes with the GL backend's sparse method") != std::string::npos);
         CHECK_FALSE(fs::exists(vdb));
     }
+    // --backend auto on a machine without a GPU runs the CPU backend, which
+    // says that it finds no items rather than leaving the option unheard.
+    const fs::path autoStats = scratch("items-auto-backend.json");
+    const RunResult onAuto = run("voxelize " + bcc.string() + " -o " + scratch("items-auto-backend.vdb").string() +
+                                 " --resolution 64 --sample-items compute --stats " + autoStats.string());
+    INFO(onAuto.output);
+    REQUIRE(onAuto.exitCode == 0);
+    const bool ranOnCpu = readText(autoStats).find("\"backend\": \"cpu\"") != std::string::npos;
+    CHECK((onAuto.output.find("warning: --sample-items compute: the CPU backend runs here") != std::string::npos) ==
+          ranOnCpu);
     const RunResult bad = run("voxelize " + bcc.string() + " -o " + scratch("items-bad.vdb").string() +
                               " --resolution 64 --sample-items points");
     CHECK(bad.exitCode != 0);

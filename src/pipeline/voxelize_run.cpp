@@ -234,6 +234,10 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
     const Backend chosen = chooseBackend(job, gl);
     if (job.backend == BackendRequest::Auto && chosen == Backend::Cpu && job.verbose && !job.quiet)
         note("backend: no GPU found, using the CPU backend (--backend gl forces the software GL path)");
+    if (chosen == Backend::Cpu && job.sampleItems != SampleItemsRequest::Auto)
+        tell(std::string("warning: --sample-items ") + toString(job.sampleItems) +
+             ": the CPU backend runs here (no GPU found), which has no sample items to find; "
+             "--backend gl runs the GL backend on the software GL path");
     const Backend backend = agreeOnBackend(chosen, group, job, gl);
 
     const VoxelGrid grid = makeGrid(sliced.plan(), job.resolution, job.voxelSize);
