@@ -33,13 +33,10 @@ RasterPass::RasterPass(const SlicePlan& plan, const GlBuffer& segments, const Sl
                        const GlBudget& budget, std::vector<std::string> defines, bool timerQueries,
                        std::uint64_t* gpuBytes)
     : plan_(plan), segments_(segments), drawing_(drawing), uniformSlices_(budget.uniformSlices),
-      maxBlock_(budget.maxBlock), gpuBytes_(gpuBytes),
+      maxBlock_(budget.maxBlock), maxGroups_(budget.maxGroups), gpuBytes_(gpuBytes),
       placer_(drawing.runSlices, rasterDefines(defines, drawing)),
       program_(itemProgram(drawing, std::move(defines))),
       vao_(createVertexArray()), fbo_(createFramebuffer()), placeTimer_(timerQueries), drawTimer_(timerQueries) {
-    GLint groups = 0;
-    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
-    maxGroups_ = static_cast<GLuint>(std::clamp(groups, 1, 65535));
     runDraw_.reserve(16, gpuBytes_); // with point sprites, the draw's command (its first word: the runs)
     runDraw_.clear(16);
 }

@@ -56,8 +56,8 @@ class RasterPass {
     SliceDrawing drawing_;
     std::uint32_t uniformSlices_;
     std::uint64_t maxBlock_;
+    GLuint maxGroups_; ///< work groups of one dispatch (GlBudget::maxGroups)
     std::uint64_t* gpuBytes_;
-    GLuint maxGroups_ = 65535;
     SlicePlacer placer_;
     GlProgram program_;
     GlVertexArray vao_;
