@@ -1,5 +1,5 @@
 // A segment's slices measured in lanes (measureSlices and the zoom plan's
-// slicesInGrid: SSE2's two, AVX's four) against one at a time (sliceOnCurve,
+// sliceVoxels: SSE2's two, AVX's four) against one at a time (sliceOnCurve,
 // glm): the same bits for every measure, on every kind of segment (straight,
 // bent, a cusp, a segment that does not move) and every slice count, whole
 // groups of lanes or not.
@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -55,7 +56,8 @@ bool sameBits(const SegmentMeasures& a, const SegmentMeasures& b) {
     return std::memcmp(&a.length, &b.length, sizeof(double)) == 0 && std::memcmp(&a.spacing, &b.spacing, sizeof(double)) == 0 &&
            std::memcmp(&a.reach, &b.reach, sizeof(double)) == 0 &&
            std::memcmp(&a.centerMin, &b.centerMin, sizeof(glm::dvec3)) == 0 &&
-           std::memcmp(&a.centerMax, &b.centerMax, sizeof(glm::dvec3)) == 0 && a.flat == b.flat;
+           std::memcmp(&a.centerMax, &b.centerMax, sizeof(glm::dvec3)) == 0 &&
+           std::memcmp(&a.dominantSum, &b.dominantSum, sizeof(double)) == 0 && a.flat == b.flat;
 }
 
 } // namespace
@@ -74,7 +76,8 @@ TEST_CASE("measureSlices gives one slice at a time's bits in every lane, for eve
             for (SliceLanes lanes : paths) {
                 const SegmentMeasures got = measureSlices(segment, halfDiagonal, lanes);
                 INFO("slices " << slices << ", lanes " << int(lanes) << ": length " << got.length << " want "
-                               << want.length << ", reach " << got.reach << " want " << want.reach);
+                               << want.length << ", reach " << got.reach << " want " << want.reach << ", dominant sum "
+                               << got.dominantSum << " want " << want.dominantSum);
                 CHECK(sameBits(got, want));
                 ++compared;
             }
@@ -97,49 +100,49 @@ TEST_CASE("measureSlices: a straight segment's length, bounds and reach are the 
         CHECK(m.centerMin.y == 0.0);
         // Straight: the slab's depth is its thickness, along x.
         CHECK(m.reach == Approx(halfDiagonal + 0.5 * 0.1).epsilon(1e-12));
+        // Along an axis: each slice's unit tangent is that axis.
+        CHECK(m.dominantSum == Approx(10.0).epsilon(1e-12));
         CHECK_FALSE(m.flat);
     }
 }
 
-TEST_CASE("slicesInGrid gives one slice at a time's bits in every lane, for any run of slices", "[slices]") {
-    std::vector<SliceLanes> paths = {SliceLanes::Sse2, SliceLanes::Auto};
+TEST_CASE("sliceVoxels gives one slice at a time's voxels in every lane, for any run of slices", "[slices]") {
+    std::vector<SliceLanes> paths = {SliceLanes::Scalar, SliceLanes::Sse2, SliceLanes::Auto};
     if (cpuHasAvx()) paths.push_back(SliceLanes::Avx);
     // Voxels of two sizes, one a power of two, from an origin inside the segments: floors below zero too.
     const glm::dvec3 origin(-20.25, -10.5, 3.0);
-    std::size_t compared = 0, negative = 0;
+    std::size_t compared = 0, negative = 0, outsideCentreBounds = 0;
     for (double voxelSize : {0.0625, 0.37})
         for (const SegmentPoints& points : testSegments())
             for (std::uint32_t slices : {1u, 3u, 8u, 50u, 51u}) {
                 const SegmentRecord segment = segmentOf(points, slices);
-                // What the zoom plan's heat computed for each slice before it used these.
-                std::vector<SliceInGrid> want(slices);
-                for (std::uint32_t k = 0; k < slices; ++k) {
-                    const double t = (k + 0.5) / slices;
-                    const glm::dvec3 d = glm::abs(glm::normalize(evalCatmullRomDerivative(points, t)));
-                    want[k] = {glm::ivec3(glm::floor((evalCatmullRom(points, t) - origin) / voxelSize)),
-                               std::max({d.x, d.y, d.z})};
-                }
+                const double inv = 1.0 / voxelSize;
+                // The voxel of each slice's centre as sliceOnCurve places it.
+                std::vector<glm::ivec3> want(slices);
+                for (std::uint32_t k = 0; k < slices; ++k)
+                    want[k] = glm::ivec3(glm::floor((sliceOnCurve(segment, k).center - origin) * inv));
+                // The voxels of the centres' bounds (measureSlices) bound every slice's.
+                const SegmentMeasures m = measureSlices(segment, 0.1);
+                const glm::ivec3 lo(glm::floor((m.centerMin - origin) * inv)), hi(glm::floor((m.centerMax - origin) * inv));
+                for (const glm::ivec3& v : want)
+                    outsideCentreBounds += glm::any(glm::lessThan(v, lo)) || glm::any(glm::greaterThan(v, hi));
                 for (SliceLanes lanes : paths)
                     for (std::uint32_t first : {0u, 1u, slices / 2}) {
                         const std::uint32_t count = slices - first;
-                        std::vector<SliceInGrid> got(count);
-                        slicesInGrid(segment, first, count, origin, voxelSize, got.data(), lanes);
+                        std::vector<glm::ivec3> got(count);
+                        sliceVoxels(segment, first, count, origin, inv, got.data(), lanes);
                         for (std::uint32_t j = 0; j < count; ++j) {
-                            const SliceInGrid& w = want[first + j];
                             INFO("slices " << slices << ", first " << first << ", slice " << first + j << ", lanes "
                                            << int(lanes) << ", voxel size " << voxelSize);
-                            // A segment that does not move has no tangent: NaN in every path.
-                            const bool dominantSame = std::memcmp(&got[j].dominant, &w.dominant, sizeof(double)) == 0 ||
-                                                      (std::isnan(got[j].dominant) && std::isnan(w.dominant));
-                            CHECK(got[j].voxel == w.voxel);
-                            CHECK(dominantSame);
-                            negative += w.voxel.x < 0;
+                            CHECK(got[j] == want[first + j]);
+                            negative += want[first + j].x < 0;
                             ++compared;
                         }
                     }
             }
     CHECK(compared > 100000);
     CHECK(negative > 0); // centres before the origin: floor, not truncation
+    CHECK(outsideCentreBounds == 0);
 }
 
 TEST_CASE("sliceAxes gives sliceOnCurve's centre, tangent and thickness in every lane", "[slices]") {

@@ -136,31 +136,24 @@ void measureSliceLanes(const double (&p)[4][3], std::uint32_t count, std::uint32
 }
 
 /// What the zoom plan's heat takes from each slice: the voxel holding its
-/// centre (x, y, z, floored) and the largest component of its unit tangent.
-constexpr int kSliceInGridValues = 4;
+/// centre (x, y, z, floored).
+constexpr int kSliceVoxelValues = 3;
 
-/// Slices first .. first + L::width - 1 as the heat places them (zoom_plan.cpp):
-/// at t = (k + 0.5) / K (a division, where sliceOnCurve multiplies by 1 / K),
-/// the voxel floor((position - origin) / voxelSize) and max |glm::normalize(derivative)|
-/// there, into out[lane][...]. Voxel coordinates within a 32-bit int's range.
+/// Slices first .. first + L::width - 1 as the heat places them: the centre
+/// sliceOnCurve gives (at t = (k + 0.5) * (1 / K)) and the voxel
+/// floor((centre - origin) * invVoxelSize) holding it, into out[lane][...].
+/// Only the curve's position: no division or square root but the one 1 / K.
 template <class L>
-void sliceInGridLanes(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
-                      double voxelSize, double (&out)[L::width][kSliceInGridValues]) {
-    using V = typename L::V;
-    const V t = L::div(L::add(sliceIndexLanes<L>(first), L::set1(0.5)), L::set1(double(count)));
-    V centre[3], d[3];
+void sliceVoxelLanes(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
+                     double invVoxelSize, double (&out)[L::width][kSliceVoxelValues]) {
+    const typename L::V t = L::mul(L::add(sliceIndexLanes<L>(first), L::set1(0.5)), L::set1(1.0 / count));
+    typename L::V centre[3];
     positionLanes<L>(p, t, centre);
-    derivativeLanes<L>(p, t, d);
-    // glm::normalize: v * inversesqrt(dot(v, v)), inversesqrt(x) = 1 / sqrt(x).
-    const V scale = L::div(L::set1(1.0), L::sqrt(dotLanes<L>(d, d)));
-    const V dominant =
-        L::max(L::max(L::abs(L::mul(d[0], scale)), L::abs(L::mul(d[1], scale))), L::abs(L::mul(d[2], scale)));
-    double lanesOf[kSliceInGridValues][L::width];
+    double lanesOf[kSliceVoxelValues][L::width];
     for (int a = 0; a < 3; ++a)
-        L::store(lanesOf[a], L::floor(L::div(L::sub(centre[a], L::set1(origin[a])), L::set1(voxelSize))));
-    L::store(lanesOf[3], dominant);
+        L::store(lanesOf[a], L::floor(L::mul(L::sub(centre[a], L::set1(origin[a])), L::set1(invVoxelSize))));
     for (int l = 0; l < L::width; ++l)
-        for (int v = 0; v < kSliceInGridValues; ++v) out[l][v] = lanesOf[v][l];
+        for (int v = 0; v < kSliceVoxelValues; ++v) out[l][v] = lanesOf[v][l];
 }
 
 } // namespace yv::lanes

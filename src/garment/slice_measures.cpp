@@ -17,16 +17,17 @@ namespace lanes {
 /// Four slices in AVX (slice_measures_avx.cpp, built with -mavx): only call where cpuHasAvx().
 void measureSliceLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, double halfDiagonal,
                           double (&out)[4][kSliceMeasureValues]);
-/// Four slices on the grid in AVX: only call where cpuHasAvx().
-void sliceInGridLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
-                         double voxelSize, double (&out)[4][kSliceInGridValues]);
+/// The voxels of four slices' centres in AVX: only call where cpuHasAvx().
+void sliceVoxelLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
+                        double invVoxelSize, double (&out)[4][kSliceVoxelValues]);
 } // namespace lanes
 
 namespace {
 
 /// Adds one slice to the measures, in slice order (the length is a sum).
-/// `moves`: the curve has a tangent there (else `reach` is meaningless).
-void addSlice(SegmentMeasures& m, const glm::dvec3& centre, double thickness, bool moves, double reach) {
+/// `moves`: the curve has a tangent there (else `reach` and `dominant` are meaningless).
+void addSlice(SegmentMeasures& m, const glm::dvec3& centre, double thickness, bool moves, double reach,
+              double dominant) {
     m.length += thickness;
     m.centerMin = glm::min(m.centerMin, centre);
     m.centerMax = glm::max(m.centerMax, centre);
@@ -36,19 +37,20 @@ void addSlice(SegmentMeasures& m, const glm::dvec3& centre, double thickness, bo
         return;
     }
     m.reach = std::max(m.reach, reach);
+    m.dominantSum += dominant;
 }
 
 /// Slice k one at a time, through sliceOnCurve.
 void addScalar(SegmentMeasures& m, const SegmentRecord& segment, std::uint32_t k, double halfDiagonal) {
     const SliceOnCurve g = sliceOnCurve(segment, k);
-    double reach = 0.0;
+    double reach = 0.0, dominant = 0.0;
     if (g.hasTangent) {
         const glm::dvec3 t = glm::abs(g.tangent);
-        const double dominant = std::max({t.x, t.y, t.z});
+        dominant = std::max({t.x, t.y, t.z});
         const double depth = (1.0 + glm::length(g.curvature) * halfDiagonal) * g.thickness / dominant;
         reach = halfDiagonal + 0.5 * depth;
     }
-    addSlice(m, g.center, g.thickness, g.hasTangent, reach);
+    addSlice(m, g.center, g.thickness, g.hasTangent, reach, dominant);
 }
 
 void segmentPointsOf(const SegmentRecord& segment, double (&p)[4][3]) {
@@ -112,7 +114,9 @@ SegmentMeasures measureSlices(const SegmentRecord& segment, double halfDiagonal,
     m.centerMax = glm::dvec3(-HUGE_VAL);
     const std::uint32_t done =
         measureInLanes(segment, halfDiagonal, 0, segment.sliceCount, lanes, [&](std::uint32_t, const double* v) {
-            addSlice(m, glm::dvec3(v[0], v[1], v[2]), v[3], v[4] > kLeastCurveSpeed, v[5]);
+            // The largest component of |tangent|, as std::max({...}) of glm::abs's in addScalar.
+            const double dominant = std::max({std::abs(v[6]), std::abs(v[7]), std::abs(v[8])});
+            addSlice(m, glm::dvec3(v[0], v[1], v[2]), v[3], v[4] > kLeastCurveSpeed, v[5], dominant);
         });
     for (std::uint32_t k = done; k < segment.sliceCount; ++k) addScalar(m, segment, k, halfDiagonal);
     return m;
@@ -131,27 +135,23 @@ void sliceAxes(const SegmentRecord& segment, std::uint32_t first, std::uint32_t 
     }
 }
 
-void slicesInGrid(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, const glm::dvec3& origin,
-                  double voxelSize, SliceInGrid* out, SliceLanes lanes) {
+void sliceVoxels(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, const glm::dvec3& origin,
+                 double invVoxelSize, glm::ivec3* out, SliceLanes lanes) {
     const std::uint32_t end = first + count, slices = segment.sliceCount;
     const double from[3] = {origin.x, origin.y, origin.z};
-    std::uint32_t k = inLanes<lanes::kSliceInGridValues>(
+    std::uint32_t k = inLanes<lanes::kSliceVoxelValues>(
         segment, first, end, lanes,
-        [&](const double (&p)[4][3], std::uint32_t group, double (&values)[4][lanes::kSliceInGridValues]) {
-            lanes::sliceInGridLanesAvx(p, slices, group, from, voxelSize, values);
+        [&](const double (&p)[4][3], std::uint32_t group, double (&values)[4][lanes::kSliceVoxelValues]) {
+            lanes::sliceVoxelLanesAvx(p, slices, group, from, invVoxelSize, values);
         },
-        [&](const double (&p)[4][3], std::uint32_t group, double (&values)[2][lanes::kSliceInGridValues]) {
-            lanes::sliceInGridLanes<lanes::Sse2Lanes>(p, slices, group, from, voxelSize, values);
+        [&](const double (&p)[4][3], std::uint32_t group, double (&values)[2][lanes::kSliceVoxelValues]) {
+            lanes::sliceVoxelLanes<lanes::Sse2Lanes>(p, slices, group, from, invVoxelSize, values);
         },
-        [&](std::uint32_t slice, const double* v) {
-            out[slice - first] = {glm::ivec3(glm::dvec3(v[0], v[1], v[2])), v[3]};
-        });
-    for (; k < end; ++k) {
-        const double t = (k + 0.5) / segment.sliceCount;
-        const glm::dvec3 d = glm::abs(glm::normalize(evalCatmullRomDerivative(segment.points, t)));
-        out[k - first] = {glm::ivec3(glm::floor((evalCatmullRom(segment.points, t) - origin) / voxelSize)),
-                          std::max({d.x, d.y, d.z})};
-    }
+        [&](std::uint32_t slice, const double* v) { out[slice - first] = glm::ivec3(glm::dvec3(v[0], v[1], v[2])); });
+    // sliceOnCurve's centre, one slice at a time.
+    const double invK = 1.0 / slices;
+    for (; k < end; ++k)
+        out[k - first] = glm::ivec3(glm::floor((evalCatmullRom(segment.points, (k + 0.5) * invK) - origin) * invVoxelSize));
 }
 
 } // namespace yv

@@ -25,6 +25,10 @@ struct SegmentMeasures {
     double length = 0.0;  ///< the sum of the slices' thicknesses, in slice order
     double spacing = 0.0; ///< the largest slice thickness
     double reach = 0.0;   ///< the farthest a sample of a slice lies from its centre
+    /// The sum, in slice order, of the largest component of each slice's
+    /// unit tangent (the slab's depth in voxels per voxel of thickness):
+    /// the zoom plan's heat takes its mean.
+    double dominantSum = 0.0;
     glm::dvec3 centerMin{0.0}, centerMax{0.0};
     bool flat = false; ///< a slice has no tangent (repeated control points)
 };
@@ -49,19 +53,13 @@ struct SliceAxis {
 void sliceAxes(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, SliceAxis* out,
                SliceLanes lanes = SliceLanes::Auto);
 
-/// Where a slice lies, as the zoom plan's heat estimates it (at t = (k +
-/// 0.5) / K, divided): the voxel holding that point of the curve, and the
-/// largest component of its unit tangent there.
-struct SliceInGrid {
-    glm::ivec3 voxel;
-    double dominant;
-};
-
-/// Slices first .. first + count - 1 of `segment` (within its sliceCount)
-/// on the grid of voxels `voxelSize` wide from `origin`, into out[0 .. count
-/// - 1]. Scalar: glm's evalCatmullRom, floor, normalize and abs, one slice
-/// at a time; every path gives its bits.
-void slicesInGrid(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, const glm::dvec3& origin,
-                  double voxelSize, SliceInGrid* out, SliceLanes lanes = SliceLanes::Auto);
+/// The voxel holding each of slices first .. first + count - 1 of `segment`
+/// (within its sliceCount), floor((centre - origin) * invVoxelSize) of the
+/// centre sliceOnCurve gives, into out[0 .. count - 1]: where the zoom plan's
+/// heat puts each slice. Every path gives the scalar one's bits (glm's
+/// evalCatmullRom and floor, one slice at a time), so the voxels of a
+/// segment's centreMin and centreMax bound its slices' voxels.
+void sliceVoxels(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, const glm::dvec3& origin,
+                 double invVoxelSize, glm::ivec3* out, SliceLanes lanes = SliceLanes::Auto);
 
 } // namespace yv

@@ -1,4 +1,4 @@
-// Four slices at a time in AVX (garment/slice_lanes.h): their measures and where they lie on the grid. This file is built
+// Four slices at a time in AVX (garment/slice_lanes.h): their measures and the voxels holding their centres. This file is built
 // with -mavx and called only where the CPU has AVX (cpuHasAvx). So that no
 // inline function of a shared header is emitted here in AVX code (and picked
 // by the linker for callers on any CPU), it includes only the lanes
@@ -15,9 +15,9 @@ void measureSliceLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uin
     measureSliceLanes<AvxLanes>(p, count, first, halfDiagonal, out);
 }
 
-void sliceInGridLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
-                         double voxelSize, double (&out)[4][kSliceInGridValues]) {
-    sliceInGridLanes<AvxLanes>(p, count, first, origin, voxelSize, out);
+void sliceVoxelLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
+                        double invVoxelSize, double (&out)[4][kSliceVoxelValues]) {
+    sliceVoxelLanes<AvxLanes>(p, count, first, origin, invVoxelSize, out);
 }
 
 } // namespace yv::lanes

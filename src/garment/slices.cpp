@@ -100,7 +100,7 @@ namespace {
 
 /// One segment's slice count (from the spacing where one is asked for) and
 /// what measureSlices finds of its slices: length, bounds of the slice
-/// centres and reach. Returns the largest slice thickness; `flat`: a slice
+/// centres, reach and mean dominant tangent component. Returns the largest slice thickness; `flat`: a slice
 /// has no tangent (repeated control points).
 double measureSegment(SegmentRecord& rec, const SliceOptions& options, double halfDiagonal, bool& flat) {
     std::uint32_t k = static_cast<std::uint32_t>(options.slicesPerSegment);
@@ -119,6 +119,7 @@ double measureSegment(SegmentRecord& rec, const SliceOptions& options, double ha
     rec.centerMin = m.centerMin;
     rec.centerMax = m.centerMax;
     rec.reach = m.reach;
+    rec.meanDominant = m.dominantSum / k;
     flat = flat || m.flat;
     return m.spacing;
 }

@@ -45,6 +45,7 @@ struct SegmentRecord {
     double phaseStart;         ///< twist phase at t = 0, radians in [0, 2 pi)
     double twistRate;          ///< twist, radians per world unit (closed yarns: adjusted so the loop closes)
     double reach;              ///< farthest any sample of a slice of this segment lies from its slice centre
+    double meanDominant;       ///< mean over its slices of the largest component of the unit tangent (the zoom plan's heat)
     std::uint64_t firstSlice;
     std::uint32_t sliceCount;
     std::uint32_t yarn;

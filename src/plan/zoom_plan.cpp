@@ -28,15 +28,23 @@ void segmentVoxelBounds(const SlicePlan& plan, const VoxelGrid& grid, std::uint3
     hi = (seg.centerMax - grid.origin) * invH + reach;
 }
 
-std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGrid& grid,
-                                            const std::vector<std::uint32_t>& from, glm::ivec3 min, glm::ivec3 max) {
-    const auto reaches = [&](std::uint32_t s) {
-        glm::dvec3 lo, hi;
-        segmentVoxelBounds(plan, grid, s, lo, hi);
-        return glm::all(glm::lessThan(lo, glm::dvec3(max))) && glm::all(glm::greaterThan(hi, glm::dvec3(min)));
-    };
-    // Long lists (the whole garment, near the top of the split) are tested in
-    // blocks on every core, and the blocks joined in order: the same list.
+SegmentVoxelBox segmentVoxelBox(const SlicePlan& plan, const VoxelGrid& grid, std::uint32_t segment) {
+    glm::dvec3 lo, hi;
+    segmentVoxelBounds(plan, grid, segment, lo, hi);
+    // lo < m for a whole m exactly when floor(lo) < m, hi > m when ceil(hi) > m;
+    // clamped far beyond any grid (2^24 voxels an axis), so no int overflows.
+    constexpr double kFar = double(1 << 30);
+    const auto whole = [&](const glm::dvec3& v) { return glm::ivec3(glm::clamp(v, glm::dvec3(-kFar), glm::dvec3(kFar))); };
+    return {whole(glm::floor(lo)), whole(glm::ceil(hi))};
+}
+
+namespace {
+
+/// The `from` whose `reaches(s)`; long lists (the whole garment, near the top
+/// of the split) tested in blocks on every core, and the blocks joined in
+/// order: the same list.
+template <class Reaches>
+std::vector<std::uint32_t> filterSegments(const std::vector<std::uint32_t>& from, Reaches&& reaches) {
     constexpr std::size_t kBlock = 1 << 14;
     std::vector<std::uint32_t> out;
     if (from.size() <= kBlock) {
@@ -55,6 +63,13 @@ std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGr
     out.reserve(total);
     for (const auto& block : blocks) out.insert(out.end(), block.begin(), block.end());
     return out;
+}
+
+} // namespace
+
+std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGrid& grid,
+                                            const std::vector<std::uint32_t>& from, glm::ivec3 min, glm::ivec3 max) {
+    return filterSegments(from, [&](std::uint32_t s) { return segmentVoxelBox(plan, grid, s).reaches(min, max); });
 }
 
 namespace {
@@ -76,12 +91,16 @@ class HeatMap {
     /// centred outside a box's map adds nothing (only its edge can reach the
     /// box); in the grid's map it goes to the nearest cell.
     void addUnits(glm::ivec3 voxel, std::uint64_t units) {
-        glm::ivec3 c = voxel / cell_ - first_;
+        glm::ivec3 c = cellOf(voxel);
         const bool outside = glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, dims_));
         if (outside && dropOutside_) return;
         c = glm::clamp(c, glm::ivec3(0), dims_ - 1);
         cells_[index(c)].fetch_add(units, std::memory_order_relaxed);
     }
+    /// The map's cell holding `voxel`, before any clamping: the same for two
+    /// voxels that add to the same cell, and (the map being monotonic) for
+    /// every voxel between them.
+    glm::ivec3 cellOf(glm::ivec3 voxel) const { return voxel / cell_ - first_; }
     /// Estimated fragments in voxels [min, max) (within the map's box):
     /// whole cells summed, cut cells in proportion to the part of them inside.
     double sum(glm::ivec3 min, glm::ivec3 max) const {
@@ -118,8 +137,11 @@ class HeatMap {
 /// its square, projected on the face of its dominant axis, in supersampled
 /// pixels, times the cross-section's filled fraction, times the voxels each
 /// sample's slab is split over (1 + its depth in voxels, on average over
-/// where it starts), at the cell of its centre. On every core; a segment
-/// whose turn comes once `stopped()` adds nothing.
+/// where it starts; the slices' tangents taken at their segment's mean), at
+/// the cell of its centre. A segment whose slice centres all lie in one
+/// cell (its centres' bounds do) adds once; another finds each slice's
+/// voxel from the curve's position alone. On every core; a segment whose
+/// turn comes once `stopped()` adds nothing.
 void addSliceHeat(HeatMap& heat, const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs, int supersample,
                   const std::vector<std::uint32_t>& segments, const std::function<bool()>& stopped) {
     double filled = 0.0;
@@ -127,32 +149,38 @@ void addSliceHeat(HeatMap& heat, const SlicePlan& plan, const VoxelGrid& grid, c
     filled /= double(xs.density.size());
     const double side = 2.0 * plan.options.radius / grid.voxelSize * supersample;
     const double perSlice = side * side * filled;
+    const double invVoxelSize = 1.0 / grid.voxelSize;
+    const auto voxelOf = [&](const glm::dvec3& p) { return glm::ivec3(glm::floor((p - grid.origin) * invVoxelSize)); };
     tbb::parallel_for(std::size_t(0), segments.size(), [&](std::size_t i) {
         if (stopped()) return;
         const SegmentRecord& seg = plan.segments[segments[i]];
         const double depth = seg.length / seg.sliceCount / grid.voxelSize;
-        // Consecutive slices mostly share a voxel (many a voxel at the
-        // paper's 50 a segment): their units are summed, and the cell found
-        // and added to once a run.
+        const std::uint64_t units = HeatMap::units(perSlice * (seg.meanDominant + depth));
+        // sliceVoxels' voxels of the bounds bound the slices' voxels.
+        const glm::ivec3 first = voxelOf(seg.centerMin);
+        if (heat.cellOf(first) == heat.cellOf(voxelOf(seg.centerMax))) {
+            heat.addUnits(first, units * seg.sliceCount);
+            return;
+        }
+        // Consecutive slices mostly share a cell: the cell is found and
+        // added to once a run.
         glm::ivec3 runVoxel(0);
-        std::uint64_t runUnits = 0;
+        std::uint64_t runSlices = 0;
         constexpr std::uint32_t kChunk = 64;
-        SliceInGrid chunk[kChunk];
-        for (std::uint32_t first = 0; first < seg.sliceCount; first += kChunk) {
-            const std::uint32_t count = std::min(kChunk, seg.sliceCount - first);
-            slicesInGrid(seg, first, count, grid.origin, grid.voxelSize, chunk);
+        glm::ivec3 chunk[kChunk];
+        for (std::uint32_t from = 0; from < seg.sliceCount; from += kChunk) {
+            const std::uint32_t count = std::min(kChunk, seg.sliceCount - from);
+            sliceVoxels(seg, from, count, grid.origin, invVoxelSize, chunk);
             for (std::uint32_t j = 0; j < count; ++j) {
-                const glm::ivec3 voxel = chunk[j].voxel;
-                const std::uint64_t units = HeatMap::units(perSlice * (chunk[j].dominant + depth));
-                if (voxel != runVoxel && runUnits) {
-                    heat.addUnits(runVoxel, runUnits);
-                    runUnits = 0;
+                if (runSlices && heat.cellOf(chunk[j]) != heat.cellOf(runVoxel)) {
+                    heat.addUnits(runVoxel, units * runSlices);
+                    runSlices = 0;
                 }
-                runVoxel = voxel;
-                runUnits += units;
+                if (!runSlices) runVoxel = chunk[j];
+                ++runSlices;
             }
         }
-        if (runUnits) heat.addUnits(runVoxel, runUnits);
+        if (runSlices) heat.addUnits(runVoxel, units * runSlices);
     });
 }
 
@@ -178,10 +206,16 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     const VoxelBox wanted = box ? intersect(*box, whole) : whole;
     if (wanted.empty()) throw Error("the box to plan holds no voxel of the grid");
     const VoxelBox root = roundOutToBricks(wanted);
-    // A region's segments: those that reach its voxels in the box.
+    // A region's segments: those that reach its voxels in the box. Each
+    // segment's box is found once, and the split reads those (24 bytes a
+    // segment) and not the records (256), level after level.
+    std::vector<SegmentVoxelBox> boxes(plan.segments.size());
+    tbb::parallel_for(std::size_t(0), boxes.size(), [&](std::size_t s) {
+        boxes[s] = segmentVoxelBox(plan, grid, static_cast<std::uint32_t>(s));
+    });
     const auto reachingIn = [&](const std::vector<std::uint32_t>& from, glm::ivec3 min, glm::ivec3 max) {
         const VoxelBox part = intersect({min, max}, wanted);
-        return segmentsReaching(plan, grid, from, part.min, part.max);
+        return filterSegments(from, [&](std::uint32_t s) { return boxes[s].reaches(part.min, part.max); });
     };
     std::vector<std::uint32_t> all(plan.segments.size());
     for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;

@@ -9,6 +9,7 @@
 #include "garment/slices.h"
 #include "plan/grid.h"
 
+#include <glm/vector_relational.hpp>
 #include <glm/vec3.hpp>
 
 #include <atomic>
@@ -40,6 +41,17 @@ struct ZoomPlan {
 /// footprints' reach (kSampleReachVoxels) and one voxel. Used to bin segments into regions.
 void segmentVoxelBounds(const SlicePlan& plan, const VoxelGrid& grid, std::uint32_t segment, glm::dvec3& lo,
                         glm::dvec3& hi);
+
+/// segmentVoxelBounds in whole voxels: floor of the low corner, ceiling of
+/// the high one. A box of whole voxels [min, max) is reached exactly when
+/// segmentVoxelBounds' box overlaps it (lo < max and hi > min).
+struct SegmentVoxelBox {
+    glm::ivec3 lo, hi;
+    bool reaches(glm::ivec3 min, glm::ivec3 max) const {
+        return glm::all(glm::lessThan(lo, max)) && glm::all(glm::greaterThan(hi, min));
+    }
+};
+SegmentVoxelBox segmentVoxelBox(const SlicePlan& plan, const VoxelGrid& grid, std::uint32_t segment);
 
 /// Segments of `from` whose slices can reach voxels [min, max).
 std::vector<std::uint32_t> segmentsReaching(const SlicePlan& plan, const VoxelGrid& grid,
