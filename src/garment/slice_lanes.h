@@ -11,9 +11,13 @@
 
 namespace yv::lanes {
 
+// The steps below are inlined into each kernel: called (a slice's four
+// derivatives each a call), their lanes went through memory between them.
+#define YV_LANES_INLINE [[gnu::always_inline]] inline
+
 /// sum_i w[i] p[i] in C++'s order (((w0 p0 + w1 p1) + w2 p2) + w3 p3), times 0.5, per axis.
 template <class L>
-void combineLanes(const double (&p)[4][3], const typename L::V (&w)[4], typename L::V (&v)[3]) {
+YV_LANES_INLINE void combineLanes(const double (&p)[4][3], const typename L::V (&w)[4], typename L::V (&v)[3]) {
     for (int a = 0; a < 3; ++a) {
         typename L::V s = L::add(L::mul(w[0], L::set1(p[0][a])), L::mul(w[1], L::set1(p[1][a])));
         s = L::add(s, L::mul(w[2], L::set1(p[2][a])));
@@ -24,7 +28,7 @@ void combineLanes(const double (&p)[4][3], const typename L::V (&w)[4], typename
 
 /// evalCatmullRom at t.
 template <class L>
-void positionLanes(const double (&p)[4][3], typename L::V t, typename L::V (&v)[3]) {
+YV_LANES_INLINE void positionLanes(const double (&p)[4][3], typename L::V t, typename L::V (&v)[3]) {
     using V = typename L::V;
     const auto c = [](double x) { return L::set1(x); };
     const V t2 = L::mul(t, t), t3 = L::mul(t2, t);
@@ -37,7 +41,7 @@ void positionLanes(const double (&p)[4][3], typename L::V t, typename L::V (&v)[
 
 /// evalCatmullRomDerivative at t.
 template <class L>
-void derivativeLanes(const double (&p)[4][3], typename L::V t, typename L::V (&d)[3]) {
+YV_LANES_INLINE void derivativeLanes(const double (&p)[4][3], typename L::V t, typename L::V (&d)[3]) {
     using V = typename L::V;
     const auto c = [](double x) { return L::set1(x); };
     const V t2 = L::mul(t, t);
@@ -50,7 +54,7 @@ void derivativeLanes(const double (&p)[4][3], typename L::V t, typename L::V (&d
 
 /// glm::dot in its order, (x x' + y y') + z z'.
 template <class L>
-typename L::V dotLanes(const typename L::V (&a)[3], const typename L::V (&b)[3]) {
+YV_LANES_INLINE typename L::V dotLanes(const typename L::V (&a)[3], const typename L::V (&b)[3]) {
     return L::add(L::add(L::mul(a[0], b[0]), L::mul(a[1], b[1])), L::mul(a[2], b[2]));
 }
 
@@ -63,10 +67,11 @@ typename L::V sliceIndexLanes(std::uint32_t first) {
 }
 
 /// What measureSliceLanes gives of each slice: its centre (x, y, z), its
-/// thickness, the curve's speed there, the reach its samples have and its
-/// unit tangent (x, y, z), the last two where the curve moves there (speed
-/// above kLeastCurveSpeed; else they are meaningless).
-constexpr int kSliceMeasureValues = 9;
+/// thickness, the curve's speed there, the reach its samples have, its unit
+/// tangent (x, y, z) and that tangent's largest component (in absolute
+/// value), the last three where the curve moves there (speed above
+/// kLeastCurveSpeed; else they are meaningless).
+constexpr int kSliceMeasureValues = 10;
 
 /// Slices first .. first + L::width - 1 of a segment with control points `p`
 /// and `count` slices, into out[lane][...]; `halfDiagonal`: the slice square's.
@@ -131,6 +136,7 @@ void measureSliceLanes(const double (&p)[4][3], std::uint32_t count, std::uint32
     L::store(lanesOf[4], speed);
     L::store(lanesOf[5], reach);
     for (int a = 0; a < 3; ++a) L::store(lanesOf[6 + a], tangent[a]);
+    L::store(lanesOf[9], dominant);
     for (int l = 0; l < L::width; ++l)
         for (int v = 0; v < kSliceMeasureValues; ++v) out[l][v] = lanesOf[v][l];
 }
@@ -155,5 +161,7 @@ void sliceVoxelLanes(const double (&p)[4][3], std::uint32_t count, std::uint32_t
     for (int l = 0; l < L::width; ++l)
         for (int v = 0; v < kSliceVoxelValues; ++v) out[l][v] = lanesOf[v][l];
 }
+
+#undef YV_LANES_INLINE
 
 } // namespace yv::lanes

@@ -114,9 +114,7 @@ SegmentMeasures measureSlices(const SegmentRecord& segment, double halfDiagonal,
     m.centerMax = glm::dvec3(-HUGE_VAL);
     const std::uint32_t done =
         measureInLanes(segment, halfDiagonal, 0, segment.sliceCount, lanes, [&](std::uint32_t, const double* v) {
-            // The largest component of |tangent|, as std::max({...}) of glm::abs's in addScalar.
-            const double dominant = std::max({std::abs(v[6]), std::abs(v[7]), std::abs(v[8])});
-            addSlice(m, glm::dvec3(v[0], v[1], v[2]), v[3], v[4] > kLeastCurveSpeed, v[5], dominant);
+            addSlice(m, glm::dvec3(v[0], v[1], v[2]), v[3], v[4] > kLeastCurveSpeed, v[5], v[9]);
         });
     for (std::uint32_t k = done; k < segment.sliceCount; ++k) addScalar(m, segment, k, halfDiagonal);
     return m;
