@@ -145,6 +145,27 @@ TEST_CASE("sliceVoxels gives one slice at a time's voxels in every lane, for any
     CHECK(outsideCentreBounds == 0);
 }
 
+TEST_CASE("fastestCurveSpeed gives the scalar loop's bits in every lane", "[slices]") {
+    std::vector<SliceLanes> paths = {SliceLanes::Scalar, SliceLanes::Sse2, SliceLanes::Auto};
+    if (cpuHasAvx()) paths.push_back(SliceLanes::Avx);
+    std::size_t compared = 0;
+    for (const SegmentPoints& points : testSegments()) {
+        // What planSlices took before: one speed at a time, the largest kept.
+        double want = 0.0;
+        for (int j = 0; j <= 16; ++j) want = std::max(want, glm::length(evalCatmullRomDerivative(points, j / 16.0)));
+        for (SliceLanes lanes : paths) {
+            const double got = fastestCurveSpeed(points, lanes);
+            INFO("lanes " << int(lanes) << ": " << got << " want " << want);
+            CHECK(std::memcmp(&got, &want, sizeof(double)) == 0);
+            ++compared;
+        }
+    }
+    CHECK(compared > 1000);
+    // Along x at unit speed, the analytic answer.
+    CHECK(fastestCurveSpeed({glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(2, 0, 0)}) ==
+          Approx(1.0).epsilon(1e-12));
+}
+
 TEST_CASE("sliceAxes gives sliceOnCurve's centre, tangent and thickness in every lane", "[slices]") {
     std::vector<SliceLanes> paths = {SliceLanes::Scalar, SliceLanes::Sse2, SliceLanes::Auto};
     if (cpuHasAvx()) paths.push_back(SliceLanes::Avx);

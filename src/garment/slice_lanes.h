@@ -141,6 +141,27 @@ void measureSliceLanes(const double (&p)[4][3], std::uint32_t count, std::uint32
         for (int v = 0; v < kSliceMeasureValues; ++v) out[l][v] = lanesOf[v][l];
 }
 
+/// The largest of the curve's speeds, |evalCatmullRomDerivative(t)| as
+/// glm::length gives it, at t = j / 16 for j = 0 .. groups * L::width - 1:
+/// what planSlices takes (with t = 1's) to choose a segment's slice count.
+/// The groups in one body, so that their square roots overlap.
+template <class L>
+double fastestSpeedLanes(const double (&p)[4][3], std::uint32_t groups) {
+    typename L::V fastest = L::set1(0.0);
+    for (std::uint32_t g = 0; g < groups; ++g) {
+        // j * (1 / 16) is j / 16 exactly: a power of two.
+        const typename L::V t = L::mul(sliceIndexLanes<L>(g * L::width), L::set1(1.0 / 16.0));
+        typename L::V d[3];
+        derivativeLanes<L>(p, t, d);
+        fastest = L::max(fastest, L::sqrt(dotLanes<L>(d, d))); // exact, so in any order
+    }
+    double lanes[L::width];
+    L::store(lanes, fastest);
+    double most = 0.0;
+    for (double s : lanes) most = most < s ? s : most;
+    return most;
+}
+
 /// What the zoom plan's heat takes from each slice: the voxel holding its
 /// centre (x, y, z, floored).
 constexpr int kSliceVoxelValues = 3;

@@ -17,6 +17,8 @@ namespace lanes {
 /// Four slices in AVX (slice_measures_avx.cpp, built with -mavx): only call where cpuHasAvx().
 void measureSliceLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, double halfDiagonal,
                           double (&out)[4][kSliceMeasureValues]);
+/// The fastest of a segment's first groups * 4 speeds in AVX: only call where cpuHasAvx().
+double fastestSpeedLanesAvx(const double (&p)[4][3], std::uint32_t groups);
 /// The voxels of four slices' centres in AVX: only call where cpuHasAvx().
 void sliceVoxelLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
                         double invVoxelSize, double (&out)[4][kSliceVoxelValues]);
@@ -58,30 +60,34 @@ void segmentPointsOf(const SegmentRecord& segment, double (&p)[4][3]) {
         for (int a = 0; a < 3; ++a) p[i][a] = segment.points[i][a];
 }
 
-/// Whole groups of `width` slices from slice `k` up to `end`, each group
-/// through `kernel(p, first, out)` (out: double[width][values]) and each
-/// slice's values handed to `take(slice, values)` in order; returns the
-/// first slice not done.
+/// Groups of `width` slices from slice `k` up to `end`, each group through
+/// `kernel(p, first, out)` (out: double[width][values]) and each slice's
+/// values handed to `take(slice, values)` in order. A last group cut short
+/// by `end` is measured whole, its lanes past `end` (slices past the
+/// segment's last, or a run's) left untaken: a short segment's last slices
+/// took longer one at a time than a whole group. Returns `end`.
 template <int width, int values, class Kernel, class Take>
 std::uint32_t inGroups(const SegmentRecord& segment, std::uint32_t k, std::uint32_t end, Kernel&& kernel, Take&& take) {
     double p[4][3];
     segmentPointsOf(segment, p);
-    for (; k + width <= end; k += width) {
+    for (; k < end; k += width) {
         double out[width][values];
         kernel(p, k, out);
-        for (int l = 0; l < width; ++l) take(k + l, out[l]);
+        const std::uint32_t taken = std::min<std::uint32_t>(width, end - k);
+        for (std::uint32_t l = 0; l < taken; ++l) take(k + l, out[l]);
     }
-    return k;
+    return end;
 }
 
-/// inGroups in AVX's four lanes where `lanes` allows them, then in SSE2's
-/// two; returns the first slice not done (the caller does the rest one at a time).
+/// inGroups in AVX's four lanes where `lanes` allows them, else in SSE2's
+/// two; returns the first slice not done (the caller does the rest one at a
+/// time: all of them with SliceLanes::Scalar).
 template <int values, class AvxKernel, class Sse2Kernel, class Take>
 std::uint32_t inLanes(const SegmentRecord& segment, std::uint32_t k, std::uint32_t end, SliceLanes lanes,
                       AvxKernel&& avx, Sse2Kernel&& sse2, Take&& take) {
 #if defined(__x86_64__) || defined(__i386__)
     if (lanes == SliceLanes::Avx || (lanes == SliceLanes::Auto && cpuHasAvx()))
-        k = inGroups<4, values>(segment, k, end, avx, take);
+        return inGroups<4, values>(segment, k, end, avx, take);
 #endif
 #if defined(__SSE2__)
     if (lanes != SliceLanes::Scalar) k = inGroups<2, values>(segment, k, end, sse2, take);
@@ -118,6 +124,30 @@ SegmentMeasures measureSlices(const SegmentRecord& segment, double halfDiagonal,
         });
     for (std::uint32_t k = done; k < segment.sliceCount; ++k) addScalar(m, segment, k, halfDiagonal);
     return m;
+}
+
+double fastestCurveSpeed(const SegmentPoints& points, SliceLanes lanes) {
+    constexpr std::uint32_t kSpeeds = 17;
+    double p[4][3];
+    for (int i = 0; i < 4; ++i)
+        for (int a = 0; a < 3; ++a) p[i][a] = points[i][a];
+    // The largest of them: exact, so in any order. The first 16 in lanes.
+    double fastest = 0.0;
+    std::uint32_t j = 0;
+#if defined(__x86_64__) || defined(__i386__)
+    if (lanes == SliceLanes::Avx || (lanes == SliceLanes::Auto && cpuHasAvx())) {
+        fastest = lanes::fastestSpeedLanesAvx(p, 4);
+        j = 16;
+    }
+#endif
+#if defined(__SSE2__)
+    if (lanes != SliceLanes::Scalar && j == 0) {
+        fastest = lanes::fastestSpeedLanes<lanes::Sse2Lanes>(p, 8);
+        j = 16;
+    }
+#endif
+    for (; j < kSpeeds; ++j) fastest = std::max(fastest, glm::length(evalCatmullRomDerivative(points, j / 16.0)));
+    return fastest;
 }
 
 void sliceAxes(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, SliceAxis* out,

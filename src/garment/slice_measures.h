@@ -40,6 +40,11 @@ struct SegmentMeasures {
 /// to kappa r sqrt(2).
 SegmentMeasures measureSlices(const SegmentRecord& segment, double halfDiagonal, SliceLanes lanes = SliceLanes::Auto);
 
+/// The largest of the curve's speeds |dC/dt| at t = 0, 1/16, ..., 1 (17
+/// points) on a segment with control points `points`: every path gives the
+/// bits of glm::length(evalCatmullRomDerivative(points, j / 16.0)), one at a time.
+double fastestCurveSpeed(const SegmentPoints& points, SliceLanes lanes = SliceLanes::Auto);
+
 /// What drawing a slice takes of it (sliceOnCurve's centre, tangent and
 /// thickness; no frame).
 struct SliceAxis {

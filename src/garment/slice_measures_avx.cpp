@@ -20,6 +20,10 @@ void sliceVoxelLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint3
     sliceVoxelLanes<AvxLanes>(p, count, first, origin, invVoxelSize, out);
 }
 
+double fastestSpeedLanesAvx(const double (&p)[4][3], std::uint32_t groups) {
+    return fastestSpeedLanes<AvxLanes>(p, groups);
+}
+
 } // namespace yv::lanes
 
 #endif

@@ -108,9 +108,7 @@ double measureSegment(SegmentRecord& rec, const SliceOptions& options, double ha
         // Slices sit at uniform t, and the curve's speed varies along a
         // segment: K from the fastest part (sampled at 17 points) keeps
         // every slice's thickness within the spacing.
-        double fastest = 0.0;
-        for (int j = 0; j <= 16; ++j)
-            fastest = std::max(fastest, glm::length(evalCatmullRomDerivative(rec.points, j / 16.0)));
+        const double fastest = fastestCurveSpeed(rec.points);
         k = static_cast<std::uint32_t>(std::clamp(std::ceil(fastest / options.spacing * (1.0 - 1e-12)), 1.0, 1.0e6));
     }
     rec.sliceCount = k;
