@@ -6,7 +6,8 @@
 //
 //   yv_bench_plan_stages --input G.bcc --yarn-radius R --resolution N
 //                        [--slices-per-segment K (default: one slice per voxel)]
-//                        [--fragment-budget F (default 2^27)] [--rounds 5]
+//                        [--fragment-budget F (default 2^27)] [--pipeline-regions P (default 32)]
+//                        [--rounds 5]
 //
 // One JSON object a round on stdout: the seconds of each stage, the plan's
 // slices, segments, regions and the segments they hold, and the whole
@@ -33,6 +34,7 @@ struct Args {
     double yarnRadius = 0.0;
     int resolution = 0, slicesPerSegment = 0, rounds = 5;
     std::uint64_t fragmentBudget = std::uint64_t(1) << 27;
+    double pipelineRegions = kPipelineRegions;
 };
 
 Args parse(int argc, char** argv) {
@@ -46,6 +48,7 @@ Args parse(int argc, char** argv) {
         else if (k == "--resolution") a.resolution = std::stoi(v);
         else if (k == "--slices-per-segment") a.slicesPerSegment = std::stoi(v);
         else if (k == "--fragment-budget") a.fragmentBudget = std::stoull(v);
+        else if (k == "--pipeline-regions") a.pipelineRegions = std::stod(v);
         else if (k == "--rounds") a.rounds = std::stoi(v);
         else throw Error("unknown option " + k);
     }
@@ -80,7 +83,7 @@ int main(int argc, char** argv) try {
 
         start = std::chrono::steady_clock::now();
         const VoxelGrid grid = makeGrid(plan, args.resolution, 0.0);
-        const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {args.fragmentBudget, 1024, 1});
+        const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {args.fragmentBudget, 1024, 1, nullptr, args.pipelineRegions});
         const double zoomSeconds = secondsSince(start);
 
         std::uint64_t regionSegments = 0;

@@ -448,3 +448,26 @@ TEST_CASE("CLI: YV_WRITER_THREADS sets the writer's threads and keeps the bytes,
         CHECK_FALSE(fs::exists(vdb));
     }
 }
+
+TEST_CASE("CLI: YV_PIPELINE_REGIONS is taken and a bad count is one line with nothing written", "[cli]") {
+    const fs::path bcc = scratch("pipeline-regions.bcc");
+    REQUIRE(run("gen --pattern plain --crossings 64 -o " + bcc.string()).exitCode == 0);
+    const auto voxelize = [&](const std::string& regions, const fs::path& vdb) {
+        fs::remove(vdb);
+        return run_shell("YV_PIPELINE_REGIONS=" + regions + " " + std::string(YV_BINARY_DIR) + "/yarnvox voxelize " +
+                         bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution 64 --quiet");
+    };
+    const fs::path vdb = scratch("pipeline-regions.vdb");
+    const RunResult good = voxelize("4", vdb);
+    INFO(good.output);
+    CHECK(good.exitCode == 0);
+    CHECK(fs::exists(vdb));
+    for (const char* bad : {"0", "3.5", "70000", "", "-2"}) {
+        const RunResult r = voxelize(bad, vdb);
+        INFO(bad << ": " << r.output);
+        CHECK(r.exitCode != 0);
+        CHECK(r.output.find(std::string("YV_PIPELINE_REGIONS=") + bad + ": not a count of regions (1 to 65536)") !=
+              std::string::npos);
+        CHECK_FALSE(fs::exists(vdb));
+    }
+}

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <set>
 
 using namespace yv;
 
@@ -65,6 +66,33 @@ TEST_CASE("Zoom plan: with a budget far above the garment, regions stay within a
         const glm::ivec3 size = r.max - r.min;
         if (size.x > 8 || size.y > 8 || size.z > 8) CHECK(r.estimatedFragments <= target);
     }
+}
+
+TEST_CASE("Zoom plan: fewer pipeline regions cut a large garment into fewer and hotter regions", "[plan]") {
+    const test::GeneratedRun run = test::generatedRun(WeavePattern::Twill, GarmentShape::Cylinder, 20000, 1.0, 2048);
+    const auto planWith = [&](double regions) {
+        return planZoomRegions(run.plan, run.grid, makeFiberCrossSection(), {std::uint64_t(1) << 40, 1024, 1, nullptr, regions});
+    };
+    const ZoomPlan many = planWith(kPipelineRegions), few = planWith(2.0);
+    const double total = many.estimatedFragments;
+    INFO("expected fragments " << total << ": " << many.regions.size() << " regions at 32, " << few.regions.size() << " at 2");
+    REQUIRE(total > 8.0 * (1 << 20));
+    CHECK(few.regions.size() < many.regions.size());
+    CHECK(few.regions.size() >= 2);
+    // Each region within half the garment (but a brick-sized one), and some above a 32nd.
+    bool aboveThirtySecond = false;
+    for (const ZoomRegion& r : few.regions) {
+        const glm::ivec3 size = r.max - r.min;
+        if (size.x > 8 || size.y > 8 || size.z > 8) CHECK(r.estimatedFragments <= total / 2.0);
+        aboveThirtySecond = aboveThirtySecond || r.estimatedFragments > total / 32.0;
+    }
+    CHECK(aboveThirtySecond);
+    // The same voxels reached: the regions of either plan hold every segment of the other's.
+    std::set<std::uint32_t> inMany, inFew;
+    for (const ZoomRegion& r : many.regions) inMany.insert(r.segments.begin(), r.segments.end());
+    for (const ZoomRegion& r : few.regions) inFew.insert(r.segments.begin(), r.segments.end());
+    CHECK(inMany == inFew);
+    CHECK_THROWS_WITH(planWith(0.5), Catch::Contains("at least one region"));
 }
 
 TEST_CASE("Zoom plan: a coarse grid's estimate keeps its fractions of a fragment", "[plan]") {

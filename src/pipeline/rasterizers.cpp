@@ -1,14 +1,33 @@
 #include "pipeline/rasterizers.h"
 
+#include "core/error.h"
 #include "core/trace.h"
 #include "cpu/cpu_region_backend.h"
 #include "gpu/gl_voxelizer.h"
 
 #include <chrono>
+#include <cstdlib>
 #include <future>
 #include <thread>
 
 namespace yv {
+namespace {
+
+/// The regions a run is cut into at least: kPipelineRegions, or
+/// YV_PIPELINE_REGIONS (what the best count is depends on the GPU's cost of
+/// a pass against the writer's of a region: measured with it, not rebuilt).
+double pipelineRegions() {
+    const char* text = std::getenv("YV_PIPELINE_REGIONS");
+    if (!text) return kPipelineRegions;
+    char* end = nullptr;
+    const long n = std::strtol(text, &end, 10);
+    if (end == text || *end != '\0' || n < 1 || n > 65536)
+        throw Error(std::string("YV_PIPELINE_REGIONS=") + text + ": not a count of regions (1 to 65536)");
+    return double(n);
+}
+
+} // namespace
+
 std::unique_ptr<RegionRasterizer> makeRasterizer(Backend backend, const SlicedGarment& sliced, const VoxelGrid& grid,
                                                  const VoxelizeSettings& base, const VoxelizeJob& job, GlStart&& gl) {
     if (backend == Backend::Cpu)
@@ -31,10 +50,12 @@ ZoomPlan planZoomWhilePreparing(RegionRasterizer& rasterizer, const SlicedGarmen
                                 const std::atomic<bool>* stop, double& seconds) {
     // The ranks' budgets differ (each sees what the others left free).
     const std::uint64_t budget = group ? group->broadcast(rasterizer.fragmentBudget()) : rasterizer.fragmentBudget();
+    // Every rank plans alike: rank 0's count of regions, as its budget.
+    const double regions = group ? double(group->broadcast(std::uint64_t(pipelineRegions()))) : pipelineRegions();
+    const ZoomPlanOptions options{budget, rasterizer.maxRegionSize(), supersample, stop, regions};
     std::future<ZoomPlan> pending = std::async(std::launch::async, [&] {
         const auto start = std::chrono::steady_clock::now();
-        ZoomPlan planned =
-            planZoomRegions(sliced.plan(), grid, sliced.xs, {budget, rasterizer.maxRegionSize(), supersample, stop}, box);
+        ZoomPlan planned = planZoomRegions(sliced.plan(), grid, sliced.xs, options, box);
         traceSpanSince("plan the zoom regions", start);
         seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return planned;

@@ -240,14 +240,13 @@ ZoomPlan planZoomRegions(const SlicePlan& plan, const VoxelGrid& grid, const Cro
     // first, so ids follow space. Children are split on every core, each
     // into its own list, and the lists are joined in child order: the same
     // plan whatever the scheduling.
-    // Within half the budget, and small enough that the run has some 32
-    // regions: the writer encodes a region while the GPU draws the next, so
-    // a few large regions left the last one's encode after the GPU's end
-    // (the draped garment at 2048 in 3 regions took 0.3 s to voxelize, in 28
-    // regions 0.17 s, H100). A garment expected to be small stays whole.
-    constexpr double kPipelineRegions = 32.0, kSmallRegion = 1 << 20;
-    const double target =
-        std::min(0.5 * double(options.fragmentBudget), std::max(kSmallRegion, zp.estimatedFragments / kPipelineRegions));
+    // Within half the budget, and small enough that the run has some
+    // options.pipelineRegions regions (kPipelineRegions says why). A garment
+    // expected to be small stays whole.
+    if (!(options.pipelineRegions >= 1.0)) throw Error("a run is cut into at least one region");
+    constexpr double kSmallRegion = 1 << 20;
+    const double target = std::min(0.5 * double(options.fragmentBudget),
+                                   std::max(kSmallRegion, zp.estimatedFragments / options.pipelineRegions));
     const std::function<std::vector<ZoomRegion>(glm::ivec3, glm::ivec3, std::vector<std::uint32_t>&&)> split =
         [&](glm::ivec3 min, glm::ivec3 max, std::vector<std::uint32_t>&& segments) -> std::vector<ZoomRegion> {
         if (segments.empty() || stopped()) return {};
