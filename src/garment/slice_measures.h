@@ -63,7 +63,7 @@ void sliceAxes(const SegmentRecord& segment, std::uint32_t first, std::uint32_t 
 /// centre sliceOnCurve gives, into out[0 .. count - 1]: where the zoom plan's
 /// heat puts each slice. Every path gives the scalar one's bits (glm's
 /// evalCatmullRom and floor, one slice at a time), so the voxels of a
-/// segment's centreMin and centreMax bound its slices' voxels.
+/// segment's centerMin and centerMax bound its slices' voxels.
 void sliceVoxels(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, const glm::dvec3& origin,
                  double invVoxelSize, glm::ivec3* out, SliceLanes lanes = SliceLanes::Auto);
 

@@ -100,8 +100,9 @@ namespace {
 
 /// One segment's slice count (from the spacing where one is asked for) and
 /// what measureSlices finds of its slices: length, bounds of the slice
-/// centres, reach and mean dominant tangent component. Returns the largest slice thickness; `flat`: a slice
-/// has no tangent (repeated control points).
+/// centres, reach and the tangents' mean largest component. Returns the
+/// largest slice thickness; `flat`: a slice has no tangent (repeated
+/// control points).
 double measureSegment(SegmentRecord& rec, const SliceOptions& options, double halfDiagonal, bool& flat) {
     std::uint32_t k = static_cast<std::uint32_t>(options.slicesPerSegment);
     if (options.spacing > 0.0) {
