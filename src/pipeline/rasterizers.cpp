@@ -1,13 +1,13 @@
 #include "pipeline/rasterizers.h"
 
-#include "core/error.h"
+#include "core/environment_count.h"
 #include "core/trace.h"
 #include "cpu/cpu_region_backend.h"
 #include "gpu/gl_voxelizer.h"
 
 #include <chrono>
-#include <cstdlib>
 #include <future>
+#include <optional>
 #include <thread>
 
 namespace yv {
@@ -17,13 +17,8 @@ namespace {
 /// YV_PIPELINE_REGIONS (what the best count is depends on the GPU's cost of
 /// a pass against the writer's of a region: measured with it, not rebuilt).
 double pipelineRegions() {
-    const char* text = std::getenv("YV_PIPELINE_REGIONS");
-    if (!text) return kPipelineRegions;
-    char* end = nullptr;
-    const long n = std::strtol(text, &end, 10);
-    if (end == text || *end != '\0' || n < 1 || n > 65536)
-        throw Error(std::string("YV_PIPELINE_REGIONS=") + text + ": not a count of regions (1 to 65536)");
-    return double(n);
+    const std::optional<long> n = countFromEnvironment("YV_PIPELINE_REGIONS", 1, 65536, "regions");
+    return n ? double(*n) : kPipelineRegions;
 }
 
 } // namespace

@@ -1,11 +1,10 @@
 #include "pipeline/region_destination.h"
 
-#include "core/error.h"
+#include "core/environment_count.h"
 #include "core/process_memory.h"
 
 #include <algorithm>
-#include <cstdlib>
-#include <string>
+#include <optional>
 #include <thread>
 
 namespace yv {
@@ -15,13 +14,8 @@ std::size_t writerQueueBytes() {
 }
 
 unsigned writerThreads(bool hostRasterizes, int processesHere) {
-    if (const char* text = std::getenv("YV_WRITER_THREADS")) {
-        char* end = nullptr;
-        const long n = std::strtol(text, &end, 10);
-        if (end == text || *end != '\0' || n < 1 || n > 256)
-            throw Error(std::string("YV_WRITER_THREADS=") + text + ": not a count of threads (1 to 256)");
-        return static_cast<unsigned>(n);
-    }
+    if (const std::optional<long> n = countFromEnvironment("YV_WRITER_THREADS", 1, 256, "threads"))
+        return static_cast<unsigned>(*n);
     const unsigned cores = std::thread::hardware_concurrency() / unsigned(std::max(1, processesHere));
     return std::max(2u, hostRasterizes ? cores / 2 : (cores > 2 ? cores - 2 : 0u));
 }
