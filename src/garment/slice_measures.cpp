@@ -179,7 +179,7 @@ void sliceVoxels(const SegmentRecord& segment, std::uint32_t first, std::uint32_
     // sliceOnCurve's centre, one slice at a time.
     const double invK = 1.0 / slices;
     for (; k < end; ++k)
-        out[k - first] = glm::ivec3(glm::floor((evalCatmullRom(segment.points, (k + 0.5) * invK) - origin) * invVoxelSize));
+        out[k - first] = voxelHolding(evalCatmullRom(segment.points, (k + 0.5) * invK), origin, invVoxelSize);
 }
 
 } // namespace yv

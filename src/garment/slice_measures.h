@@ -9,6 +9,7 @@
 
 #include "garment/slices.h"
 
+#include <glm/common.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -58,12 +59,20 @@ struct SliceAxis {
 void sliceAxes(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, SliceAxis* out,
                SliceLanes lanes = SliceLanes::Auto);
 
+/// The voxel holding point `p` on a grid of voxels 1 / invVoxelSize wide
+/// from `origin`: floor((p - origin) * invVoxelSize), monotonic in `p`. What
+/// sliceVoxels gives each slice's centre, so the voxels of a segment's
+/// centre bounds bound its slices'.
+inline glm::ivec3 voxelHolding(const glm::dvec3& p, const glm::dvec3& origin, double invVoxelSize) {
+    return glm::ivec3(glm::floor((p - origin) * invVoxelSize));
+}
+
 /// The voxel holding each of slices first .. first + count - 1 of `segment`
-/// (within its sliceCount), floor((centre - origin) * invVoxelSize) of the
-/// centre sliceOnCurve gives, into out[0 .. count - 1]: where the zoom plan's
-/// heat puts each slice. Every path gives the scalar one's bits (glm's
-/// evalCatmullRom and floor, one slice at a time), so the voxels of a
-/// segment's centerMin and centerMax bound its slices' voxels.
+/// (within its sliceCount), voxelHolding the centre sliceOnCurve gives, into
+/// out[0 .. count - 1]: where the zoom plan's heat puts each slice. Every
+/// path gives the scalar one's bits (glm's evalCatmullRom and voxelHolding,
+/// one slice at a time), so the voxels of a segment's centerMin and
+/// centerMax bound its slices' voxels.
 void sliceVoxels(const SegmentRecord& segment, std::uint32_t first, std::uint32_t count, const glm::dvec3& origin,
                  double invVoxelSize, glm::ivec3* out, SliceLanes lanes = SliceLanes::Auto);
 

@@ -150,15 +150,14 @@ void addSliceHeat(HeatMap& heat, const SlicePlan& plan, const VoxelGrid& grid, c
     const double side = 2.0 * plan.options.radius / grid.voxelSize * supersample;
     const double perSlice = side * side * filled;
     const double invVoxelSize = 1.0 / grid.voxelSize;
-    const auto voxelOf = [&](const glm::dvec3& p) { return glm::ivec3(glm::floor((p - grid.origin) * invVoxelSize)); };
     tbb::parallel_for(std::size_t(0), segments.size(), [&](std::size_t i) {
         if (stopped()) return;
         const SegmentRecord& seg = plan.segments[segments[i]];
         const double depth = seg.length / seg.sliceCount / grid.voxelSize;
         const std::uint64_t units = HeatMap::units(perSlice * (seg.meanDominant + depth));
-        // sliceVoxels' voxels of the bounds bound the slices' voxels.
-        const glm::ivec3 first = voxelOf(seg.centerMin);
-        if (heat.cellOf(first) == heat.cellOf(voxelOf(seg.centerMax))) {
+        // The voxels of the centres' bounds bound the slices' (voxelHolding).
+        const glm::ivec3 first = voxelHolding(seg.centerMin, grid.origin, invVoxelSize);
+        if (heat.cellOf(first) == heat.cellOf(voxelHolding(seg.centerMax, grid.origin, invVoxelSize))) {
             heat.addUnits(first, units * seg.sliceCount);
             return;
         }
