@@ -40,6 +40,7 @@ void runMerge(const MergeArgs& a) {
     const LodLevels lod = lodLevelsFor(a.lod, manifest.grid);
     options.lodFirstLevel = lod.first;
     options.lodLevels = lod.last;
+    options.streamLeaves = streamLeavesFromEnvironment();
     const VolumeMetadata metadata = manifest.run;
     options.albedo = metadata.albedo; // the run's bricks carry it: so does the merged file
     saysWhatWasKept("while merging " + a.workDir,

@@ -7,8 +7,11 @@
 #include "core/kept_bricks.h"
 #include "pipeline/region_sinks.h"
 #include "vdb/merge.h"
+#include "vdb/tree_order.h"
 
+#include <algorithm>
 #include <optional>
+#include <unordered_map>
 
 namespace yv {
 namespace {
@@ -21,17 +24,21 @@ class MemoryDestination : public RegionDestination {
               [this](std::uint64_t id, std::vector<VoxelBrick>&& resolved) {
                   if (job_.keepBricks) job_.keepBricks->add(resolved);
                   if (assembler_) assembler_->add(resolved, regionName(id));
+                  regionDone(id);
               },
               [this](std::uint64_t id, const PackedBricks& packed) {
                   if (job_.keepBricks) job_.keepBricks->add(packed);
                   if (assembler_) assembler_->add(packed, regionName(id));
+                  regionDone(id);
               },
               setup.settings.reduce, setup.settings.overlap, writerQueueBytes(), setup.writerThreads),
           sink_(writer_, setup.job.cancel.get()) {
-        if (!job_.bricksOnly()) assembler_.emplace(job_.output, setup.grid, setup.settings.reduce, setup.writeOptions);
+        if (job_.bricksOnly()) return;
+        assembler_.emplace(job_.output, setup.grid, setup.settings.reduce, setup.writeOptions);
+        if (setup.writeOptions.streamLeaves) streamInTreeOrder();
     }
 
-    const std::vector<ZoomRegion>& regionOrder() const override { return regions_; }
+    const std::vector<ZoomRegion>& regionOrder() const override { return inTreeOrder_.empty() ? regions_ : inTreeOrder_; }
     RegionSink& sink() override { return sink_; }
 
     std::optional<RunTotals> collect() override {
@@ -70,8 +77,34 @@ class MemoryDestination : public RegionDestination {
   private:
     static std::string regionName(std::uint64_t id) { return "region " + std::to_string(id); }
 
+    /// The regions in the tree order of their lowest corners, so that the
+    /// .vdb's leaves (in tree order) can be written as the regions finish:
+    /// no brick of a region is before its lowest corner in that order.
+    void streamInTreeOrder() {
+        const auto firstOrder = [](const ZoomRegion& r) { return treeOrderKey(r.min / kBrickSize); };
+        std::vector<ZoomRegion> order = regions_;
+        std::stable_sort(order.begin(), order.end(),
+                         [&](const ZoomRegion& a, const ZoomRegion& b) { return firstOrder(a) < firstOrder(b); });
+        std::vector<std::uint64_t> firstOrders;
+        for (const ZoomRegion& r : order) {
+            positionOf_[r.id] = firstOrders.size();
+            firstOrders.push_back(firstOrder(r));
+        }
+        if (!assembler_->streamRegions(std::move(firstOrders))) {
+            positionOf_.clear();
+            return;
+        }
+        inTreeOrder_ = std::move(order);
+    }
+
+    void regionDone(std::uint64_t id) {
+        if (assembler_ && !inTreeOrder_.empty()) assembler_->regionDone(positionOf_.at(id));
+    }
+
     const VoxelizeJob& job_;
     const std::vector<ZoomRegion>& regions_;
+    std::vector<ZoomRegion> inTreeOrder_; ///< where the leaves stream
+    std::unordered_map<std::uint64_t, std::size_t> positionOf_; ///< a region's place in inTreeOrder_, by id
     /// Declared before the writer, whose threads add to it: they are joined first.
     std::optional<VdbAssembler> assembler_; ///< none where the run writes no file
     RegionWriter writer_;

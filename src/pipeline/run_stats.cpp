@@ -63,7 +63,9 @@ JsonObject runStats(const RunRecord& run) {
                                 .set("read_regions", t.readSeconds)
                                 .set("encode_leaves", t.encodeSeconds)
                                 .set("topology", t.topologySeconds)
-                                .set("write", t.writeSeconds))
+                                .set("write", t.writeSeconds)
+                                .set("stream", t.streamSeconds))
+        .set("vdb_streamed_bytes", t.streamedBytes)
         .set("seconds", run.timer.json())
         .set("backend_stats", run.backendStats);
     return stats;

@@ -74,6 +74,7 @@ VdbWriteOptions writeOptionsFor(const VoxelizeJob& job, const VoxelGrid& grid, c
     options.lodLevels = lod.last;
     options.albedo = sliced.xs.hasAlbedo();
     options.timings = &timings;
+    options.streamLeaves = streamLeavesFromEnvironment();
     return options;
 }
 

@@ -83,7 +83,14 @@ void ChunkedOutput::patch(std::uint64_t at, std::span<const std::uint8_t> bytes)
 }
 
 void ChunkedOutput::write(std::uint64_t size, const Fill& fill) {
-    const std::uint64_t chunks = (size + chunkBytes_ - 1) / chunkBytes_;
+    writeRange(0, size, fill);
+    if (size % kAlignment != 0 && ::ftruncate(fd_, off_t(size)) != 0)
+        throw Error(what_ + ": cannot set the file's size: " + errnoText(errno));
+}
+
+void ChunkedOutput::writeRange(std::uint64_t begin, std::uint64_t end, const Fill& fill) {
+    YV_CHECK(begin % kAlignment == 0 && begin <= end);
+    const std::uint64_t chunks = (end - begin + chunkBytes_ - 1) / chunkBytes_;
     tbb::enumerable_thread_specific<AlignedBuffer> buffers(
         [&] { return AlignedBuffer(static_cast<std::uint8_t*>(std::aligned_alloc(kAlignment, chunkBytes_))); });
     // TBB's own count, not the machine's: with fewer cores to run on (taskset,
@@ -99,7 +106,7 @@ void ChunkedOutput::write(std::uint64_t size, const Fill& fill) {
         tbb::parallel_for(std::uint64_t(0), chunks, [&](std::uint64_t c) {
             AlignedBuffer& buffer = buffers.local();
             if (!buffer) throw std::bad_alloc();
-            const std::uint64_t at = c * chunkBytes_, bytes = std::min(chunkBytes_, size - at);
+            const std::uint64_t at = begin + c * chunkBytes_, bytes = std::min(chunkBytes_, end - at);
             fill(at, std::span(buffer.get(), bytes));
             // The last chunk is padded to the alignment; the file is cut back to its size after.
             const std::uint64_t padded = (bytes + kAlignment - 1) / kAlignment * kAlignment;
@@ -107,8 +114,6 @@ void ChunkedOutput::write(std::uint64_t size, const Fill& fill) {
             writeChunk(buffer.get(), padded, at);
         });
     });
-    if (chunks > 0 && size % kAlignment != 0 && ::ftruncate(fd_, off_t(size)) != 0)
-        throw Error(what_ + ": cannot set the file's size: " + errnoText(errno));
 }
 
 } // namespace yv

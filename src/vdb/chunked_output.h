@@ -53,6 +53,13 @@ class ChunkedOutput {
     /// the page cache. Throws yv::Error "WHAT: reason" on failure.
     void write(std::uint64_t size, const Fill& fill);
 
+    /// Writes bytes [begin, end) of the file the same way, chunks counted
+    /// from `begin` (a multiple of kAlignment), for a file written in parts
+    /// (vdb/leaf_stream.h). `end` is a multiple of kAlignment too, or the
+    /// file's end: the last chunk is then padded, and the caller cuts the
+    /// file back to its size.
+    void writeRange(std::uint64_t begin, std::uint64_t end, const Fill& fill);
+
     /// Writes `bytes` at `at` again, through the page cache (after write(): the
     /// header of a file whose checksums are known only once it is written).
     void patch(std::uint64_t at, std::span<const std::uint8_t> bytes);

@@ -27,6 +27,16 @@ void RangeChecksum::add(std::uint64_t at, std::span<const std::uint8_t> bytes) {
     }
 }
 
+void RangeChecksum::setBlock(std::uint64_t at, std::uint64_t hash) {
+    YV_CHECK(at % kChecksumBlockBytes == 0 && at >= begin_ && at + kChecksumBlockBytes <= end_);
+    pieces_[at / kChecksumBlockBytes - begin_ / kChecksumBlockBytes] = hash;
+}
+
+std::uint64_t blockChecksum(std::span<const std::uint8_t> block) {
+    YV_CHECK(block.size() == kChecksumBlockBytes);
+    return XXH64(block.data(), block.size(), 0);
+}
+
 std::uint64_t RangeChecksum::value() const {
     std::vector<std::uint8_t> bytes(pieces_.size() * 8);
     for (std::size_t i = 0; i < pieces_.size(); ++i)

@@ -32,6 +32,10 @@ class RangeChecksum {
     /// `at`: a multiple of kChecksumBlockBytes, and `bytes` reach the range's
     /// end or a multiple of it. Thread-safe for disjoint `bytes`.
     void add(std::uint64_t at, std::span<const std::uint8_t> bytes);
+    /// The piece of the whole block at `at` (a multiple of
+    /// kChecksumBlockBytes, inside the range), hashed where it was written:
+    /// XXH64 of its kChecksumBlockBytes bytes, seed 0 (blockChecksum).
+    void setBlock(std::uint64_t at, std::uint64_t hash);
     /// The range's checksum (every piece added).
     std::uint64_t value() const;
     std::uint64_t begin() const { return begin_; }
@@ -41,6 +45,9 @@ class RangeChecksum {
     std::uint64_t begin_, end_;
     std::vector<std::uint64_t> pieces_; ///< one per 4096-byte block the range meets
 };
+
+/// A whole block's piece, for RangeChecksum::setBlock.
+std::uint64_t blockChecksum(std::span<const std::uint8_t> block);
 
 /// The item's text: "NAME=HEX" for each grid, 16 hex digits each, separated
 /// by spaces (the same length whatever the sums: the writer puts zeros in

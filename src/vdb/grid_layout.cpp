@@ -83,8 +83,9 @@ TopologyBytes topologyBytes(const std::vector<LeafRecord>& leaves, const GridEnc
     return out;
 }
 
-void addRecordPieces(const std::vector<LeafRecord>& leaves, int grid, std::uint64_t at, std::vector<RecordPiece>& out) {
-    for (std::size_t i = 0; i < leaves.size();) {
+void addRecordPieces(const std::vector<LeafRecord>& leaves, int grid, std::uint64_t at, std::vector<RecordPiece>& out,
+                     std::size_t begin) {
+    for (std::size_t i = begin; i < leaves.size();) {
         RecordPiece p{&leaves, grid, i, i, at, 0};
         while (p.end < leaves.size() && (p.bytes == 0 || p.bytes + leaves[p.end].bytes[grid] <= kRecordPieceBytes))
             p.bytes += leaves[p.end++].bytes[grid];

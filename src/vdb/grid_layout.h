@@ -35,8 +35,10 @@ struct RecordPiece {
     std::uint64_t at, bytes;
 };
 
-/// Cuts one grid's records, laid out from `at`, into pieces of about kRecordPieceBytes.
-void addRecordPieces(const std::vector<LeafRecord>& leaves, int grid, std::uint64_t at, std::vector<RecordPiece>& out);
+/// Cuts one grid's records of leaves [begin, end of `leaves`), laid out from
+/// `at`, into pieces of about kRecordPieceBytes.
+void addRecordPieces(const std::vector<LeafRecord>& leaves, int grid, std::uint64_t at, std::vector<RecordPiece>& out,
+                     std::size_t begin = 0);
 
 /// Fills out[0, n) with output bytes [at, at + n) from the records of
 /// `pieces` (in file order) that overlap it: runs of records that follow

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "vdb/tree_order.h"
 
 #include <tbb/parallel_pipeline.h>
 #include <tbb/parallel_sort.h>
@@ -57,8 +58,19 @@ void mergeStoreToVdb(const BrickStore& store, const std::string& outPath, const 
                     " region files are on disk: run it again with --resume");
     const auto start = std::chrono::steady_clock::now();
     VdbAssembler assembler(outPath, m.grid, m.reduce, options);
-    forEachRegion(store, regions, [&](std::size_t i, std::vector<VoxelBrick>& bricks) {
-        assembler.add(bricks, regionLabel(store, regions[i].id));
+    // In the tree order of their lowest corners, so the leaves stream into
+    // the file while later regions are read, as a run without a work dir
+    // streams them: the two give the same file.
+    const auto firstOrder = [](const RegionInfo& r) { return treeOrderKey(r.min / kBrickSize); };
+    std::vector<RegionInfo> inTreeOrder = regions;
+    std::stable_sort(inTreeOrder.begin(), inTreeOrder.end(),
+                     [&](const RegionInfo& a, const RegionInfo& b) { return firstOrder(a) < firstOrder(b); });
+    std::vector<std::uint64_t> firstOrders;
+    for (const RegionInfo& r : inTreeOrder) firstOrders.push_back(firstOrder(r));
+    if (options.streamLeaves) assembler.streamRegions(std::move(firstOrders));
+    forEachRegion(store, inTreeOrder, [&](std::size_t i, std::vector<VoxelBrick>& bricks) {
+        assembler.add(bricks, regionLabel(store, inTreeOrder[i].id));
+        assembler.regionDone(i);
     });
     if (options.timings)
         options.timings->readSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -130,12 +130,15 @@ VdbIndex::VdbIndex(const std::string& path) : file_(std::make_unique<ReadOnlyFil
         const auto blockPos = in.pod<std::int64_t>(gridWhat(g) + " leaf buffers' start");
         const auto endPos = in.pod<std::int64_t>(gridWhat(g) + " end");
         const std::uint64_t size = file_->size();
+        // The grid's data may start past its descriptor (zeros between: a
+        // streamed file puts its records on a whole block), as OpenVDB seeks to it.
         if (gridPos < 0 || blockPos < gridPos || endPos < blockPos || std::uint64_t(endPos) > size ||
-            std::uint64_t(gridPos) != in.position())
+            std::uint64_t(gridPos) < in.position())
             throw Error(path + ": " + gridWhat(g) + ": its descriptor places it at bytes " + std::to_string(gridPos) +
                         ", " + std::to_string(blockPos) + " to " + std::to_string(endPos) + ", but the file has " +
                         std::to_string(size) + " bytes (truncated or damaged)");
         g.gridPos = std::uint64_t(gridPos), g.blockPos = std::uint64_t(blockPos), g.endPos = std::uint64_t(endPos);
+        in.seek(g.gridPos);
         g.compression = in.pod<std::uint32_t>(gridWhat(g) + " compression");
         g.metadata = readMetadataMap(in, gridWhat(g) + " metadata");
         if (const StoredMetadata* lod = g.find("lod_level")) g.lodLevel = int32Of(*lod);

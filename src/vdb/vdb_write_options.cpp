@@ -2,6 +2,7 @@
 // the archive flags OpenVDB gives each compression.
 #include "vdb/vdb_writer.h"
 
+#include "core/environment_count.h"
 #include "core/error.h"
 
 #include <openvdb/openvdb.h>
@@ -40,6 +41,10 @@ std::uint32_t archiveFlags(VdbCompression c) {
     case VdbCompression::None: return openvdb::io::COMPRESS_NONE;
     }
     return openvdb::io::COMPRESS_NONE;
+}
+
+bool streamLeavesFromEnvironment() {
+    return countFromEnvironment("YV_STREAM_LEAVES", 0, 1, "switches (0: off, 1: on)").value_or(1) == 1;
 }
 
 } // namespace yv

@@ -11,6 +11,7 @@
 #include "vdb/grid_checksums.h"
 #include "vdb/grid_layout.h"
 #include "vdb/leaf_batches.h"
+#include "vdb/leaf_stream.h"
 #include "vdb/lod_pyramid.h"
 #include "vdb/octant_memory.h"
 #include "vdb/openvdb_encoding.h"
@@ -45,16 +46,27 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 }
 
 /// The file's layout: its header, then per grid (level by level: density,
-/// orientation and albedo) its prefix, topology and leaf records.
+/// orientation and albedo) its prefix (its descriptor, then the grid's
+/// data from gridPos: with streamed leaves, zeros between the two put the
+/// records on a whole block), topology and leaf records.
 struct FileLayout {
     openvdb::MetaMap fileMeta; ///< with the grids' checksums as zeros, until they are known
     std::vector<std::string> gridNames;
     ByteVector header;
     std::vector<std::pair<std::size_t, int>> gridOf; ///< (level, grid) of each grid in the file
     std::vector<ByteVector> prefix;
+    std::vector<std::size_t> descriptorBytes; ///< of each prefix: the descriptor, up to gridPos
     std::vector<TopologyBytes> topology;
-    std::vector<std::uint64_t> gridStart, recordsAt, recordBytes;
+    std::vector<std::uint64_t> gridStart, gridPos, recordsAt, recordBytes;
     std::uint64_t fileBytes = 0;
+    ByteVector zeros; ///< as many as the most any grid has before its data
+};
+
+/// Where a streamed file's bytes were written before the holes were cut
+/// out (vdb/leaf_stream.h): bytes [begin, end) of the finished file lie
+/// `shift` bytes further on until then.
+struct FileSegment {
+    std::uint64_t begin, end, shift;
 };
 
 } // namespace
@@ -67,6 +79,12 @@ struct VdbAssembler::Impl {
     std::vector<PyramidLevel> levels; ///< level 0, then the pyramid's, lodFirstLevel..lodLevels
     std::unique_ptr<SpillFile> spill;
     OctantOutput octantOutput; ///< what each level-0 brick gives the first coarse level
+    /// The output, made early where the leaves stream (else by writeFile).
+    std::unique_ptr<PendingFile> file;
+    std::unique_ptr<ChunkedOutput> output;
+    std::optional<StreamLanes> lanes;
+    std::unique_ptr<LeafStream> stream; ///< level 0's leaves, while bricks are added
+    std::size_t bricksAdded = 0;
 
     mutable std::mutex mutex;
     std::vector<OctantRecord> octants; ///< where each level-0 brick's octant lies
@@ -77,8 +95,14 @@ struct VdbAssembler::Impl {
 
     void sortLeaves();
     double buildPyramid();
-    FileLayout layOut(const VolumeMetadata& metadata);
-    void writeFile(FileLayout& layout);
+    /// With `streamedGrids`, the first as many grids' records start on a
+    /// multiple of `block`.
+    FileLayout layOut(const VolumeMetadata& metadata, int streamedGrids = 0, std::uint64_t block = 0);
+    void openOutput();
+    /// Where each part of a streamed file was written (empty where the lanes
+    /// cannot hold `layout`: the file is then written whole).
+    std::vector<FileSegment> streamedSegments(const FileLayout& layout) const;
+    void writeFile(FileLayout& layout, const LeafStream::Result* streamed = nullptr);
 };
 
 VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduce, const VdbWriteOptions& options)
@@ -139,13 +163,43 @@ template <typename Batch> void VdbAssembler::addBatchOf(const Batch& bricks, con
     m.sources.push_back(source);
     if (m.octantOutput.inMemory) m.octantMemory.keep(batch.octants, batch.octantBytes);
     m.octants.insert(m.octants.end(), batch.octants.begin(), batch.octants.end());
+    m.bricksAdded += batch.records.size();
+    if (m.stream) {
+        // The leaves go to the stream, the rest of the batch (bounds, counts) to the level.
+        for (LeafRecord& r : batch.records) r.source = tag;
+        m.stream->add(std::move(batch.records));
+        batch.records.clear();
+    }
     addBatch(m.levels[0], std::move(batch), tag);
     m.encodeSeconds += seconds;
 }
 
 std::size_t VdbAssembler::brickCount() const {
     std::lock_guard lock(impl_->mutex);
-    return impl_->levels[0].leaves.size();
+    return impl_->bricksAdded;
+}
+
+void VdbAssembler::Impl::openOutput() {
+    if (file) return;
+    file = std::make_unique<PendingFile>(path);
+    output = std::make_unique<ChunkedOutput>(file->fd(), path + ": cannot write the OpenVDB file " + file->temporaryPath(),
+                                             options.outputChunkBytes);
+}
+
+bool VdbAssembler::streamRegions(std::vector<std::uint64_t> firstOrders) {
+    Impl& m = *impl_;
+    std::lock_guard lock(m.mutex);
+    YV_CHECK(!m.written && !m.stream && m.bricksAdded == 0);
+    m.openOutput();
+    m.lanes = planStreamLanes(m.file->fd(), m.levels[0].gridCount);
+    if (!m.lanes) return false;
+    m.stream = std::make_unique<LeafStream>(*m.spill, *m.output, m.levels[0].gridCount, *m.lanes, std::move(firstOrders));
+    return true;
+}
+
+void VdbAssembler::regionDone(std::size_t region) {
+    // No lock: the stream has its own, and is made before the first brick comes.
+    if (impl_->stream) impl_->stream->regionDone(region);
 }
 
 namespace {
@@ -192,7 +246,7 @@ double VdbAssembler::Impl::buildPyramid() {
     return secondsSince(start);
 }
 
-FileLayout VdbAssembler::Impl::layOut(const VolumeMetadata& metadata) {
+FileLayout VdbAssembler::Impl::layOut(const VolumeMetadata& metadata, int streamedGrids, std::uint64_t block) {
     FileLayout f;
     f.fileMeta = vdbFileMetadata(metadata, grid, reduce, levels.back().number, levels.size() > 1 ? levels[1].number : 1,
                                  levels[0].gridCount > 2);
@@ -214,8 +268,10 @@ FileLayout VdbAssembler::Impl::layOut(const VolumeMetadata& metadata) {
                           openvdb::StringMetadata(checksumText(f.gridNames, std::vector<std::uint64_t>(gridCount, 0))));
     f.header = fileHeaderBytes(f.fileMeta, std::int32_t(gridCount));
     f.prefix.resize(gridCount);
+    f.descriptorBytes.resize(gridCount);
     f.topology.resize(gridCount);
-    f.gridStart.resize(gridCount), f.recordsAt.resize(gridCount), f.recordBytes.resize(gridCount);
+    f.gridStart.resize(gridCount), f.gridPos.resize(gridCount), f.recordsAt.resize(gridCount);
+    f.recordBytes.resize(gridCount);
     std::vector<std::size_t> positionsAt(gridCount);
     std::vector<GridStatistics> levelStats(levels.size());
     for (std::size_t l = 0; l < levels.size(); ++l) {
@@ -249,22 +305,49 @@ FileLayout VdbAssembler::Impl::layOut(const VolumeMetadata& metadata) {
         const auto [l, g] = f.gridOf[n];
         const PyramidLevel& level = levels[l];
         f.gridStart[n] = at;
-        f.recordsAt[n] = at + f.prefix[n].size() + f.topology[n].size();
+        f.descriptorBytes[n] = positionsAt[n] + 24; // the positions end the descriptor
+        const std::uint64_t dataBytes = f.prefix[n].size() - f.descriptorBytes[n] + f.topology[n].size();
+        f.gridPos[n] = at + f.descriptorBytes[n];
+        if (int(n) < streamedGrids) {
+            const std::uint64_t slack = (block - (f.gridPos[n] + dataBytes) % block) % block;
+            f.gridPos[n] += slack;
+            if (f.zeros.size() < slack) f.zeros.resize(slack, 0);
+        }
+        f.recordsAt[n] = f.gridPos[n] + dataBytes;
         at = f.recordsAt[n] + f.recordBytes[n];
         patchStreamPositions(f.prefix[n], positionsAt[n], *level.skeleton[g], level.encoding[g].half,
-                             std::int64_t(f.gridStart[n] + positionsAt[n] + 24), std::int64_t(f.recordsAt[n]),
-                             std::int64_t(at));
+                             std::int64_t(f.gridPos[n]), std::int64_t(f.recordsAt[n]), std::int64_t(at));
     }
     f.fileBytes = at;
     return f;
+}
+
+std::vector<FileSegment> VdbAssembler::Impl::streamedSegments(const FileLayout& f) const {
+    // Segment n (one per streamed grid) starts at the block before its
+    // descriptor and lies where the grid's records put it: its lane less
+    // their place in the file. Before the first, the header, unmoved.
+    const std::uint64_t block = lanes->block;
+    std::vector<FileSegment> segments{{0, 0, 0}};
+    for (std::size_t n = 0; n < lanes->laneAt.size(); ++n) {
+        const std::uint64_t begin = f.gridStart[n] / block * block;
+        if (f.recordsAt[n] > lanes->laneAt[n]) return {}; // the grid before ran into the lane
+        const std::uint64_t shift = lanes->laneAt[n] - f.recordsAt[n];
+        if (shift < segments.back().shift) return {};
+        segments.back().end = begin;
+        segments.push_back({begin, f.fileBytes, shift});
+    }
+    if (f.fileBytes + segments.back().shift > lanes->fileBytesAtMost) return {};
+    return segments;
 }
 
 /// Writes the laid-out file in chunks, in parallel: the header, each grid's
 /// prefix and topology from memory, its leaf records from the scratch file,
 /// each grid hashed as its chunks are filled (vdb/grid_checksums.h); then the
 /// header again with the checksums, and publishes it (core/atomic_file.h).
-void VdbAssembler::Impl::writeFile(FileLayout& f) {
-    PendingFile file(path);
+/// With `streamed` records, only what the stream did not write is written,
+/// each part where its segment puts it, and the holes are then cut out.
+void VdbAssembler::Impl::writeFile(FileLayout& f, const LeafStream::Result* streamed) {
+    openOutput();
     struct MemoryPart {
         std::uint64_t at;
         std::span<const std::uint8_t> bytes;
@@ -272,18 +355,20 @@ void VdbAssembler::Impl::writeFile(FileLayout& f) {
     std::vector<MemoryPart> memoryParts{{0, f.header}};
     std::vector<RecordPiece> pieces;
     for (std::size_t n = 0; n < f.gridOf.size(); ++n) {
-        memoryParts.push_back({f.gridStart[n], f.prefix[n]});
-        memoryParts.push_back({f.gridStart[n] + f.prefix[n].size(), f.topology[n]});
+        const std::span<const std::uint8_t> prefix(f.prefix[n]);
+        const std::uint64_t descriptorEnd = f.gridStart[n] + f.descriptorBytes[n];
+        memoryParts.push_back({f.gridStart[n], prefix.first(f.descriptorBytes[n])});
+        memoryParts.push_back({descriptorEnd, std::span(f.zeros).first(f.gridPos[n] - descriptorEnd)});
+        memoryParts.push_back({f.gridPos[n], prefix.subspan(f.descriptorBytes[n])});
+        memoryParts.push_back({f.recordsAt[n] - f.topology[n].size(), f.topology[n]});
         addRecordPieces(levels[f.gridOf[n].first].leaves, f.gridOf[n].second, f.recordsAt[n], pieces);
     }
-    ChunkedOutput output(file.fd(), path + ": cannot write the OpenVDB file " + file.temporaryPath(),
-                         options.outputChunkBytes);
     const auto recordsStart = std::chrono::steady_clock::now();
     std::vector<RangeChecksum> sums;
     for (std::size_t n = 0; n < f.gridOf.size(); ++n)
         sums.emplace_back(f.gridStart[n], n + 1 < f.gridOf.size() ? f.gridStart[n + 1] : f.fileBytes);
     const std::string where = "while writing " + path;
-    output.write(f.fileBytes, [&](std::uint64_t chunkAt, std::span<std::uint8_t> out) {
+    const auto fill = [&](std::uint64_t chunkAt, std::span<std::uint8_t> out) {
         throwIfInterrupted(where); // a signal stops the write at its next chunk
         const std::uint64_t chunkEnd = chunkAt + out.size();
         for (const MemoryPart& part : memoryParts) {
@@ -294,24 +379,57 @@ void VdbAssembler::Impl::writeFile(FileLayout& f) {
         for (RangeChecksum& sum : sums)
             if (sum.begin() < chunkEnd && sum.end() > chunkAt) sum.add(chunkAt, out);
         signalAtTestPoint("vdb-chunk");
-    });
+    };
+    const std::vector<FileSegment> segments = streamed ? streamedSegments(f) : std::vector<FileSegment>();
+    if (segments.empty()) {
+        output->write(f.fileBytes, fill);
+    } else {
+        // Each segment but the streamed records at its start, where the stream wrote them.
+        for (std::size_t s = 0; s < segments.size(); ++s) {
+            const FileSegment& seg = segments[s];
+            std::uint64_t skipFrom = seg.end, skipTo = seg.end;
+            if (s > 0) {
+                const std::size_t n = s - 1;
+                skipFrom = f.recordsAt[n];
+                skipTo = std::min(skipFrom + streamed->streamedBytes[n], seg.end);
+                for (std::uint64_t at = skipFrom; at < skipTo; at += kChecksumBlockBytes)
+                    sums[n].setBlock(at, streamed->blockSums[n][(at - skipFrom) / kChecksumBlockBytes]);
+            }
+            const auto writePart = [&](std::uint64_t begin, std::uint64_t end) {
+                if (begin < end)
+                    output->writeRange(begin + seg.shift, end + seg.shift,
+                                       [&](std::uint64_t at, std::span<std::uint8_t> out) { fill(at - seg.shift, out); });
+            };
+            writePart(seg.begin, skipFrom);
+            writePart(skipTo, seg.end);
+        }
+        // From the last hole to the first, so each is still where its segment says.
+        for (std::size_t s = segments.size() - 1; s > 0; --s) {
+            const std::uint64_t hole = segments[s].shift - segments[s - 1].shift;
+            if (hole > 0 && !collapseRange(file->fd(), segments[s].begin + segments[s - 1].shift, hole))
+                throw Error(path + ": cannot cut the unused " + std::to_string(hole) + " bytes out of " +
+                            file->temporaryPath() + ": " + errnoText(errno));
+        }
+        if (::ftruncate(file->fd(), off_t(f.fileBytes)) != 0)
+            throw Error(path + ": cannot set the size of " + file->temporaryPath() + ": " + errnoText(errno));
+    }
     std::vector<std::uint64_t> values;
     for (const RangeChecksum& sum : sums) values.push_back(sum.value());
     f.fileMeta.insertMeta(kGridChecksumsName, openvdb::StringMetadata(checksumText(f.gridNames, values)));
     const ByteVector header = fileHeaderBytes(f.fileMeta, std::int32_t(f.gridOf.size()));
     YV_CHECK(header.size() == f.header.size());
-    output.patch(0, header);
+    output->patch(0, header);
     traceSpanSince("write the file in chunks", recordsStart);
     // The scratch file is let go while the disk takes the output: freeing
     // its cached pages (as many as the output's) took 0.7 s after an 8 GB
     // write, on a core that the fsync leaves idle.
     std::jthread dropSpill([this] { spill.reset(); });
     const auto syncStart = std::chrono::steady_clock::now();
-    file.sync();
+    file->sync();
     traceSpanSince("fsync", syncStart);
     signalAtTestPoint("vdb-publish");
     throwIfInterrupted(where); // the last moment the file can still not be there
-    file.publish();
+    file->publish();
     signalAtTestPoint("vdb-written");
 }
 
@@ -323,18 +441,35 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     m.written = true;
     signalAtTestPoint("vdb-start");
     throwIfInterrupted("while writing " + m.path);
-    m.sortLeaves();
+    std::optional<LeafStream::Result> streamed;
+    if (m.stream) {
+        streamed = m.stream->finish();
+        m.stream.reset();
+        m.levels[0].leaves = std::move(streamed->leaves);
+        if (!streamed->intact) streamed.reset(); // out of order: sorted, and written whole
+    }
+    if (!streamed) m.sortLeaves();
     traceSpanSince("sort the leaves", start);
     const double pyramidSeconds = m.buildPyramid();
     m.encodeSeconds += pyramidSeconds;
-    FileLayout layout = m.layOut(metadata);
+    FileLayout layout = streamed ? m.layOut(metadata, m.levels[0].gridCount, m.lanes->block) : m.layOut(metadata);
+    if (streamed && m.streamedSegments(layout).empty()) {
+        streamed.reset(); // the lanes cannot hold it: written whole, as OpenVDB lays it out
+        layout = m.layOut(metadata);
+    }
+    if (m.file && !streamed && ::ftruncate(m.file->fd(), 0) != 0) // what a stream left there
+        throw Error(m.path + ": cannot empty " + m.file->temporaryPath() + ": " + errnoText(errno));
     const auto laidOut = std::chrono::steady_clock::now();
     traceSpanSince("sort and lay out the leaves", start);
-    m.writeFile(layout);
+    m.writeFile(layout, streamed ? &*streamed : nullptr);
     if (m.options.timings) {
         m.options.timings->encodeSeconds += m.encodeSeconds;
         m.options.timings->topologySeconds += std::chrono::duration<double>(laidOut - start).count() - pyramidSeconds;
         m.options.timings->writeSeconds += secondsSince(laidOut);
+        if (streamed) {
+            for (int g = 0; g < m.levels[0].gridCount; ++g) m.options.timings->streamedBytes += streamed->streamedBytes[g];
+            m.options.timings->streamSeconds += streamed->seconds;
+        }
     }
 }
 

@@ -30,6 +30,11 @@ VdbCompression parseVdbCompression(const std::string& name);
 /// OpenVDB's archive flags (io::COMPRESS_*) for `c`.
 std::uint32_t archiveFlags(VdbCompression c);
 
+/// What `voxelize` and `merge` do about streaming leaves (VdbWriteOptions::
+/// streamLeaves): yes, unless YV_STREAM_LEAVES=0 (1 is yes too; anything
+/// else throws yv::Error in one line).
+bool streamLeavesFromEnvironment();
+
 /// How the grids' floats are stored: 32-bit, or 16-bit halves (OpenVDB's
 /// saveFloatAsHalf; a density step of at most 2^-11 relative).
 enum class VdbPrecision { Float, Half };
@@ -49,6 +54,10 @@ struct VdbWriteTimings {
                                   ///< and the level-of-detail pyramid built (--lod)
     double topologySeconds = 0.0; ///< leaves sorted into tree order, topology made
     double writeSeconds = 0.0;    ///< the file written in parallel, fsync and rename
+    /// Bytes of leaf records written while bricks were still being added
+    /// (VdbAssembler::streamRegions), and the seconds that took on the stream's thread.
+    std::uint64_t streamedBytes = 0;
+    double streamSeconds = 0.0;
 };
 
 struct VdbWriteOptions {
@@ -65,6 +74,10 @@ struct VdbWriteOptions {
     /// brick must then have (and albedo_lodL with lodLevels).
     bool albedo = false;
     VdbWriteTimings* timings = nullptr; ///< added to when given
+    /// Whether a run's regions (without a work dir, or merged from one) have
+    /// their leaves streamed into the file as they come
+    /// (VdbAssembler::streamRegions); streamLeavesFromEnvironment() for the commands.
+    bool streamLeaves = false;
     /// Bytes per chunk of the output (vdb/chunked_output.h; 0: its default).
     /// Tests make it small, so that chunks cut through leaf records.
     std::uint64_t outputChunkBytes = 0;
@@ -97,6 +110,18 @@ class VdbAssembler {
     /// The same for bricks the GPU resolved, read where they came back
     /// packed (same records, without unpacking them first).
     void add(const PackedBricks& bricks, const std::string& source = "");
+    /// Starts writing level 0's leaf records into the output while bricks
+    /// are still being added (vdb/leaf_stream.h), where the output's file
+    /// system can cut holes out of a file (ext4, XFS): the bricks then come
+    /// region by region, every brick of region i at or after tree order key
+    /// firstOrders[i] (vdb/tree_order.h; not decreasing with i), and
+    /// regionDone(i) says when region i has all its bricks. Returns whether
+    /// the records stream; if not, they are written at the end as without.
+    /// The file then differs from OpenVDB's writer's by a few zero bytes
+    /// before each of level 0's grids' data (formats/vdb-subset.md).
+    bool streamRegions(std::vector<std::uint64_t> firstOrders);
+    /// Every brick of region i is added (after streamRegions). Thread-safe.
+    void regionDone(std::size_t region);
     /// Bricks added so far.
     std::size_t brickCount() const;
     /// Builds the level-of-detail grids (options.lodFirstLevel..lodLevels)

@@ -1,0 +1,183 @@
+#include "vdb/leaf_stream.h"
+
+#include "core/error.h"
+#include "core/trace.h"
+#include "vdb/grid_checksums.h"
+
+#include <tbb/parallel_sort.h>
+
+#include <fcntl.h>
+#include <linux/falloc.h>
+#include <sys/stat.h>
+#include <sys/vfs.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+namespace yv {
+namespace {
+
+/// Lanes this far apart: no grid's records come near it (an 8192 run's
+/// orientation grid takes about 10 GB), and 3 grids' lanes fit ext4's 16 TiB
+/// files. A file system with a smaller limit gets lanes a quarter as far
+/// apart, down to kLeastLaneSpacing.
+constexpr std::uint64_t kLaneSpacing = 1ull << 40;
+constexpr std::uint64_t kLeastLaneSpacing = 1ull << 34;
+
+constexpr std::uint64_t kNoRegionLeft = std::numeric_limits<std::uint64_t>::max();
+
+bool treeOrder(const LeafRecord& a, const LeafRecord& b) {
+    return a.order != b.order ? a.order < b.order : a.source < b.source;
+}
+
+} // namespace
+
+bool collapseRange(int fd, std::uint64_t at, std::uint64_t bytes) {
+    return ::fallocate(fd, FALLOC_FL_COLLAPSE_RANGE, off_t(at), off_t(bytes)) == 0;
+}
+
+std::optional<StreamLanes> planStreamLanes(int fd, int grids) {
+    struct statfs fs {};
+    if (::fstatfs(fd, &fs) != 0) return std::nullopt;
+    StreamLanes lanes;
+    lanes.block = std::max<std::uint64_t>(ChunkedOutput::kAlignment, std::uint64_t(fs.f_bsize));
+    if (lanes.block % ChunkedOutput::kAlignment != 0 || kLeastLaneSpacing % lanes.block != 0) return std::nullopt;
+    // A block cut out of three: what the end of the run does, on a file that holds nothing yet.
+    struct stat st {};
+    bool usable = ::ftruncate(fd, off_t(3 * lanes.block)) == 0 && collapseRange(fd, lanes.block, lanes.block) &&
+                  ::fstat(fd, &st) == 0 && std::uint64_t(st.st_size) == 2 * lanes.block;
+    std::uint64_t spacing = kLaneSpacing;
+    while (usable && ::ftruncate(fd, off_t(std::uint64_t(grids + 1) * spacing)) != 0) {
+        spacing /= 4;
+        usable = spacing >= kLeastLaneSpacing;
+    }
+    if (::ftruncate(fd, 0) != 0 || !usable) return std::nullopt;
+    for (int g = 0; g < grids; ++g) lanes.laneAt.push_back(std::uint64_t(g + 1) * spacing);
+    lanes.fileBytesAtMost = std::uint64_t(grids + 1) * spacing;
+    return lanes;
+}
+
+LeafStream::LeafStream(const SpillFile& spill, ChunkedOutput& output, int grids, StreamLanes lanes,
+                       std::vector<std::uint64_t> firstOrders)
+    : spill_(spill), output_(output), grids_(grids), lanes_(std::move(lanes)), firstOrders_(std::move(firstOrders)),
+      done_(firstOrders_.size(), false) {
+    YV_CHECK(grids_ >= 1 && grids_ <= kMaxGrids && int(lanes_.laneAt.size()) == grids_);
+    YV_CHECK(std::is_sorted(firstOrders_.begin(), firstOrders_.end()));
+    thread_ = std::thread([this] { run(); });
+}
+
+LeafStream::~LeafStream() {
+    if (!thread_.joinable()) return;
+    {
+        std::lock_guard lock(mutex_);
+        stopping_ = abandoned_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+}
+
+void LeafStream::add(std::vector<LeafRecord>&& records) {
+    if (records.empty()) return;
+    std::lock_guard lock(mutex_);
+    pending_.push_back(std::move(records));
+}
+
+void LeafStream::regionDone(std::size_t region) {
+    {
+        std::lock_guard lock(mutex_);
+        YV_CHECK(region < done_.size() && !done_[region]);
+        done_[region] = true;
+        while (nextUnfinished_ < done_.size() && done_[nextUnfinished_]) ++nextUnfinished_;
+    }
+    wake_.notify_all();
+}
+
+void LeafStream::run() {
+    try {
+        for (;;) {
+            std::vector<LeafRecord> ready;
+            {
+                std::unique_lock lock(mutex_);
+                // Leaves below the frontier are final: every region that could add one is done.
+                const auto frontier = [&] {
+                    return nextUnfinished_ < firstOrders_.size() ? firstOrders_[nextUnfinished_] : kNoRegionLeft;
+                };
+                wake_.wait(lock, [&] { return stopping_ || frontier() > streamedBelow_; });
+                const std::uint64_t below = frontier();
+                if (abandoned_ || below <= streamedBelow_) return; // stopping, and nothing new
+                for (std::vector<LeafRecord>& batch : pending_) {
+                    const auto cut = std::partition_point(batch.begin(), batch.end(),
+                                                          [&](const LeafRecord& r) { return r.order < below; });
+                    ready.insert(ready.end(), batch.begin(), cut);
+                    batch.erase(batch.begin(), cut);
+                }
+                std::erase_if(pending_, [](const std::vector<LeafRecord>& b) { return b.empty(); });
+                streamedBelow_ = below;
+            }
+            if (!ready.empty()) stream(std::move(ready));
+        }
+    } catch (...) {
+        error_ = std::current_exception();
+    }
+}
+
+/// Appends `ready` (every leaf between the last frontier and this one) to the
+/// leaves streamed, and writes each grid's records as far as whole blocks go:
+/// a block cut by the last record is written again, whole, next time.
+void LeafStream::stream(std::vector<LeafRecord>&& ready) {
+    const TraceSpan span("stream leaf records");
+    const auto start = std::chrono::steady_clock::now();
+    tbb::parallel_sort(ready.begin(), ready.end(), treeOrder);
+    std::vector<LeafRecord>& leaves = result_.leaves;
+    // A leaf at or below one already streamed (a brick given twice, or out
+    // of its region): the stream stops, and the end writes the file whole.
+    bool ordered = leaves.empty() || ready.front().order > leaves.back().order;
+    for (std::size_t i = 1; ordered && i < ready.size(); ++i) ordered = ready[i].order != ready[i - 1].order;
+    result_.intact = result_.intact && ordered;
+    const std::size_t first = leaves.size();
+    leaves.insert(leaves.end(), ready.begin(), ready.end());
+    if (!result_.intact) return;
+    constexpr std::uint64_t kBlock = kChecksumBlockBytes;
+    static_assert(kBlock % ChunkedOutput::kAlignment == 0);
+    for (int g = 0; g < grids_; ++g) {
+        addRecordPieces(leaves, g, recordBytes_[g], pieces_[g], first);
+        for (std::size_t i = first; i < leaves.size(); ++i) recordBytes_[g] += leaves[i].bytes[g];
+        const std::uint64_t from = result_.streamedBytes[g], to = recordBytes_[g] / kBlock * kBlock;
+        if (to <= from) continue;
+        std::vector<std::uint64_t>& sums = result_.blockSums[g];
+        sums.resize(to / kBlock);
+        const std::uint64_t lane = lanes_.laneAt[g];
+        output_.writeRange(lane + from, lane + to, [&](std::uint64_t at, std::span<std::uint8_t> out) {
+            fillFromRecords(pieces_[g], spill_, at - lane, out);
+            for (std::uint64_t b = 0; b < out.size(); b += kBlock)
+                sums[(at - lane + b) / kBlock] = blockChecksum(out.subspan(b, kBlock));
+        });
+        result_.streamedBytes[g] = to;
+    }
+    result_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+LeafStream::Result LeafStream::finish() {
+    {
+        std::lock_guard lock(mutex_);
+        stopping_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+    if (error_) std::rethrow_exception(error_);
+    // What no frontier passed: the last regions' leaves (or every leaf of a run given up early).
+    std::vector<LeafRecord> rest;
+    for (const std::vector<LeafRecord>& batch : pending_) rest.insert(rest.end(), batch.begin(), batch.end());
+    pending_.clear();
+    tbb::parallel_sort(rest.begin(), rest.end(), treeOrder);
+    std::vector<LeafRecord>& leaves = result_.leaves;
+    bool ordered = rest.empty() || leaves.empty() || rest.front().order > leaves.back().order;
+    for (std::size_t i = 1; ordered && i < rest.size(); ++i) ordered = rest[i].order != rest[i - 1].order;
+    result_.intact = result_.intact && ordered;
+    leaves.insert(leaves.end(), rest.begin(), rest.end());
+    return std::move(result_);
+}
+
+} // namespace yv

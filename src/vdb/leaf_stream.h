@@ -1,0 +1,107 @@
+// Level 0's leaf records written into the .vdb while the run still makes
+// them (vdb_writer.h, VdbAssembler::streamRegions), so that at 8192 the disk
+// writes the leaves during the passes instead of after them.
+//
+// A grid's records must follow its topology, which needs every leaf, and
+// the grids follow each other. So each of level 0's grids gets a lane far
+// into the file (a sparse hole before it): its records are written there in
+// tree order as soon as no region still to come can add a leaf before them,
+// and at the end the topology is put just before the lane, the holes are
+// cut out of the file (fallocate's COLLAPSE_RANGE, ext4 and XFS) and only a
+// few zero bytes are left between a grid's descriptor and its data, where
+// OpenVDB seeks by the descriptor's position (formats/vdb-subset.md).
+#pragma once
+
+#include "vdb/chunked_output.h"
+#include "vdb/grid_layout.h"
+#include "vdb/leaf_batches.h"
+#include "vdb/spill_file.h"
+
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+namespace yv {
+
+/// Where level 0's grids' records are streamed: lane g starts at laneAt[g],
+/// and the holes are cut in blocks of `block` bytes.
+struct StreamLanes {
+    std::vector<std::uint64_t> laneAt;
+    std::uint64_t block = 0;
+    std::uint64_t fileBytesAtMost = 0; ///< the largest file the file system took
+};
+
+/// Lanes for `grids` grids in the empty file `fd`, or nullopt where its file
+/// system cannot cut a range out of a file or hold a sparse file that large
+/// (tmpfs, btrfs, NFS: the leaves are then written after the run). Leaves
+/// the file empty.
+std::optional<StreamLanes> planStreamLanes(int fd, int grids);
+
+/// Cuts bytes [at, at + bytes) out of `fd` (a multiple of the lanes' block
+/// each); false where the file system refuses.
+bool collapseRange(int fd, std::uint64_t at, std::uint64_t bytes);
+
+class LeafStream {
+  public:
+    /// `firstOrders[i]`: the least tree order key (vdb/tree_order.h) a leaf
+    /// of region i can have (its lowest corner's), not decreasing with i.
+    /// Records are read from `spill` and written through `output`.
+    LeafStream(const SpillFile& spill, ChunkedOutput& output, int grids, StreamLanes lanes,
+               std::vector<std::uint64_t> firstOrders);
+    ~LeafStream();
+    LeafStream(const LeafStream&) = delete;
+    LeafStream& operator=(const LeafStream&) = delete;
+
+    /// Leaves of a region not yet done, sorted by order. Thread-safe.
+    void add(std::vector<LeafRecord>&& records);
+    /// Every leaf of region i is added. Thread-safe.
+    void regionDone(std::size_t region);
+
+    struct Result {
+        /// Every leaf added: in tree order when `intact`; else in no order.
+        std::vector<LeafRecord> leaves;
+        /// The records were streamed in tree order, and the lanes hold
+        /// streamedBytes[g] bytes of grid g's records from their start.
+        bool intact = true;
+        std::uint64_t streamedBytes[kMaxGrids] = {};
+        /// blockChecksum of each kChecksumBlockBytes of the lanes' bytes.
+        std::vector<std::uint64_t> blockSums[kMaxGrids];
+        double seconds = 0.0; ///< spent streaming (on the stream's thread)
+    };
+    /// Stops the stream's thread and hands over what it holds; rethrows its
+    /// error (a failed write). Call once.
+    Result finish();
+
+  private:
+    void run();
+    void stream(std::vector<LeafRecord>&& ready);
+
+    const SpillFile& spill_;
+    ChunkedOutput& output_;
+    int grids_;
+    StreamLanes lanes_;
+    std::vector<std::uint64_t> firstOrders_;
+
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::vector<std::vector<LeafRecord>> pending_; ///< each sorted, not yet streamed
+    std::vector<bool> done_;
+    std::size_t nextUnfinished_ = 0; ///< regions before it are done
+    bool stopping_ = false;
+    bool abandoned_ = false; ///< the run is given up: stream nothing more
+
+    // The stream's thread's own.
+    std::uint64_t streamedBelow_ = 0; ///< every leaf below this order is streamed
+    Result result_;
+    std::uint64_t recordBytes_[kMaxGrids] = {}; ///< records of result_.leaves, per grid
+    std::vector<RecordPiece> pieces_[kMaxGrids]; ///< at lane offsets
+    std::exception_ptr error_;
+    std::thread thread_;
+};
+
+} // namespace yv
