@@ -10,6 +10,8 @@
 #include "vdb/tree_order.h"
 #include "vdb/vdb_index.h"
 #include "vdb/vdb_writer.h"
+#include "core/json_fields.h"
+#include "run_cli.h"
 #include "test_helpers.h"
 #include "vdb_bytes.h"
 
@@ -21,6 +23,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 #include <thread>
@@ -283,4 +286,45 @@ TEST_CASE("A brick given twice in two streamed regions is refused and leaves no 
     CHECK_FALSE(fs::exists(out));
     for (const auto& e : fs::directory_iterator(out.parent_path()))
         CHECK(e.path().filename().string().rfind("stream-twice.vdb.partial", 0) != 0);
+}
+
+TEST_CASE("voxelize with YV_STREAM_LEAVES=0 writes the leaves after the run, the same grids, and a bad value is one line",
+          "[cli][leafstream]") {
+    openvdb::initialize();
+    const fs::path bcc = scratch("stream-leaves.bcc");
+    REQUIRE(test::runYarnvox("gen --pattern twill --shape cylinder --crossings 400 -o " + bcc.string()).exitCode == 0);
+    const auto voxelize = [&](const std::string& value, const fs::path& vdb, const fs::path& stats) {
+        fs::remove(vdb);
+        return test::runShell("YV_STREAM_LEAVES=" + value + " " + std::string(YV_BINARY_DIR) + "/yarnvox voxelize " +
+                              bcc.string() + " -o " + vdb.string() +
+                              " --backend cpu --resolution 128 --fragment-budget 20000 --quiet --stats " + stats.string());
+    };
+    const fs::path streamed = scratch("streamed-cli.vdb"), after = scratch("after-cli.vdb");
+    const fs::path streamedStats = scratch("streamed.json"), afterStats = scratch("after.json");
+    REQUIRE(voxelize("1", streamed, streamedStats).exitCode == 0);
+    REQUIRE(voxelize("0", after, afterStats).exitCode == 0);
+    const auto statsOf = [](const fs::path& path) {
+        std::ifstream in(path);
+        return Json::parse(in);
+    };
+    const Json a = statsOf(streamedStats), b = statsOf(afterStats);
+    CHECK(b["vdb_streamed_bytes"].get<std::uint64_t>() == 0);
+    // The scratch directory is on ext4 or XFS, which cut the holes out.
+    CHECK(a["vdb_streamed_bytes"].get<std::uint64_t>() > 0);
+    CHECK(a["backend_stats"]["zoom_regions"].get<std::uint64_t>() > 4);
+    CHECK(a["active_voxels"] == b["active_voxels"]);
+    const std::uint64_t sizeStreamed = fs::file_size(streamed), sizeAfter = fs::file_size(after);
+    CHECK(sizeStreamed >= sizeAfter);
+    CHECK(sizeStreamed < sizeAfter + 2 * 65536); // zeros before two grids' data, no holes
+    // The same grids, voxel by voxel, through OpenVDB; yarnvox's own checks of the file hold.
+    checkSameGrids(streamed, after);
+    CHECK(test::runYarnvox("inspect " + streamed.string() + " --verify").exitCode == 0);
+    for (const char* bad : {"2", "yes", "", "-1"}) {
+        const test::RunResult r = voxelize(bad, after, afterStats);
+        INFO(bad << ": " << r.output);
+        CHECK(r.exitCode != 0);
+        CHECK(r.output.find(std::string("YV_STREAM_LEAVES=") + bad + ": not a count of switches (0: off, 1: on) (0 to 1)") !=
+              std::string::npos);
+        CHECK_FALSE(fs::exists(after));
+    }
 }
