@@ -96,6 +96,10 @@ STATS_VARYING = {
     # the process's memory, and the writer queue's peak (when the writer
     # thread catches up depends on the scheduling of threads)
     "peak_host_bytes", "store_peak_queued_bytes",
+    # how much of the .vdb's leaves were written before the last region came
+    # (the stream's thread against the regions' writers); how much was
+    # streamed in all (vdb_streamed_bytes) does not vary
+    "vdb_streamed_before_end_bytes",
     # the machine: its core count, and the GL driver's name and EGL platform
     # (llvmpipe names its LLVM version and vector width)
     "threads", "renderer", "platform",

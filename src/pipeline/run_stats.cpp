@@ -66,6 +66,7 @@ JsonObject runStats(const RunRecord& run) {
                                 .set("write", t.writeSeconds)
                                 .set("stream", t.streamSeconds))
         .set("vdb_streamed_bytes", t.streamedBytes)
+        .set("vdb_streamed_before_end_bytes", t.streamedBeforeEndBytes)
         .set("seconds", run.timer.json())
         .set("backend_stats", run.backendStats);
     return stats;

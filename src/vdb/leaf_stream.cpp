@@ -98,6 +98,7 @@ void LeafStream::run() {
     try {
         for (;;) {
             std::vector<LeafRecord> ready;
+            bool early = false;
             {
                 std::unique_lock lock(mutex_);
                 // Leaves below the frontier are final: every region that could add one is done.
@@ -115,8 +116,9 @@ void LeafStream::run() {
                 }
                 std::erase_if(pending_, [](const std::vector<LeafRecord>& b) { return b.empty(); });
                 streamedBelow_ = below;
+                early = below != kNoRegionLeft;
             }
-            if (!ready.empty()) stream(std::move(ready));
+            if (!ready.empty()) stream(std::move(ready), early);
         }
     } catch (...) {
         error_ = std::current_exception();
@@ -126,7 +128,7 @@ void LeafStream::run() {
 /// Appends `ready` (every leaf between the last frontier and this one) to the
 /// leaves streamed, and writes each grid's records as far as whole blocks go:
 /// a block cut by the last record is written again, whole, next time.
-void LeafStream::stream(std::vector<LeafRecord>&& ready) {
+void LeafStream::stream(std::vector<LeafRecord>&& ready, bool early) {
     const TraceSpan span("stream leaf records");
     const auto start = std::chrono::steady_clock::now();
     tbb::parallel_sort(ready.begin(), ready.end(), treeOrder);
@@ -155,6 +157,7 @@ void LeafStream::stream(std::vector<LeafRecord>&& ready) {
                 sums[(at - lane + b) / kBlock] = blockChecksum(out.subspan(b, kBlock));
         });
         result_.streamedBytes[g] = to;
+        if (early) result_.bytesBeforeLastRegion += to - from;
     }
     result_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

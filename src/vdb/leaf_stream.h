@@ -71,6 +71,9 @@ class LeafStream {
         std::uint64_t streamedBytes[kMaxGrids] = {};
         /// blockChecksum of each kChecksumBlockBytes of the lanes' bytes.
         std::vector<std::uint64_t> blockSums[kMaxGrids];
+        /// Of the bytes streamed, those written while some region was not
+        /// done yet: the part of the file written during the run.
+        std::uint64_t bytesBeforeLastRegion = 0;
         double seconds = 0.0; ///< spent streaming (on the stream's thread)
     };
     /// Stops the stream's thread and hands over what it holds; rethrows its
@@ -79,7 +82,8 @@ class LeafStream {
 
   private:
     void run();
-    void stream(std::vector<LeafRecord>&& ready);
+    /// `early`: some region was not done yet when `ready` was taken.
+    void stream(std::vector<LeafRecord>&& ready, bool early);
 
     const SpillFile& spill_;
     ChunkedOutput& output_;

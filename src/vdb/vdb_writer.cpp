@@ -468,6 +468,7 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
         m.options.timings->writeSeconds += secondsSince(laidOut);
         if (streamed) {
             for (int g = 0; g < m.levels[0].gridCount; ++g) m.options.timings->streamedBytes += streamed->streamedBytes[g];
+            m.options.timings->streamedBeforeEndBytes += streamed->bytesBeforeLastRegion;
             m.options.timings->streamSeconds += streamed->seconds;
         }
     }

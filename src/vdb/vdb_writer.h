@@ -57,6 +57,7 @@ struct VdbWriteTimings {
     /// Bytes of leaf records written while bricks were still being added
     /// (VdbAssembler::streamRegions), and the seconds that took on the stream's thread.
     std::uint64_t streamedBytes = 0;
+    std::uint64_t streamedBeforeEndBytes = 0; ///< of those, while some region was not done yet
     double streamSeconds = 0.0;
 };
 
