@@ -328,3 +328,20 @@ TEST_CASE("voxelize with YV_STREAM_LEAVES=0 writes the leaves after the run, the
         CHECK_FALSE(fs::exists(after));
     }
 }
+
+TEST_CASE("One region's leaves are not streamed: the file is OpenVDB's layout", "[vdb][stream][leafstream]") {
+    const RegionVolume v = regionVolume(600);
+    const fs::path whole = scratch("one-whole.vdb"), one = scratch("one-region.vdb");
+    writeVdb(whole.string(), v.volume, someMetadata());
+    {
+        VdbAssembler assembler(one.string(), v.volume.grid, v.volume.reduce);
+        CHECK_FALSE(assembler.streamRegions({0}));
+        assembler.add(v.volume.bricks);
+        assembler.regionDone(0); // ignored where nothing streams
+        assembler.write(someMetadata());
+    }
+    const bool sameBytes = test::vdbBytesWithoutUuid(one) == test::vdbBytesWithoutUuid(whole);
+    CHECK(sameBytes);
+    fs::remove(whole);
+    fs::remove(one);
+}

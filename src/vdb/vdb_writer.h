@@ -117,7 +117,8 @@ class VdbAssembler {
     /// region by region, every brick of region i at or after tree order key
     /// firstOrders[i] (vdb/tree_order.h; not decreasing with i), and
     /// regionDone(i) says when region i has all its bricks. Returns whether
-    /// the records stream; if not, they are written at the end as without.
+    /// the records stream (not for one region, whose leaves all come at the
+    /// end); if not, they are written at the end as without.
     /// The file then differs from OpenVDB's writer's by a few zero bytes
     /// before each of level 0's grids' data (formats/vdb-subset.md).
     bool streamRegions(std::vector<std::uint64_t> firstOrders);
