@@ -50,14 +50,14 @@ so). Cases marked "mpi" run `MPIRUN -np 2 yarnvox` (a yarnvox built with
 --compare GOLDEN compares the lines with GOLDEN and exits 1 with a unified
 diff when any differs (0 when all agree).
 
-The golden file, tests/golden/output-digests-97b3d44.txt, was made with the
-yarnvox of commit 97b3d44 (built Release, -DYARNVOX_MPI=ON), with GL and MPI,
+The golden file, tests/golden/output-digests-638f66a.txt, was made with the
+yarnvox of commit 638f66a (built Release, -DYARNVOX_MPI=ON), with GL and MPI,
 in a scratch directory on ext4 (the .vdb files' streamed layout needs a file
 system that cuts ranges out of files: docs/same-bytes.md):
 
     tests/output_digests.py --yarnvox build/yarnvox \
         --scratch /tmp/yv-digests --mpiexec "$(command -v mpirun)" \
-        > tests/golden/output-digests-97b3d44.txt
+        > tests/golden/output-digests-638f66a.txt
 
 How its lines differ from those of the earlier golden files (8d8d9c1,
 8061731, ec8a3f0, 6d7a37d), and why: docs/same-bytes.md.
