@@ -38,6 +38,7 @@ s = json.load(open(sys.argv[1]))
 print(json.dumps({"stream": int(sys.argv[2]), "round": int(sys.argv[3]),
                   "wall_seconds": round(float(sys.argv[5]) - float(sys.argv[4]), 3), "file_bytes": int(sys.argv[6]),
                   "active_voxels": s["active_voxels"], "vdb_streamed_bytes": s.get("vdb_streamed_bytes"),
+                  "vdb_streamed_before_end_bytes": s.get("vdb_streamed_before_end_bytes"),
                   "seconds": s["seconds"], "vdb_seconds": s["vdb_seconds"], "peak_host_bytes": s["peak_host_bytes"],
                   "zoom_regions": s["backend_stats"].get("zoom_regions")}))
 EOF

@@ -105,6 +105,38 @@ TEST_CASE("A chunked output holds every byte where the fill put it, and no more"
     }
 }
 
+TEST_CASE("A chunked output written in ranges, on threads of its own, holds every byte where the fill put it",
+          "[vdb][chunked]") {
+    const std::uint64_t chunk = 2 * ChunkedOutput::kAlignment, size = 7 * chunk + 555;
+    const fs::path path = scratch("ranges.bin");
+    fs::remove(path);
+    PatternFill fill(size, chunk);
+    {
+        PendingFile file(path.string());
+        ChunkedOutput out(file.fd(), "test output", chunk);
+        // The middle first, on 3 threads, then the start (one thread), then the end (more threads than chunks).
+        out.writeRangeOnThreads(2 * chunk, 5 * chunk, std::ref(fill), 3);
+        out.writeRangeOnThreads(0, 2 * chunk, std::ref(fill), 1);
+        out.writeRange(5 * chunk, size, std::ref(fill));
+        REQUIRE(::ftruncate(file.fd(), off_t(size)) == 0);
+        file.publish();
+    }
+    checkPatternFile(path, size, fill);
+    // A failing fill on one thread fails the range, once every thread stopped.
+    {
+        PendingFile file(path.string());
+        ChunkedOutput out(file.fd(), "test output", chunk);
+        CHECK_THROWS_WITH(out.writeRangeOnThreads(0, 9 * chunk,
+                                                  [&](std::uint64_t at, std::span<std::uint8_t> bytes) {
+                                                      if (at == 4 * chunk) throw Error("no such record");
+                                                      std::fill(bytes.begin(), bytes.end(), std::uint8_t(1));
+                                                  },
+                                                  4),
+                          "no such record");
+    }
+    fs::remove(path);
+}
+
 namespace {
 
 /// Writes the pattern through `call`, which fails direct writes: the file

@@ -12,13 +12,16 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <new>
 #include <thread>
+#include <vector>
 
 namespace yv {
 namespace {
@@ -114,6 +117,38 @@ void ChunkedOutput::writeRange(std::uint64_t begin, std::uint64_t end, const Fil
             writeChunk(buffer.get(), padded, at);
         });
     });
+}
+
+void ChunkedOutput::writeRangeOnThreads(std::uint64_t begin, std::uint64_t end, const Fill& fill, int threads) {
+    YV_CHECK(begin % kAlignment == 0 && begin <= end && threads >= 1);
+    const std::uint64_t chunks = (end - begin + chunkBytes_ - 1) / chunkBytes_;
+    std::atomic<std::uint64_t> next{0};
+    std::atomic<bool> failed{false};
+    std::exception_ptr error;
+    std::mutex errorMutex;
+    const auto work = [&] {
+        try {
+            AlignedBuffer buffer(static_cast<std::uint8_t*>(std::aligned_alloc(kAlignment, chunkBytes_)));
+            if (!buffer) throw std::bad_alloc();
+            for (std::uint64_t c = next++; c < chunks && !failed; c = next++) {
+                const std::uint64_t at = begin + c * chunkBytes_, bytes = std::min(chunkBytes_, end - at);
+                fill(at, std::span(buffer.get(), bytes));
+                const std::uint64_t padded = (bytes + kAlignment - 1) / kAlignment * kAlignment;
+                std::memset(buffer.get() + bytes, 0, padded - bytes);
+                writeChunk(buffer.get(), padded, at);
+            }
+        } catch (...) {
+            const std::lock_guard lock(errorMutex);
+            if (!error) error = std::current_exception();
+            failed = true;
+        }
+    };
+    {
+        std::vector<std::jthread> pool;
+        for (std::uint64_t t = 1; t < std::min(std::uint64_t(threads), chunks); ++t) pool.emplace_back(work);
+        work();
+    }
+    if (error) std::rethrow_exception(error);
 }
 
 } // namespace yv

@@ -59,6 +59,11 @@ class ChunkedOutput {
     /// file's end: the last chunk is then padded, and the caller cuts the
     /// file back to its size.
     void writeRange(std::uint64_t begin, std::uint64_t end, const Fill& fill);
+    /// writeRange on `threads` threads of its own instead of TBB's: for a
+    /// writer beside TBB work that keeps every worker busy (the regions'
+    /// encoding, vdb/leaf_stream.h), where TBB's chunks waited for a worker
+    /// and the disk for the chunks.
+    void writeRangeOnThreads(std::uint64_t begin, std::uint64_t end, const Fill& fill, int threads);
 
     /// Writes `bytes` at `at` again, through the page cache (after write(): the
     /// header of a file whose checksums are known only once it is written).

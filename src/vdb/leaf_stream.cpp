@@ -28,6 +28,12 @@ constexpr std::uint64_t kLeastLaneSpacing = 1ull << 34;
 
 constexpr std::uint64_t kNoRegionLeft = std::numeric_limits<std::uint64_t>::max();
 
+/// Threads of the stream's own writing its chunks: a few writes in flight
+/// keep the disk's queue full. TBB's would wait behind the regions'
+/// encoding, which keeps every worker busy at 8192: there the stream
+/// wrote at the speed of one chunk at a time.
+constexpr int kStreamWriters = 4;
+
 bool treeOrder(const LeafRecord& a, const LeafRecord& b) {
     return a.order != b.order ? a.order < b.order : a.source < b.source;
 }
@@ -151,11 +157,11 @@ void LeafStream::stream(std::vector<LeafRecord>&& ready, bool early) {
         std::vector<std::uint64_t>& sums = result_.blockSums[g];
         sums.resize(to / kBlock);
         const std::uint64_t lane = lanes_.laneAt[g];
-        output_.writeRange(lane + from, lane + to, [&](std::uint64_t at, std::span<std::uint8_t> out) {
+        output_.writeRangeOnThreads(lane + from, lane + to, [&](std::uint64_t at, std::span<std::uint8_t> out) {
             fillFromRecords(pieces_[g], spill_, at - lane, out);
             for (std::uint64_t b = 0; b < out.size(); b += kBlock)
                 sums[(at - lane + b) / kBlock] = blockChecksum(out.subspan(b, kBlock));
-        });
+        }, kStreamWriters);
         result_.streamedBytes[g] = to;
         if (early) result_.bytesBeforeLastRegion += to - from;
     }
