@@ -80,6 +80,14 @@ void ChunkedOutput::writeChunk(const std::uint8_t* bytes, std::uint64_t count, s
     }
 }
 
+void ChunkedOutput::fillAndWrite(std::uint8_t* buffer, std::uint64_t at, std::uint64_t bytes, const Fill& fill) {
+    fill(at, std::span(buffer, bytes));
+    // The last chunk is padded to the alignment; the file is cut back to its size after.
+    const std::uint64_t padded = (bytes + kAlignment - 1) / kAlignment * kAlignment;
+    std::memset(buffer + bytes, 0, padded - bytes);
+    writeChunk(buffer, padded, at);
+}
+
 void ChunkedOutput::patch(std::uint64_t at, std::span<const std::uint8_t> bytes) {
     dropDirect(); // an unaligned write
     writeChunk(bytes.data(), bytes.size(), at);
@@ -109,12 +117,8 @@ void ChunkedOutput::writeRange(std::uint64_t begin, std::uint64_t end, const Fil
         tbb::parallel_for(std::uint64_t(0), chunks, [&](std::uint64_t c) {
             AlignedBuffer& buffer = buffers.local();
             if (!buffer) throw std::bad_alloc();
-            const std::uint64_t at = begin + c * chunkBytes_, bytes = std::min(chunkBytes_, end - at);
-            fill(at, std::span(buffer.get(), bytes));
-            // The last chunk is padded to the alignment; the file is cut back to its size after.
-            const std::uint64_t padded = (bytes + kAlignment - 1) / kAlignment * kAlignment;
-            std::memset(buffer.get() + bytes, 0, padded - bytes);
-            writeChunk(buffer.get(), padded, at);
+            const std::uint64_t at = begin + c * chunkBytes_;
+            fillAndWrite(buffer.get(), at, std::min(chunkBytes_, end - at), fill);
         });
     });
 }
@@ -131,11 +135,8 @@ void ChunkedOutput::writeRangeOnThreads(std::uint64_t begin, std::uint64_t end, 
             AlignedBuffer buffer(static_cast<std::uint8_t*>(std::aligned_alloc(kAlignment, chunkBytes_)));
             if (!buffer) throw std::bad_alloc();
             for (std::uint64_t c = next++; c < chunks && !failed; c = next++) {
-                const std::uint64_t at = begin + c * chunkBytes_, bytes = std::min(chunkBytes_, end - at);
-                fill(at, std::span(buffer.get(), bytes));
-                const std::uint64_t padded = (bytes + kAlignment - 1) / kAlignment * kAlignment;
-                std::memset(buffer.get() + bytes, 0, padded - bytes);
-                writeChunk(buffer.get(), padded, at);
+                const std::uint64_t at = begin + c * chunkBytes_;
+                fillAndWrite(buffer.get(), at, std::min(chunkBytes_, end - at), fill);
             }
         } catch (...) {
             const std::lock_guard lock(errorMutex);

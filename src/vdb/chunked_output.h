@@ -74,6 +74,8 @@ class ChunkedOutput {
 
   private:
     void writeChunk(const std::uint8_t* bytes, std::uint64_t count, std::uint64_t at);
+    /// Fills `bytes` at `at` into `buffer` (a chunk's) and writes them, padded to the alignment.
+    void fillAndWrite(std::uint8_t* buffer, std::uint64_t at, std::uint64_t bytes, const Fill& fill);
     void dropDirect();
 
     std::string what_;
