@@ -345,3 +345,24 @@ TEST_CASE("One region's leaves are not streamed: the file is OpenVDB's layout", 
     fs::remove(whole);
     fs::remove(one);
 }
+
+TEST_CASE("voxelize stopped by a signal while its leaves stream keeps neither the .vdb nor a temporary", "[cli][leafstream][signals]") {
+    const fs::path dir = scratch("stopped");
+    fs::create_directories(dir);
+    const fs::path bcc = dir / "g.bcc", out = dir / "out.vdb";
+    REQUIRE(test::runYarnvox("gen --pattern twill --shape cylinder --crossings 400 -o " + bcc.string()).exitCode == 0);
+    for (const std::string point : {"stream-leaves", "stream-leaves:TERM"}) {
+        INFO(point);
+        const test::RunResult r = test::runShell("YARNVOX_TEST_SIGNAL_AT=" + point + " " + std::string(YV_BINARY_DIR) +
+                                                 "/yarnvox voxelize " + bcc.string() + " -o " + out.string() +
+                                                 " --backend cpu --resolution 128 --fragment-budget 20000 --quiet");
+        INFO(r.output);
+        CHECK(r.exitCode == 1);
+        CHECK(r.output.find(point.ends_with(":TERM") ? "interrupted by SIGTERM" : "interrupted by SIGINT") != std::string::npos);
+        CHECK_FALSE(fs::exists(out));
+        std::size_t others = 0;
+        for (const auto& e : fs::directory_iterator(dir)) others += e.path() != bcc;
+        CHECK(others == 0); // no .partial file, no scratch file
+    }
+    fs::remove_all(dir);
+}

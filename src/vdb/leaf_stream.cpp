@@ -1,6 +1,7 @@
 #include "vdb/leaf_stream.h"
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/trace.h"
 #include "vdb/grid_checksums.h"
 
@@ -136,6 +137,7 @@ void LeafStream::run() {
 /// a block cut by the last record is written again, whole, next time.
 void LeafStream::stream(std::vector<LeafRecord>&& ready, bool early) {
     const TraceSpan span("stream leaf records");
+    signalAtTestPoint("stream-leaves"); // a signal while the regions still come
     const auto start = std::chrono::steady_clock::now();
     tbb::parallel_sort(ready.begin(), ready.end(), treeOrder);
     std::vector<LeafRecord>& leaves = result_.leaves;
