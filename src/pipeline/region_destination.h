@@ -44,7 +44,8 @@ class RegionDestination {
   public:
     virtual ~RegionDestination() = default;
     /// The plan's regions in the order this destination takes them (plan
-    /// order, or largest first for the ranks of an MPI run).
+    /// order; the tree order of their lowest corners where the .vdb's leaves
+    /// stream as they come; largest first for the ranks of an MPI run).
     virtual const std::vector<ZoomRegion>& regionOrder() const = 0;
     /// Where the rasterizer hands each finished region.
     virtual RegionSink& sink() = 0;
