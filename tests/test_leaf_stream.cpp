@@ -3,14 +3,16 @@
 // holds the grids the whole-file writer gives, every checksum holds, the
 // records reach the disk before write(), and whatever breaks the regions'
 // order makes the file be written whole instead.
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/json_fields.h"
 #include "vdb/grid_checksums.h"
 #include "vdb/leaf_batches.h"
 #include "vdb/leaf_records.h"
+#include "vdb/leaf_stream.h"
 #include "vdb/tree_order.h"
 #include "vdb/vdb_index.h"
 #include "vdb/vdb_writer.h"
-#include "core/json_fields.h"
 #include "run_cli.h"
 #include "test_helpers.h"
 #include "vdb_bytes.h"
@@ -21,10 +23,12 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -365,4 +369,38 @@ TEST_CASE("voxelize stopped by a signal while its leaves stream keeps neither th
         CHECK(others == 0); // no .partial file, no scratch file
     }
     fs::remove_all(dir);
+}
+
+TEST_CASE("A stream whose write fails says why at the next region's leaves, not after the last", "[vdb][leafstream]") {
+    const fs::path out = scratch("full.vdb");
+    PendingFile file(out.string());
+    // A disk that is full: every write refused.
+    ChunkedOutput output(file.fd(), "test output", 0, [](int, const void*, std::size_t, off_t) -> ssize_t {
+        errno = ENOSPC;
+        return -1;
+    });
+    const std::optional<StreamLanes> lanes = planStreamLanes(file.fd(), 1);
+    REQUIRE(lanes); // the scratch directory is on ext4 or XFS
+    SpillFile spill(out.parent_path().string(), "the test's scratch file");
+    const std::uint64_t at = spill.append(std::vector<std::uint8_t>(100000, 7));
+    LeafStream stream(spill, output, 1, *lanes, {0, 1000});
+    std::vector<LeafRecord> leaves(20);
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+        leaves[i].order = i;
+        leaves[i].at[0] = at + 5000 * i;
+        leaves[i].bytes[0] = 5000;
+    }
+    stream.add(std::move(leaves));
+    stream.regionDone(0); // region 0's leaves are final: the stream writes them, and fails
+    std::string said;
+    for (int wait = 0; wait < 500 && said.empty(); ++wait) {
+        try {
+            stream.add({});
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        } catch (const Error& e) {
+            said = e.what();
+        }
+    }
+    CHECK(said == "test output: No space left on device");
+    CHECK_THROWS_WITH(stream.finish(), "test output: No space left on device");
 }

@@ -86,8 +86,10 @@ LeafStream::~LeafStream() {
 }
 
 void LeafStream::add(std::vector<LeafRecord>&& records) {
-    if (records.empty()) return;
     std::lock_guard lock(mutex_);
+    // A failed write (a full disk) stops the run at its next region, not after the last.
+    if (error_) std::rethrow_exception(error_);
+    if (records.empty()) return;
     pending_.push_back(std::move(records));
 }
 
@@ -128,6 +130,7 @@ void LeafStream::run() {
             if (!ready.empty()) stream(std::move(ready), early);
         }
     } catch (...) {
+        std::lock_guard lock(mutex_);
         error_ = std::current_exception();
     }
 }

@@ -58,6 +58,7 @@ class LeafStream {
     LeafStream& operator=(const LeafStream&) = delete;
 
     /// Leaves of a region not yet done, sorted by order. Thread-safe.
+    /// Rethrows the stream's error (a failed write) once there is one.
     void add(std::vector<LeafRecord>&& records);
     /// Every leaf of region i is added. Thread-safe.
     void regionDone(std::size_t region);
@@ -104,7 +105,7 @@ class LeafStream {
     Result result_;
     std::uint64_t recordBytes_[kMaxGrids] = {}; ///< records of result_.leaves, per grid
     std::vector<RecordPiece> pieces_[kMaxGrids]; ///< at lane offsets
-    std::exception_ptr error_;
+    std::exception_ptr error_; ///< set under mutex_
     std::thread thread_;
 };
 
