@@ -90,7 +90,7 @@ void LeafStream::add(std::vector<LeafRecord>&& records) {
     // A failed write (a full disk) stops the run at its next region, not after the last.
     if (error_) std::rethrow_exception(error_);
     if (records.empty()) return;
-    pending_.push_back(std::move(records));
+    pending_.push_back({std::move(records), 0});
 }
 
 void LeafStream::regionDone(std::size_t region) {
@@ -117,13 +117,14 @@ void LeafStream::run() {
                 wake_.wait(lock, [&] { return stopping_ || frontier() > streamedBelow_; });
                 const std::uint64_t below = frontier();
                 if (abandoned_ || below <= streamedBelow_) return; // stopping, and nothing new
-                for (std::vector<LeafRecord>& batch : pending_) {
-                    const auto cut = std::partition_point(batch.begin(), batch.end(),
+                for (PendingBatch& batch : pending_) {
+                    const auto from = batch.leaves.begin() + std::ptrdiff_t(batch.taken);
+                    const auto cut = std::partition_point(from, batch.leaves.end(),
                                                           [&](const LeafRecord& r) { return r.order < below; });
-                    ready.insert(ready.end(), batch.begin(), cut);
-                    batch.erase(batch.begin(), cut);
+                    ready.insert(ready.end(), from, cut);
+                    batch.taken = std::size_t(cut - batch.leaves.begin());
                 }
-                std::erase_if(pending_, [](const std::vector<LeafRecord>& b) { return b.empty(); });
+                std::erase_if(pending_, [](const PendingBatch& b) { return b.taken == b.leaves.size(); });
                 streamedBelow_ = below;
                 early = below != kNoRegionLeft;
             }
@@ -183,7 +184,8 @@ LeafStream::Result LeafStream::finish() {
     if (error_) std::rethrow_exception(error_);
     // What no frontier passed: the last regions' leaves (or every leaf of a run given up early).
     std::vector<LeafRecord> rest;
-    for (const std::vector<LeafRecord>& batch : pending_) rest.insert(rest.end(), batch.begin(), batch.end());
+    for (const PendingBatch& batch : pending_)
+        rest.insert(rest.end(), batch.leaves.begin() + std::ptrdiff_t(batch.taken), batch.leaves.end());
     pending_.clear();
     tbb::parallel_sort(rest.begin(), rest.end(), treeOrder);
     std::vector<LeafRecord>& leaves = result_.leaves;

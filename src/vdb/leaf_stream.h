@@ -94,7 +94,13 @@ class LeafStream {
 
     std::mutex mutex_;
     std::condition_variable wake_;
-    std::vector<std::vector<LeafRecord>> pending_; ///< each sorted, not yet streamed
+    /// A region's leaves, sorted; those before `taken` are streamed (taken
+    /// from the front as the frontier passes them, without moving the rest).
+    struct PendingBatch {
+        std::vector<LeafRecord> leaves;
+        std::size_t taken = 0;
+    };
+    std::vector<PendingBatch> pending_;
     std::vector<bool> done_;
     std::size_t nextUnfinished_ = 0; ///< regions before it are done
     bool stopping_ = false;
