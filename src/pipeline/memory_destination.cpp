@@ -9,7 +9,6 @@
 #include "vdb/merge.h"
 #include "vdb/tree_order.h"
 
-#include <algorithm>
 #include <optional>
 #include <unordered_map>
 
@@ -81,19 +80,10 @@ class MemoryDestination : public RegionDestination {
     /// .vdb's leaves (in tree order) can be written as the regions finish:
     /// no brick of a region is before its lowest corner in that order.
     void streamInTreeOrder() {
-        const auto firstOrder = [](const ZoomRegion& r) { return treeOrderKey(r.min / kBrickSize); };
         std::vector<ZoomRegion> order = regions_;
-        std::stable_sort(order.begin(), order.end(),
-                         [&](const ZoomRegion& a, const ZoomRegion& b) { return firstOrder(a) < firstOrder(b); });
-        std::vector<std::uint64_t> firstOrders;
-        for (const ZoomRegion& r : order) {
-            positionOf_[r.id] = firstOrders.size();
-            firstOrders.push_back(firstOrder(r));
-        }
-        if (!assembler_->streamRegions(std::move(firstOrders))) {
-            positionOf_.clear();
-            return;
-        }
+        std::vector<std::uint64_t> firstOrders = sortByFirstTreeOrder(order);
+        if (!assembler_->streamRegions(std::move(firstOrders))) return;
+        for (std::size_t i = 0; i < order.size(); ++i) positionOf_[order[i].id] = i;
         inTreeOrder_ = std::move(order);
     }
 

@@ -82,6 +82,12 @@ struct EncodedBatch {
     ByteVector octantBytes;
 };
 
+/// The order of a grid's leaves in the file (vdb/tree_order.h), ties by the
+/// batch they came in (so a brick given twice sorts next to its twin).
+inline bool inTreeOrder(const LeafRecord& a, const LeafRecord& b) {
+    return a.order != b.order ? a.order < b.order : a.source < b.source;
+}
+
 using BrickMask = std::array<std::uint64_t, kBrickVoxels / 64>;
 
 /// `value` as a grid saved with `half` holds it: what a reader gets back.

@@ -35,8 +35,12 @@ constexpr std::uint64_t kNoRegionLeft = std::numeric_limits<std::uint64_t>::max(
 /// wrote at the speed of one chunk at a time.
 constexpr int kStreamWriters = 4;
 
-bool treeOrder(const LeafRecord& a, const LeafRecord& b) {
-    return a.order != b.order ? a.order < b.order : a.source < b.source;
+/// Whether `next` (sorted) goes on after `leaves` in tree order: every leaf
+/// past the last of `leaves`, and no two of `next` the same brick.
+bool followsInOrder(const std::vector<LeafRecord>& leaves, const std::vector<LeafRecord>& next) {
+    bool ordered = next.empty() || leaves.empty() || next.front().order > leaves.back().order;
+    for (std::size_t i = 1; ordered && i < next.size(); ++i) ordered = next[i].order != next[i - 1].order;
+    return ordered;
 }
 
 } // namespace
@@ -143,13 +147,11 @@ void LeafStream::stream(std::vector<LeafRecord>&& ready, bool early) {
     const TraceSpan span("stream leaf records");
     signalAtTestPoint("stream-leaves"); // a signal while the regions still come
     const auto start = std::chrono::steady_clock::now();
-    tbb::parallel_sort(ready.begin(), ready.end(), treeOrder);
+    tbb::parallel_sort(ready.begin(), ready.end(), inTreeOrder);
     std::vector<LeafRecord>& leaves = result_.leaves;
     // A leaf at or below one already streamed (a brick given twice, or out
     // of its region): the stream stops, and the end writes the file whole.
-    bool ordered = leaves.empty() || ready.front().order > leaves.back().order;
-    for (std::size_t i = 1; ordered && i < ready.size(); ++i) ordered = ready[i].order != ready[i - 1].order;
-    result_.intact = result_.intact && ordered;
+    result_.intact = result_.intact && followsInOrder(leaves, ready);
     const std::size_t first = leaves.size();
     leaves.insert(leaves.end(), ready.begin(), ready.end());
     if (!result_.intact) return;
@@ -187,11 +189,9 @@ LeafStream::Result LeafStream::finish() {
     for (const PendingBatch& batch : pending_)
         rest.insert(rest.end(), batch.leaves.begin() + std::ptrdiff_t(batch.taken), batch.leaves.end());
     pending_.clear();
-    tbb::parallel_sort(rest.begin(), rest.end(), treeOrder);
+    tbb::parallel_sort(rest.begin(), rest.end(), inTreeOrder);
     std::vector<LeafRecord>& leaves = result_.leaves;
-    bool ordered = rest.empty() || leaves.empty() || rest.front().order > leaves.back().order;
-    for (std::size_t i = 1; ordered && i < rest.size(); ++i) ordered = rest[i].order != rest[i - 1].order;
-    result_.intact = result_.intact && ordered;
+    result_.intact = result_.intact && followsInOrder(leaves, rest);
     leaves.insert(leaves.end(), rest.begin(), rest.end());
     return std::move(result_);
 }

@@ -61,12 +61,8 @@ void mergeStoreToVdb(const BrickStore& store, const std::string& outPath, const 
     // In the tree order of their lowest corners, so the leaves stream into
     // the file while later regions are read, as a run without a work dir
     // streams them: the two give the same file.
-    const auto firstOrder = [](const RegionInfo& r) { return treeOrderKey(r.min / kBrickSize); };
     std::vector<RegionInfo> inTreeOrder = regions;
-    std::stable_sort(inTreeOrder.begin(), inTreeOrder.end(),
-                     [&](const RegionInfo& a, const RegionInfo& b) { return firstOrder(a) < firstOrder(b); });
-    std::vector<std::uint64_t> firstOrders;
-    for (const RegionInfo& r : inTreeOrder) firstOrders.push_back(firstOrder(r));
+    std::vector<std::uint64_t> firstOrders = sortByFirstTreeOrder(inTreeOrder);
     if (options.streamLeaves) assembler.streamRegions(std::move(firstOrders));
     forEachRegion(store, inTreeOrder, [&](std::size_t i, std::vector<VoxelBrick>& bricks) {
         assembler.add(bricks, regionLabel(store, inTreeOrder[i].id));

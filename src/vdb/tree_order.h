@@ -7,7 +7,9 @@
 
 #include "core/bricks.h"
 
+#include <algorithm>
 #include <cstdint>
+#include <vector>
 
 namespace yv {
 
@@ -32,6 +34,20 @@ inline glm::ivec3 treeOrderCoord(std::uint64_t key) {
     };
     return {axis(51, 22, 8), axis(39, 17, 4), axis(27, 12, 0)};
 }
+/// Regions (anything with a voxel box starting at `min`, whole bricks) sorted
+/// by the tree order key of their lowest brick, which no brick of the region
+/// comes before; returns those keys, in the same order. Leaves before the
+/// next unfinished region's key are final (vdb/leaf_stream.h).
+template <typename Region> std::vector<std::uint64_t> sortByFirstTreeOrder(std::vector<Region>& regions) {
+    const auto firstOrder = [](const Region& r) { return treeOrderKey(r.min / kBrickSize); };
+    std::stable_sort(regions.begin(), regions.end(),
+                     [&](const Region& a, const Region& b) { return firstOrder(a) < firstOrder(b); });
+    std::vector<std::uint64_t> orders;
+    orders.reserve(regions.size());
+    for (const Region& r : regions) orders.push_back(firstOrder(r));
+    return orders;
+}
+
 /// The parts of a tree order key: the root child, the upper node's child index, the lower node's child index.
 inline std::uint64_t rootChildOfOrder(std::uint64_t key) { return key >> 27; }
 inline std::uint64_t lowerNodeOfOrder(std::uint64_t key) { return key >> 12; }

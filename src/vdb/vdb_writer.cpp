@@ -102,7 +102,9 @@ struct VdbAssembler::Impl {
     /// Where each part of a streamed file was written (empty where the lanes
     /// cannot hold `layout`: the file is then written whole).
     std::vector<FileSegment> streamedSegments(const FileLayout& layout) const;
-    void writeFile(FileLayout& layout, const LeafStream::Result* streamed = nullptr);
+    /// `segments` (streamedSegments) where `streamed` records are kept.
+    void writeFile(FileLayout& layout, const LeafStream::Result* streamed = nullptr,
+                   const std::vector<FileSegment>& segments = {});
 };
 
 VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduce, const VdbWriteOptions& options)
@@ -205,18 +207,10 @@ void VdbAssembler::regionDone(std::size_t region) {
     if (impl_->stream) impl_->stream->regionDone(region);
 }
 
-namespace {
-
-bool treeOrder(const LeafRecord& a, const LeafRecord& b) {
-    return a.order != b.order ? a.order < b.order : a.source < b.source;
-}
-
-} // namespace
-
 /// Puts level 0's leaves in tree order; throws when a brick came twice.
 void VdbAssembler::Impl::sortLeaves() {
     std::vector<LeafRecord>& leaves = levels[0].leaves;
-    tbb::parallel_sort(leaves.begin(), leaves.end(), treeOrder);
+    tbb::parallel_sort(leaves.begin(), leaves.end(), inTreeOrder);
     for (std::size_t i = 1; i < leaves.size(); ++i) {
         if (leaves[i].order == leaves[i - 1].order) {
             const std::string& a = sources[leaves[i - 1].source];
@@ -244,7 +238,7 @@ double VdbAssembler::Impl::buildPyramid() {
         if (l == 1) octantMemory = OctantMemory();
         std::vector<OctantRecord>().swap(pending);
         std::swap(pending, next);
-        tbb::parallel_sort(levels[l].leaves.begin(), levels[l].leaves.end(), treeOrder);
+        tbb::parallel_sort(levels[l].leaves.begin(), levels[l].leaves.end(), inTreeOrder);
     }
     return secondsSince(start);
 }
@@ -349,7 +343,8 @@ std::vector<FileSegment> VdbAssembler::Impl::streamedSegments(const FileLayout& 
 /// header again with the checksums, and publishes it (core/atomic_file.h).
 /// With `streamed` records, only what the stream did not write is written,
 /// each part where its segment puts it, and the holes are then cut out.
-void VdbAssembler::Impl::writeFile(FileLayout& f, const LeafStream::Result* streamed) {
+void VdbAssembler::Impl::writeFile(FileLayout& f, const LeafStream::Result* streamed,
+                                   const std::vector<FileSegment>& segments) {
     openOutput();
     struct MemoryPart {
         std::uint64_t at;
@@ -383,10 +378,10 @@ void VdbAssembler::Impl::writeFile(FileLayout& f, const LeafStream::Result* stre
             if (sum.begin() < chunkEnd && sum.end() > chunkAt) sum.add(chunkAt, out);
         signalAtTestPoint("vdb-chunk");
     };
-    const std::vector<FileSegment> segments = streamed ? streamedSegments(f) : std::vector<FileSegment>();
-    if (segments.empty()) {
+    if (!streamed) {
         output->write(f.fileBytes, fill);
     } else {
+        YV_CHECK(!segments.empty());
         // Each segment but the streamed records at its start, where the stream wrote them.
         for (std::size_t s = 0; s < segments.size(); ++s) {
             const FileSegment& seg = segments[s];
@@ -456,7 +451,8 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     const double pyramidSeconds = m.buildPyramid();
     m.encodeSeconds += pyramidSeconds;
     FileLayout layout = streamed ? m.layOut(metadata, m.levels[0].gridCount, m.lanes->block) : m.layOut(metadata);
-    if (streamed && m.streamedSegments(layout).empty()) {
+    const std::vector<FileSegment> segments = streamed ? m.streamedSegments(layout) : std::vector<FileSegment>();
+    if (streamed && segments.empty()) {
         streamed.reset(); // the lanes cannot hold it: written whole, as OpenVDB lays it out
         layout = m.layOut(metadata);
     }
@@ -464,7 +460,7 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
         throw Error(m.path + ": cannot empty " + m.file->temporaryPath() + ": " + errnoText(errno));
     const auto laidOut = std::chrono::steady_clock::now();
     traceSpanSince("sort and lay out the leaves", start);
-    m.writeFile(layout, streamed ? &*streamed : nullptr);
+    m.writeFile(layout, streamed ? &*streamed : nullptr, segments);
     if (m.options.timings) {
         m.options.timings->encodeSeconds += m.encodeSeconds;
         m.options.timings->topologySeconds += std::chrono::duration<double>(laidOut - start).count() - pyramidSeconds;
