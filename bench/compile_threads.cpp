@@ -8,7 +8,15 @@
 // prints one JSON line a try: seconds to make the sharing contexts and to
 // have every program linked.
 //
-//   yv_bench_compile_threads [--threads 1,2,4,8] [--rounds 3] [--device -1]
+// Two more ways to spread the compile, each handing the linked programs back
+// to the first context as program binaries (glGetProgramBinary, then
+// glProgramBinary): --separate K, K threads each with a context of its own
+// that shares nothing (a driver may lock per share group), and --processes K,
+// K copies of this program each compiling its share in its own process
+// (a driver may lock per process).
+//
+//   yv_bench_compile_threads [--threads 1,2,4,8] [--separate 2,4] [--processes 2,4]
+//                            [--rounds 3] [--device -1]
 // Run with __GL_SHADER_DISK_CACHE_PATH pointing at an empty folder.
 #include "core/error.h"
 #include "gpu/egl_context.h"
@@ -17,12 +25,20 @@
 #include <epoxy/gl.h>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
 
 using namespace yv;
 
@@ -44,11 +60,72 @@ GlProgram build(const Shader& s, int salt) {
     return p;
 }
 
+/// A linked program as the driver's binary.
+struct Binary {
+    GLenum format = 0;
+    std::vector<char> bytes;
+};
+
+/// Compiles and links `s` (salted) on the current context, returned as a binary.
+Binary compileToBinary(const Shader& s, int salt) {
+    const std::vector<std::string> defines = {"YV_SALT " + std::to_string(salt)};
+    std::vector<GlShader> stages;
+    if (s.files.size() == 1) {
+        stages.push_back(startShaderStage(GL_COMPUTE_SHADER, s.files[0], defines));
+    } else {
+        stages.push_back(startShaderStage(GL_VERTEX_SHADER, s.files[0], defines));
+        stages.push_back(startShaderStage(GL_FRAGMENT_SHADER, s.files[1], defines));
+    }
+    const GLuint program = glCreateProgram();
+    glProgramParameteri(program, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
+    for (const GlShader& st : stages) glAttachShader(program, st.id());
+    glLinkProgram(program);
+    GLint ok = GL_FALSE, length = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    glGetProgramiv(program, GL_PROGRAM_BINARY_LENGTH, &length);
+    if (!ok || length <= 0) throw Error("link or binary of " + s.files[0] + " failed");
+    Binary b;
+    b.bytes.resize(std::size_t(length));
+    glGetProgramBinary(program, length, nullptr, &b.format, b.bytes.data());
+    glDeleteProgram(program);
+    return b;
+}
+
+GLuint loadBinary(const Binary& b) {
+    const GLuint program = glCreateProgram();
+    glProgramBinary(program, b.format, b.bytes.data(), GLsizei(b.bytes.size()));
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) throw Error("glProgramBinary refused a binary");
+    return program;
+}
+
+void writeAll(int fd, const void* data, std::size_t n) {
+    const char* p = static_cast<const char*>(data);
+    while (n > 0) {
+        const ssize_t w = ::write(fd, p, n);
+        if (w <= 0) throw Error("write to the parent failed");
+        p += w;
+        n -= std::size_t(w);
+    }
+}
+
+void readAll(int fd, void* data, std::size_t n) {
+    char* p = static_cast<char*>(data);
+    while (n > 0) {
+        const ssize_t r = ::read(fd, p, n);
+        if (r <= 0) throw Error("read from a child failed");
+        p += r;
+        n -= std::size_t(r);
+    }
+}
+
 } // namespace
 
 int main(int argc, char** argv) try {
-    std::vector<int> threadCounts = {1, 2, 4, 8};
+    std::vector<int> threadCounts = {1, 2, 4, 8}, separateCounts, processCounts;
     int rounds = 3, device = -1;
+    int childIndex = -1, childCount = 0, childSalt = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string k = argv[i];
         auto value = [&]() -> std::string {
@@ -59,6 +136,14 @@ int main(int argc, char** argv) try {
             threadCounts.clear();
             std::stringstream ss(value());
             for (std::string item; std::getline(ss, item, ',');) threadCounts.push_back(std::stoi(item));
+        } else if (k == "--separate" || k == "--processes") {
+            std::vector<int>& counts = k == "--separate" ? separateCounts : processCounts;
+            std::stringstream ss(value());
+            for (std::string item; std::getline(ss, item, ',');) counts.push_back(std::stoi(item));
+        } else if (k == "--child") { // INDEX COUNT SALT: this process compiles its share, binaries to stdout
+            childIndex = std::stoi(value());
+            childCount = std::stoi(value());
+            childSalt = std::stoi(value());
         } else if (k == "--rounds") rounds = std::stoi(value());
         else if (k == "--device") device = std::stoi(value());
         else throw Error("unknown option " + k);
@@ -71,6 +156,21 @@ int main(int argc, char** argv) try {
         {{"brick_resolve.comp"}}, {{"brick_resolve_scan.comp"}}, {{"slice.vert", "append.frag"}},
         {{"inspect_fullscreen.vert", "inspect_raycast.frag"}}, {{"inspect_proxy.vert", "inspect_proxy.frag"}},
         {{"inspect_slices.vert", "inspect_slices.frag"}}, {{"inspect_slices_keys.comp"}}};
+    if (childIndex >= 0) {
+        // The probe's list is every candidate but those that need a variant's defines,
+        // which the parent passes over; the child skips what does not build.
+        for (std::size_t i = std::size_t(childIndex); i < candidates.size(); i += std::size_t(childCount)) {
+            Binary b;
+            try {
+                b = compileToBinary(candidates[i], childSalt);
+            } catch (const Error&) {
+            }
+            const std::uint32_t header[3] = {std::uint32_t(i), b.format, std::uint32_t(b.bytes.size())};
+            writeAll(1, header, sizeof header);
+            writeAll(1, b.bytes.data(), b.bytes.size());
+        }
+        return 0;
+    }
     // Those that build without a variant's defines (salt 0: a compile of its own).
     std::vector<Shader> shaders;
     const auto probeStart = std::chrono::steady_clock::now();
@@ -85,6 +185,78 @@ int main(int argc, char** argv) try {
                 gl.info().renderer.c_str());
     int salt = 1;
     for (int round = 0; round < rounds; ++round) {
+        for (int threads : separateCounts) {
+            ++salt;
+            const auto start = std::chrono::steady_clock::now();
+            std::vector<Binary> binaries(shaders.size());
+            std::vector<std::thread> workers;
+            for (int t = 0; t < threads; ++t) {
+                workers.emplace_back([&, t] {
+                    GlContext own(GlContextOptions{device, false});
+                    for (std::size_t i = std::size_t(t); i < shaders.size(); i += std::size_t(threads))
+                        binaries[i] = compileToBinary(shaders[i], salt);
+                });
+            }
+            for (std::thread& w : workers) w.join();
+            gl.makeCurrent();
+            for (const Binary& b : binaries) glDeleteProgram(loadBinary(b));
+            glFinish();
+            std::printf("{\"round\": %d, \"separate_contexts\": %d, \"linked_s\": %.3f}\n", round, threads,
+                        since(start));
+            std::fflush(stdout);
+        }
+        for (int processes : processCounts) {
+            ++salt;
+            const auto start = std::chrono::steady_clock::now();
+            std::vector<Binary> binaries(candidates.size());
+            std::vector<pid_t> children;
+            std::vector<int> pipes;
+            for (int c = 0; c < processes; ++c) {
+                int fds[2];
+                if (::pipe(fds) != 0) throw Error("pipe failed");
+                posix_spawn_file_actions_t actions;
+                posix_spawn_file_actions_init(&actions);
+                posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
+                posix_spawn_file_actions_addclose(&actions, fds[0]);
+                const std::string index = std::to_string(c), count = std::to_string(processes),
+                                  saltText = std::to_string(salt), deviceText = std::to_string(device);
+                const char* childArgs[] = {argv[0],          "--child",         index.c_str(), count.c_str(),
+                                           saltText.c_str(), "--device",        deviceText.c_str(), nullptr};
+                pid_t pid = 0;
+                if (posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, const_cast<char**>(childArgs), environ) != 0)
+                    throw Error("posix_spawn failed");
+                posix_spawn_file_actions_destroy(&actions);
+                ::close(fds[1]);
+                children.push_back(pid);
+                pipes.push_back(fds[0]);
+            }
+            for (int c = 0; c < processes; ++c) {
+                for (std::size_t i = std::size_t(c); i < candidates.size(); i += std::size_t(processes)) {
+                    std::uint32_t header[3];
+                    readAll(pipes[std::size_t(c)], header, sizeof header);
+                    Binary& b = binaries[header[0]];
+                    b.format = header[1];
+                    b.bytes.resize(header[2]);
+                    readAll(pipes[std::size_t(c)], b.bytes.data(), b.bytes.size());
+                }
+                ::close(pipes[std::size_t(c)]);
+                int status = 0;
+                ::waitpid(children[std::size_t(c)], &status, 0);
+            }
+            const double received = since(start);
+            gl.makeCurrent();
+            std::size_t loaded = 0;
+            for (const Binary& b : binaries)
+                if (!b.bytes.empty()) {
+                    glDeleteProgram(loadBinary(b));
+                    ++loaded;
+                }
+            glFinish();
+            std::printf("{\"round\": %d, \"processes\": %d, \"programs\": %zu, \"received_s\": %.3f, "
+                        "\"linked_s\": %.3f}\n",
+                        round, processes, loaded, received, since(start));
+            std::fflush(stdout);
+        }
         for (int threads : threadCounts) {
             ++salt;
             const auto start = std::chrono::steady_clock::now();

@@ -1,6 +1,7 @@
 #include "core/packed_bricks.h"
 
 #include "core/error.h"
+#include "core/parallel_copy.h"
 #include "core/trace.h"
 
 #include <tbb/parallel_for.h>
@@ -15,20 +16,6 @@
 namespace yv {
 
 namespace {
-
-/// memcpy in 4 MiB pieces on TBB's threads: a fresh destination's page faults
-/// and the copy itself then spread over the cores.
-void copyInParallel(void* to, const void* from, std::size_t bytes) {
-    constexpr std::size_t kPiece = std::size_t(4) << 20;
-    if (bytes <= kPiece) {
-        if (bytes) std::memcpy(to, from, bytes);
-        return;
-    }
-    tbb::parallel_for(std::size_t(0), (bytes + kPiece - 1) / kPiece, [&](std::size_t piece) {
-        const std::size_t at = piece * kPiece;
-        std::memcpy(static_cast<char*>(to) + at, static_cast<const char*>(from) + at, std::min(kPiece, bytes - at));
-    });
-}
 
 /// Makes room for `count` records in `v` without a copy on one thread: a
 /// larger storage (at least half as large again) is filled on every core.
