@@ -203,7 +203,7 @@ TEST_CASE("Leaves streamed while regions finish give the grids and checksums of 
                                  leaf, table.bricks[leaf], at, values.data());
                 const VoxelBrick& brick = *given.at(brickKey(table.bricks[leaf]));
                 for (int x = 0; x < kBrickVoxels; ++x) // both in OpenVDB's voxel order
-                    differ += values[x] != (brick.isActive(x) ? storedValue(brick.density[x], p == VdbPrecision::Half) : 0.0f);
+                    differ += values[x] != (brick.isActive(x) ? (p == VdbPrecision::Half ? float(openvdb::math::half(brick.density[x])) : brick.density[x]) : 0.0f);
             }
             CHECK(differ == 0);
         }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/bricks.h"
+#include "core/half_floats.h"
 #include "core/packed_bricks.h"
 #include "core/voxel_statistics.h"
 #include "vdb/lod_pyramid.h"
@@ -15,7 +16,9 @@
 #include <openvdb/openvdb.h>
 
 #include <array>
+#include <bit>
 #include <cstddef>
+#include <cstring>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -90,10 +93,16 @@ inline bool inTreeOrder(const LeafRecord& a, const LeafRecord& b) {
 
 using BrickMask = std::array<std::uint64_t, kBrickVoxels / 64>;
 
-/// `value` as a grid saved with `half` holds it: what a reader gets back.
-inline float storedValue(float value, bool half) { return half ? float(openvdb::math::half(value)) : value; }
-inline glm::vec3 storedValue(const glm::vec3& v, bool half) {
-    return half ? glm::vec3(storedValue(v.x, true), storedValue(v.y, true), storedValue(v.z, true)) : v;
+/// Adds the active voxels' values (density, then the axis: four floats a
+/// voxel in `values`, the k-th active one at 4 k) to `s`, as a grid saved
+/// with `half` holds them: what a reader gets back. `values` is rounded in place.
+inline void countStoredValues(const std::uint64_t* mask, float* values, std::size_t active, bool half,
+                              VoxelStatistics& s) {
+    if (half) roundThroughHalves(values, values, 4 * active);
+    s.addActiveVoxels(mask, true, [&](int, std::size_t k) {
+        const float* v = values + 4 * k;
+        return VoxelStatistics::ActiveVoxel{v[0], glm::vec3(v[1], v[2], v[3])};
+    });
 }
 
 /// The bricks encodeBatch takes: voxel bricks...
@@ -109,9 +118,18 @@ struct VoxelBrickBatch {
     /// Adds brick i's values, as stored, to `s`.
     void count(std::size_t i, const BrickMask& mask, bool half, VoxelStatistics& s) const {
         const VoxelBrick& b = bricks[i];
-        s.addActiveVoxels(mask.data(), true, [&](int v, std::size_t) {
-            return VoxelStatistics::ActiveVoxel{storedValue(b.density[v], half), storedValue(b.orientation[v], half)};
-        });
+        float values[4 * kBrickVoxels];
+        std::size_t active = 0;
+        for (int w = 0; w < kBrickVoxels / 64; ++w)
+            for (std::uint64_t bits = mask[w]; bits; bits &= bits - 1, ++active) {
+                const int v = w * 64 + std::countr_zero(bits);
+                float* to = values + 4 * active;
+                to[0] = b.density[v];
+                to[1] = b.orientation[v].x;
+                to[2] = b.orientation[v].y;
+                to[3] = b.orientation[v].z;
+            }
+        countStoredValues(mask.data(), values, active, half, s);
     }
 };
 
@@ -131,12 +149,13 @@ struct PackedBrickBatch {
     }
     /// Adds brick i's values, as stored, to `s`.
     void count(std::size_t i, const BrickMask& mask, bool half, VoxelStatistics& s) const {
-        const PackedVoxel* voxels = packed.voxels.data() + packed.headers[i].firstVoxel;
-        s.addActiveVoxels(mask.data(), true, [&](int, std::size_t k) {
-            const PackedVoxel& p = voxels[k];
-            return VoxelStatistics::ActiveVoxel{storedValue(p.density, half),
-                                                storedValue(glm::vec3(p.axis[0], p.axis[1], p.axis[2]), half)};
-        });
+        // A packed voxel is its density and axis, four floats: the brick's
+        // active voxels are the values countStoredValues takes, one after another.
+        static_assert(sizeof(PackedVoxel) == 4 * sizeof(float));
+        const std::size_t active = packed.headers[i].activeCount; // the mask's count (packedBrickMask checks)
+        float values[4 * kBrickVoxels];
+        std::memcpy(values, packed.voxels.data() + packed.headers[i].firstVoxel, active * sizeof(PackedVoxel));
+        countStoredValues(mask.data(), values, active, half, s);
     }
 };
 

@@ -1,5 +1,7 @@
 #include "vdb/openvdb_encoding.h"
 
+#include "core/half_floats.h"
+
 #include "core/error.h"
 
 #include <openvdb/io/Compression.h>
@@ -183,26 +185,24 @@ LeafLoadInfo encodeLeaf(std::unique_ptr<TaggedStream>& stream, const GridEncodin
         std::memcpy(p, words.data(), sizeof words);
         p += sizeof words;
         *p++ = std::uint8_t(openvdb::io::NO_MASK_OR_INACTIVE_VALS);
-        const auto put = [&](float value) {
-            if (encoding.half) {
-                const openvdb::math::half h(value);
-                std::memcpy(p, &h, 2);
-                p += 2;
-            } else {
-                std::memcpy(p, &value, 4);
-                p += 4;
-            }
-        };
+        // The active values gathered, then stored: as halves eight at a time
+        // (core/half_floats.h: OpenVDB's rounding), or as they are.
+        float values[3 * kBrickVoxels];
+        std::size_t count = 0;
         if (encoding.kind == GridKind::Density) {
-            eachActive([&](int v, std::size_t n) { put(density(v, n)); });
+            eachActive([&](int v, std::size_t n) { values[count++] = density(v, n); });
         } else {
             eachActive([&](int v, std::size_t n) {
                 const openvdb::Vec3s value = vector(v, n);
-                put(value[0]);
-                put(value[1]);
-                put(value[2]);
+                values[count++] = value[0];
+                values[count++] = value[1];
+                values[count++] = value[2];
             });
         }
+        if (encoding.half)
+            floatsToHalves(values, p, count);
+        else
+            std::memcpy(p, values, count * sizeof(float));
         LeafLoadInfo info;
         info.maskMetadata = std::int8_t(openvdb::io::NO_MASK_OR_INACTIVE_VALS);
         return info;
