@@ -67,7 +67,7 @@ TEST_CASE("floatsToHalves gives OpenVDB's half bits for every float tried", "[ha
     CHECK(in.size() > 1000000);
 }
 
-TEST_CASE("roundThroughHalves gives a half grid's values, in place or not", "[half_floats]") {
+TEST_CASE("roundThroughHalves gives a half grid's values in place or not", "[half_floats]") {
     const std::vector<float> in = probes();
     std::vector<float> out(in.size()), inPlace = in;
     roundThroughHalves(in.data(), out.data(), in.size());
@@ -85,7 +85,7 @@ TEST_CASE("roundThroughHalves gives a half grid's values, in place or not", "[ha
     CHECK(wrong == 0);
 }
 
-TEST_CASE("floatsToHalves writes exactly 2n bytes, at any alignment, for counts off the lanes' width", "[half_floats]") {
+TEST_CASE("floatsToHalves writes exactly 2n bytes at any alignment for counts off the lanes' width", "[half_floats]") {
     std::vector<float> in(37);
     for (std::size_t i = 0; i < in.size(); ++i) in[i] = 0.1f * float(i) - 1.3f;
     for (std::size_t n = 0; n <= in.size(); ++n) {

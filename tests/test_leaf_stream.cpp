@@ -23,6 +23,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <numeric>
 #include <cerrno>
 #include <chrono>
 #include <filesystem>
@@ -403,4 +404,53 @@ TEST_CASE("A stream whose write fails says why at the next region's leaves, not 
     }
     CHECK(said == "test output: No space left on device");
     CHECK_THROWS_WITH(stream.finish(), "test output: No space left on device");
+}
+
+TEST_CASE("finalLeaves gives every leaf in tree order while the stream still writes and nothing when they are not in order",
+          "[vdb][leafstream]") {
+    const fs::path out = scratch("final.vdb");
+    PendingFile file(out.string());
+    ChunkedOutput output(file.fd(), "test output", 0);
+    const std::optional<StreamLanes> lanes = planStreamLanes(file.fd(), 1);
+    REQUIRE(lanes); // the scratch directory is on ext4 or XFS
+    SpillFile spill(out.parent_path().string(), "the test's scratch file");
+    const std::uint64_t at = spill.append(std::vector<std::uint8_t>(200000, 7));
+    const auto region = [&](std::uint64_t from, std::uint64_t count) {
+        std::vector<LeafRecord> leaves(count);
+        for (std::size_t i = 0; i < leaves.size(); ++i) {
+            leaves[i].order = from + i;
+            leaves[i].at[0] = at + 4000 * (from + i);
+            leaves[i].bytes[0] = 4000;
+        }
+        return leaves;
+    };
+    SECTION("in order: the same leaves as finish() hands over") {
+        LeafStream stream(spill, output, 1, *lanes, {0, 10, 20});
+        stream.add(region(0, 10));
+        stream.regionDone(0); // streamed while the others come
+        stream.add(region(20, 15));
+        stream.add(region(10, 10));
+        stream.regionDone(2);
+        stream.regionDone(1);
+        const std::optional<std::vector<LeafRecord>> leaves = stream.finalLeaves();
+        REQUIRE(leaves);
+        std::vector<std::uint64_t> orders;
+        for (const LeafRecord& r : *leaves) orders.push_back(r.order);
+        std::vector<std::uint64_t> expected(35);
+        std::iota(expected.begin(), expected.end(), 0);
+        CHECK(orders == expected);
+        const LeafStream::Result result = stream.finish();
+        REQUIRE(result.intact);
+        REQUIRE(result.leaves.size() == leaves->size());
+        for (std::size_t i = 0; i < leaves->size(); ++i) CHECK(result.leaves[i].order == (*leaves)[i].order);
+    }
+    SECTION("a brick given twice: nothing, and finish() says the stream is not intact") {
+        LeafStream stream(spill, output, 1, *lanes, {0, 10});
+        stream.add(region(0, 10));
+        stream.add(region(5, 10)); // 5 to 9 again
+        stream.regionDone(1);
+        stream.regionDone(0);
+        CHECK_FALSE(stream.finalLeaves());
+        CHECK_FALSE(stream.finish().intact);
+    }
 }

@@ -29,7 +29,7 @@ std::vector<std::uint8_t> pattern(std::size_t bytes, std::uint32_t seed) {
 
 } // namespace
 
-TEST_CASE("copyInParallel copies every byte, small and large and of odd sizes", "[parallel_copy]") {
+TEST_CASE("copyInParallel copies every byte of small and large copies and of odd sizes", "[parallel_copy]") {
     // The copies of 4 MiB and more go to the helpers: there must be one, even on two cores.
     REQUIRE(copyHelperThreads() >= 1);
     for (std::size_t bytes : {std::size_t(0), std::size_t(1), std::size_t(4095), std::size_t(4) << 20,

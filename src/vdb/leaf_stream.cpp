@@ -110,7 +110,7 @@ void LeafStream::regionDone(std::size_t region) {
 void LeafStream::run() {
     try {
         for (;;) {
-            std::vector<LeafRecord> ready;
+            std::size_t first = 0;
             bool early = false;
             {
                 std::unique_lock lock(mutex_);
@@ -121,6 +121,7 @@ void LeafStream::run() {
                 wake_.wait(lock, [&] { return stopping_ || frontier() > streamedBelow_; });
                 const std::uint64_t below = frontier();
                 if (abandoned_ || below <= streamedBelow_) return; // stopping, and nothing new
+                std::vector<LeafRecord> ready;
                 for (PendingBatch& batch : pending_) {
                     const auto from = batch.leaves.begin() + std::ptrdiff_t(batch.taken);
                     const auto cut = std::partition_point(from, batch.leaves.end(),
@@ -131,8 +132,11 @@ void LeafStream::run() {
                 std::erase_if(pending_, [](const PendingBatch& b) { return b.taken == b.leaves.size(); });
                 streamedBelow_ = below;
                 early = below != kNoRegionLeft;
+                if (ready.empty()) continue;
+                // Appended under the lock, so that finalLeaves() never sees them half in.
+                first = take(std::move(ready));
             }
-            if (!ready.empty()) stream(std::move(ready), early);
+            if (result_.intact) stream(first, early);
         }
     } catch (...) {
         std::lock_guard lock(mutex_);
@@ -140,13 +144,9 @@ void LeafStream::run() {
     }
 }
 
-/// Appends `ready` (every leaf between the last frontier and this one) to the
-/// leaves streamed, and writes each grid's records as far as whole blocks go:
-/// a block cut by the last record is written again, whole, next time.
-void LeafStream::stream(std::vector<LeafRecord>&& ready, bool early) {
-    const TraceSpan span("stream leaf records");
-    signalAtTestPoint("stream-leaves"); // a signal while the regions still come
-    const auto start = std::chrono::steady_clock::now();
+/// Sorts `ready` (every leaf between the last frontier and this one) and
+/// appends it to the leaves taken; returns where it starts.
+std::size_t LeafStream::take(std::vector<LeafRecord>&& ready) {
     tbb::parallel_sort(ready.begin(), ready.end(), inTreeOrder);
     std::vector<LeafRecord>& leaves = result_.leaves;
     // A leaf at or below one already streamed (a brick given twice, or out
@@ -154,7 +154,33 @@ void LeafStream::stream(std::vector<LeafRecord>&& ready, bool early) {
     result_.intact = result_.intact && followsInOrder(leaves, ready);
     const std::size_t first = leaves.size();
     leaves.insert(leaves.end(), ready.begin(), ready.end());
-    if (!result_.intact) return;
+    return first;
+}
+
+std::optional<std::vector<LeafRecord>> LeafStream::finalLeaves() {
+    std::lock_guard lock(mutex_);
+    YV_CHECK(nextUnfinished_ == done_.size());
+    if (error_ || !result_.intact) return std::nullopt;
+    std::vector<LeafRecord> rest;
+    for (const PendingBatch& batch : pending_)
+        rest.insert(rest.end(), batch.leaves.begin() + std::ptrdiff_t(batch.taken), batch.leaves.end());
+    tbb::parallel_sort(rest.begin(), rest.end(), inTreeOrder);
+    if (!followsInOrder(result_.leaves, rest)) return std::nullopt;
+    std::vector<LeafRecord> leaves;
+    leaves.reserve(result_.leaves.size() + rest.size());
+    leaves.insert(leaves.end(), result_.leaves.begin(), result_.leaves.end());
+    leaves.insert(leaves.end(), rest.begin(), rest.end());
+    return leaves;
+}
+
+/// Writes each grid's records of the leaves taken from `first` on, as far as
+/// whole blocks go: a block cut by the last record is written again, whole,
+/// next time.
+void LeafStream::stream(std::size_t first, bool early) {
+    const TraceSpan span("stream leaf records");
+    signalAtTestPoint("stream-leaves"); // a signal while the regions still come
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<LeafRecord>& leaves = result_.leaves;
     constexpr std::uint64_t kBlock = kChecksumBlockBytes;
     static_assert(kBlock % ChunkedOutput::kAlignment == 0);
     for (int g = 0; g < grids_; ++g) {

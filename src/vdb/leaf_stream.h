@@ -77,14 +77,22 @@ class LeafStream {
         std::uint64_t bytesBeforeLastRegion = 0;
         double seconds = 0.0; ///< spent streaming (on the stream's thread)
     };
+    /// Once every region is done: every leaf, in tree order, as finish()
+    /// will hand them over, while the stream still writes them (the writer
+    /// lays out the file meanwhile). Nothing when the stream is no longer in
+    /// order or has failed (finish() then says which).
+    std::optional<std::vector<LeafRecord>> finalLeaves();
     /// Stops the stream's thread and hands over what it holds; rethrows its
     /// error (a failed write). Call once.
     Result finish();
 
   private:
     void run();
-    /// `early`: some region was not done yet when `ready` was taken.
-    void stream(std::vector<LeafRecord>&& ready, bool early);
+    /// Appends leaves the frontier passed; returns where they start. Under mutex_.
+    std::size_t take(std::vector<LeafRecord>&& ready);
+    /// Writes the records of the leaves taken from `first` on. `early`: some
+    /// region was not done yet when they were taken.
+    void stream(std::size_t first, bool early);
 
     const SpillFile& spill_;
     ChunkedOutput& output_;
@@ -106,7 +114,7 @@ class LeafStream {
     bool stopping_ = false;
     bool abandoned_ = false; ///< the run is given up: stream nothing more
 
-    // The stream's thread's own.
+    // The stream's thread's own (result_.leaves grows under mutex_ only).
     std::uint64_t streamedBelow_ = 0; ///< every leaf below this order is streamed
     Result result_;
     std::uint64_t recordBytes_[kMaxGrids] = {}; ///< records of result_.leaves, per grid

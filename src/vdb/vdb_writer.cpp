@@ -440,18 +440,37 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     signalAtTestPoint("vdb-start");
     throwIfInterrupted("while writing " + m.path);
     std::optional<LeafStream::Result> streamed;
+    std::optional<double> pyramidSeconds;
+    std::optional<FileLayout> layout;
+    std::vector<FileSegment> segments;
     if (m.stream) {
+        // While the stream still writes its last leaves: the pyramid (from
+        // the octants) and the file's layout (from every leaf's size), once
+        // every leaf is known to be in order and there once.
+        if (std::optional<std::vector<LeafRecord>> leaves = m.stream->finalLeaves()) {
+            m.levels[0].leaves = std::move(*leaves);
+            pyramidSeconds = m.buildPyramid();
+            layout = m.layOut(metadata, m.levels[0].gridCount, m.lanes->block);
+            segments = m.streamedSegments(*layout);
+        }
+        const auto waitStart = std::chrono::steady_clock::now();
         streamed = m.stream->finish();
         m.stream.reset();
-        m.levels[0].leaves = std::move(streamed->leaves);
-        if (!streamed->intact) streamed.reset(); // out of order: sorted, and written whole
+        traceSpanSince("wait for the leaf stream", waitStart);
+        if (streamed->intact && layout) {
+            YV_CHECK(streamed->leaves.size() == m.levels[0].leaves.size());
+            streamed->leaves.clear();
+        } else {
+            m.levels[0].leaves = std::move(streamed->leaves);
+            streamed.reset(); // out of order: sorted, and written whole
+            layout.reset();
+        }
     }
     if (!streamed) m.sortLeaves();
     traceSpanSince("sort the leaves", start);
-    const double pyramidSeconds = m.buildPyramid();
-    m.encodeSeconds += pyramidSeconds;
-    FileLayout layout = streamed ? m.layOut(metadata, m.levels[0].gridCount, m.lanes->block) : m.layOut(metadata);
-    const std::vector<FileSegment> segments = streamed ? m.streamedSegments(layout) : std::vector<FileSegment>();
+    if (!pyramidSeconds) pyramidSeconds = m.buildPyramid();
+    m.encodeSeconds += *pyramidSeconds;
+    if (!layout) layout = streamed ? m.layOut(metadata, m.levels[0].gridCount, m.lanes->block) : m.layOut(metadata);
     if (streamed && segments.empty()) {
         streamed.reset(); // the lanes cannot hold it: written whole, as OpenVDB lays it out
         layout = m.layOut(metadata);
@@ -460,10 +479,10 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
         throw Error(m.path + ": cannot empty " + m.file->temporaryPath() + ": " + errnoText(errno));
     const auto laidOut = std::chrono::steady_clock::now();
     traceSpanSince("sort and lay out the leaves", start);
-    m.writeFile(layout, streamed ? &*streamed : nullptr, segments);
+    m.writeFile(*layout, streamed ? &*streamed : nullptr, segments);
     if (m.options.timings) {
         m.options.timings->encodeSeconds += m.encodeSeconds;
-        m.options.timings->topologySeconds += std::chrono::duration<double>(laidOut - start).count() - pyramidSeconds;
+        m.options.timings->topologySeconds += std::chrono::duration<double>(laidOut - start).count() - *pyramidSeconds;
         m.options.timings->writeSeconds += secondsSince(laidOut);
         if (streamed) {
             for (int g = 0; g < m.levels[0].gridCount; ++g) m.options.timings->streamedBytes += streamed->streamedBytes[g];
