@@ -203,6 +203,7 @@ void LeafStream::stream(std::size_t first, bool early) {
 }
 
 LeafStream::Result LeafStream::finish() {
+    const TraceSpan span("wait for the leaf stream");
     {
         std::lock_guard lock(mutex_);
         stopping_ = true;

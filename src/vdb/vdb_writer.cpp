@@ -444,22 +444,17 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     std::optional<FileLayout> layout;
     std::vector<FileSegment> segments;
     if (m.stream) {
-        // While the stream still writes its last leaves: the pyramid (from
-        // the octants) and the file's layout (from every leaf's size), once
-        // every leaf is known to be in order and there once.
+        // Made while the stream writes its last leaves: the pyramid and the layout.
         if (std::optional<std::vector<LeafRecord>> leaves = m.stream->finalLeaves()) {
             m.levels[0].leaves = std::move(*leaves);
             pyramidSeconds = m.buildPyramid();
             layout = m.layOut(metadata, m.levels[0].gridCount, m.lanes->block);
             segments = m.streamedSegments(*layout);
         }
-        const auto waitStart = std::chrono::steady_clock::now();
         streamed = m.stream->finish();
         m.stream.reset();
-        traceSpanSince("wait for the leaf stream", waitStart);
         if (streamed->intact && layout) {
-            YV_CHECK(streamed->leaves.size() == m.levels[0].leaves.size());
-            streamed->leaves.clear();
+            streamed->leaves = {}; // the same as level 0's
         } else {
             m.levels[0].leaves = std::move(streamed->leaves);
             streamed.reset(); // out of order: sorted, and written whole
@@ -470,7 +465,7 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     traceSpanSince("sort the leaves", start);
     if (!pyramidSeconds) pyramidSeconds = m.buildPyramid();
     m.encodeSeconds += *pyramidSeconds;
-    if (!layout) layout = streamed ? m.layOut(metadata, m.levels[0].gridCount, m.lanes->block) : m.layOut(metadata);
+    if (!layout) layout = m.layOut(metadata);
     if (streamed && segments.empty()) {
         streamed.reset(); // the lanes cannot hold it: written whole, as OpenVDB lays it out
         layout = m.layOut(metadata);
