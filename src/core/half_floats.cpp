@@ -4,19 +4,64 @@
 
 #include <cstring>
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <cpuid.h>
+#include <immintrin.h>
+#define YV_HAVE_F16C_LANES 1
+#endif
+
 namespace yv {
 
-#if defined(__x86_64__) || defined(__i386__)
-namespace f16c {
-void floatsToHalves(const float* in, void* out, std::size_t n);
-void roundThroughHalves(const float* in, float* out, std::size_t n);
-} // namespace f16c
+#if defined(YV_HAVE_F16C_LANES)
+namespace {
+
+// The F16C lanes, compiled for AVX and F16C by their target attribute alone
+// (no file-wide flag: no shared inline function is emitted in F16C code) and
+// called only where cpuHasF16c(). Round to nearest even: Imath's rounding.
+constexpr int kRound = _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC;
+
+__attribute__((target("avx,f16c"))) void floatsToHalvesF16c(const float* in, unsigned char* out, std::size_t n) {
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8)
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 2 * i), _mm256_cvtps_ph(_mm256_loadu_ps(in + i), kRound));
+    if (i < n) {
+        float tail[8] = {};
+        std::memcpy(tail, in + i, (n - i) * sizeof(float));
+        alignas(16) std::uint16_t halves[8];
+        _mm_store_si128(reinterpret_cast<__m128i*>(halves), _mm256_cvtps_ph(_mm256_loadu_ps(tail), kRound));
+        std::memcpy(out + 2 * i, halves, 2 * (n - i));
+    }
+}
+
+__attribute__((target("avx,f16c"))) void roundThroughHalvesF16c(const float* in, float* out, std::size_t n) {
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8)
+        _mm256_storeu_ps(out + i, _mm256_cvtph_ps(_mm256_cvtps_ph(_mm256_loadu_ps(in + i), kRound)));
+    if (i < n) {
+        float tail[8] = {};
+        std::memcpy(tail, in + i, (n - i) * sizeof(float));
+        alignas(32) float rounded[8];
+        _mm256_store_ps(rounded, _mm256_cvtph_ps(_mm256_cvtps_ph(_mm256_loadu_ps(tail), kRound)));
+        std::memcpy(out + i, rounded, (n - i) * sizeof(float));
+    }
+}
+
+} // namespace
 #endif
 
 bool cpuHasF16c() {
-#if defined(__x86_64__) || defined(__i386__)
-    // The 256-bit forms need AVX's registers saved by the operating system too.
-    static const bool available = __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+#if defined(YV_HAVE_F16C_LANES)
+    // CPUID leaf 1: F16C, AVX and the operating system's saving of the AVX
+    // registers (OSXSAVE, then XCR0's SSE and AVX state bits).
+    static const bool available = [] {
+        unsigned a = 0, b = 0, c = 0, d = 0;
+        if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
+        const bool f16c = (c & bit_F16C) != 0, avx = (c & bit_AVX) != 0, osxsave = (c & bit_OSXSAVE) != 0;
+        if (!f16c || !avx || !osxsave) return false;
+        unsigned lo = 0, hi = 0;
+        __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
+        return (lo & 0x6u) == 0x6u;
+    }();
     return available;
 #else
     return false;
@@ -24,10 +69,10 @@ bool cpuHasF16c() {
 }
 
 void floatsToHalves(const float* in, void* out, std::size_t n) {
-#if defined(__x86_64__) || defined(__i386__)
-    if (cpuHasF16c()) return f16c::floatsToHalves(in, out, n);
-#endif
     auto* bytes = static_cast<unsigned char*>(out);
+#if defined(YV_HAVE_F16C_LANES)
+    if (cpuHasF16c()) return floatsToHalvesF16c(in, bytes, n);
+#endif
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint16_t bits = openvdb::math::half(in[i]).bits();
         std::memcpy(bytes + 2 * i, &bits, 2);
@@ -35,8 +80,8 @@ void floatsToHalves(const float* in, void* out, std::size_t n) {
 }
 
 void roundThroughHalves(const float* in, float* out, std::size_t n) {
-#if defined(__x86_64__) || defined(__i386__)
-    if (cpuHasF16c()) return f16c::roundThroughHalves(in, out, n);
+#if defined(YV_HAVE_F16C_LANES)
+    if (cpuHasF16c()) return roundThroughHalvesF16c(in, out, n);
 #endif
     for (std::size_t i = 0; i < n; ++i) out[i] = float(openvdb::math::half(in[i]));
 }
