@@ -1,8 +1,7 @@
 #include "vdb/openvdb_encoding.h"
 
-#include "core/half_floats.h"
-
 #include "core/error.h"
+#include "core/half_floats.h"
 
 #include <openvdb/io/Compression.h>
 #include <openvdb/io/DelayedLoadMetadata.h>
