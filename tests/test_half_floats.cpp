@@ -2,6 +2,7 @@
 // bits for every float tried: a sweep over the whole 32-bit range, every
 // float near the halves' limits and ties, whatever the count (the eight-wide
 // lanes' tails) and the output's alignment.
+#include "core/cpu_features.h"
 #include "core/half_floats.h"
 
 #include <openvdb/Types.h>

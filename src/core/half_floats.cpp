@@ -1,11 +1,12 @@
 #include "core/half_floats.h"
 
+#include "core/cpu_features.h"
+
 #include <openvdb/Types.h>
 
 #include <cstring>
 
 #if defined(__x86_64__) || defined(__i386__)
-#include <cpuid.h>
 #include <immintrin.h>
 #define YV_HAVE_F16C_LANES 1
 #endif
@@ -48,25 +49,6 @@ __attribute__((target("avx,f16c"))) void roundThroughHalvesF16c(const float* in,
 
 } // namespace
 #endif
-
-bool cpuHasF16c() {
-#if defined(YV_HAVE_F16C_LANES)
-    // CPUID leaf 1: F16C, AVX and the operating system's saving of the AVX
-    // registers (OSXSAVE, then XCR0's SSE and AVX state bits).
-    static const bool available = [] {
-        unsigned a = 0, b = 0, c = 0, d = 0;
-        if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
-        const bool f16c = (c & bit_F16C) != 0, avx = (c & bit_AVX) != 0, osxsave = (c & bit_OSXSAVE) != 0;
-        if (!f16c || !avx || !osxsave) return false;
-        unsigned lo = 0, hi = 0;
-        __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
-        return (lo & 0x6u) == 0x6u;
-    }();
-    return available;
-#else
-    return false;
-#endif
-}
 
 void floatsToHalves(const float* in, void* out, std::size_t n) {
     auto* bytes = static_cast<unsigned char*>(out);

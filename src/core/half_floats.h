@@ -17,7 +17,4 @@ void floatsToHalves(const float* in, void* out, std::size_t n);
 /// half grid. `out` may be `in`.
 void roundThroughHalves(const float* in, float* out, std::size_t n);
 
-/// Whether the CPU converts with F16C (else one Imath call a value).
-bool cpuHasF16c();
-
 } // namespace yv
