@@ -471,3 +471,37 @@ TEST_CASE("CLI: YV_PIPELINE_REGIONS is taken and a bad count is one line with no
         CHECK_FALSE(fs::exists(vdb));
     }
 }
+
+TEST_CASE("CLI: YV_SPILL_MEMORY_MB moves the writer's scratch space between memory and file with the same bytes, a "
+          "bad count is one line",
+          "[cli]") {
+    const fs::path bcc = scratch("spill-memory.bcc");
+    REQUIRE(run("gen --pattern plain --crossings 64 -o " + bcc.string()).exitCode == 0);
+    // Many small regions, so that their leaves are streamed (about 3 MB of records: 2 MB in memory, the rest in the file).
+    const auto voxelize = [&](const std::string& env, const fs::path& vdb) {
+        fs::remove(vdb);
+        return run_shell(env + " " + std::string(YV_BINARY_DIR) + "/yarnvox voxelize " + bcc.string() + " -o " +
+                         vdb.string() + " --backend cpu --resolution 192 --fragment-budget 20000 --quiet --stats " +
+                         vdb.string() + ".json");
+    };
+    std::vector<std::vector<std::uint8_t>> bytes;
+    for (const char* env : {"YV_SPILL_MEMORY_MB=0", "YV_SPILL_MEMORY_MB=2", "YV_SPILL_MEMORY_MB=1024", ""}) {
+        const fs::path vdb = scratch("spill-memory.vdb");
+        const RunResult r = voxelize(env, vdb);
+        INFO(env << ": " << r.output);
+        REQUIRE(r.exitCode == 0);
+        std::ifstream in(vdb.string() + ".json");
+        const yv::Json stats = yv::Json::parse(in);
+        CHECK(stats["vdb_streamed_bytes"].get<std::uint64_t>() > (std::uint64_t(5) << 19)); // past 2 MB: both sides
+        bytes.push_back(yv::test::vdbBytesWithoutUuid(vdb));
+    }
+    for (std::size_t i = 1; i < bytes.size(); ++i) CHECK(bytes[i] == bytes[0]);
+    for (const char* bad : {"-1", "2G", ""}) {
+        const fs::path vdb = scratch("spill-memory-bad.vdb");
+        const RunResult r = voxelize(std::string("YV_SPILL_MEMORY_MB=") + bad, vdb);
+        INFO(bad << ": " << r.output);
+        CHECK(r.exitCode != 0);
+        CHECK(r.output.find(std::string("YV_SPILL_MEMORY_MB=") + bad + ": not a count of MB") != std::string::npos);
+        CHECK_FALSE(fs::exists(vdb));
+    }
+}

@@ -9,6 +9,7 @@
 #include "core/output_path.h"
 #include "store/brick_store.h"
 #include "vdb/merge.h"
+#include "vdb/spill_file.h"
 
 #include <CLI/CLI.hpp>
 
@@ -41,6 +42,7 @@ void runMerge(const MergeArgs& a) {
     options.lodFirstLevel = lod.first;
     options.lodLevels = lod.last;
     options.streamLeaves = streamLeavesFromEnvironment();
+    options.scratchMemoryBytes = spillMemoryBytes();
     const VolumeMetadata metadata = manifest.run;
     options.albedo = metadata.albedo; // the run's bricks carry it: so does the merged file
     saysWhatWasKept("while merging " + a.workDir,

@@ -7,8 +7,9 @@
 namespace yv {
 namespace {
 
-std::uint64_t readStatusKiB(const char* field) {
-    FILE* f = std::fopen("/proc/self/status", "r");
+/// Field `field` (in KiB) of a /proc file of "Name: value kB" lines; 0 if absent.
+std::uint64_t readKiB(const char* path, const char* field) {
+    FILE* f = std::fopen(path, "r");
     if (!f) return 0;
     char line[256];
     std::uint64_t kib = 0;
@@ -25,12 +26,17 @@ std::uint64_t readStatusKiB(const char* field) {
 
 } // namespace
 
-std::uint64_t peakResidentBytes() { return readStatusKiB("VmHWM"); }
-std::uint64_t currentResidentBytes() { return readStatusKiB("VmRSS"); }
+std::uint64_t peakResidentBytes() { return readKiB("/proc/self/status", "VmHWM"); }
+std::uint64_t currentResidentBytes() { return readKiB("/proc/self/status", "VmRSS"); }
 
 std::uint64_t physicalMemoryBytes() {
     const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
     return pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : (std::uint64_t(8) << 30);
+}
+
+std::uint64_t availableMemoryBytes() {
+    const std::uint64_t available = readKiB("/proc/meminfo", "MemAvailable");
+    return available > 0 ? available : physicalMemoryBytes();
 }
 
 } // namespace yv

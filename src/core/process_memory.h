@@ -11,5 +11,8 @@ std::uint64_t peakResidentBytes();
 std::uint64_t currentResidentBytes();
 /// Physical memory of the machine, bytes; 8 GiB where the system cannot tell.
 std::uint64_t physicalMemoryBytes();
+/// Memory the kernel can give without swapping now (MemAvailable), bytes;
+/// physicalMemoryBytes() where the system cannot tell.
+std::uint64_t availableMemoryBytes();
 
 } // namespace yv

@@ -15,7 +15,9 @@
 #include "pipeline/voxelize_box.h"
 #include "plan/grid.h"
 #include "vdb/lod_request.h"
+#include "vdb/spill_file.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <future>
 #include <thread>
@@ -64,7 +66,7 @@ VolumeMetadata describeRun(const VoxelizeJob& job, Backend backend, const Sliced
 }
 
 VdbWriteOptions writeOptionsFor(const VoxelizeJob& job, const VoxelGrid& grid, const SlicedGarment& sliced,
-                                VdbWriteTimings& timings) {
+                                int processesHere, VdbWriteTimings& timings) {
     VdbWriteOptions options;
     options.compression = job.compression;
     options.precision = job.precision;
@@ -75,6 +77,7 @@ VdbWriteOptions writeOptionsFor(const VoxelizeJob& job, const VoxelGrid& grid, c
     options.albedo = sliced.xs.hasAlbedo();
     options.timings = &timings;
     options.streamLeaves = streamLeavesFromEnvironment();
+    options.scratchMemoryBytes = spillMemoryBytes() / std::uint64_t(std::max(processesHere, 1));
     return options;
 }
 
@@ -249,7 +252,8 @@ VoxelizeReport runVoxelize(const VoxelizeJob& job, const Tell& note) {
     if (box) settings.clip = box->placed.box;
     VolumeMetadata meta = describeRun(job, backend, sliced, box);
     VdbWriteTimings writeTimings;
-    const VdbWriteOptions writeOptions = writeOptionsFor(job, grid, sliced, writeTimings);
+    const VdbWriteOptions writeOptions =
+        writeOptionsFor(job, grid, sliced, group ? group->localSize() : 1, writeTimings);
     if (!job.bricksOnly()) // nothing goes to disk otherwise
         checkOutputFits(job, job.throughWorkDir(group != nullptr), sliced, grid,
                         {job.precision == VdbPrecision::Half, writeOptions.albedo, writeOptions.lodLevels,

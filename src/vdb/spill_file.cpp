@@ -1,12 +1,17 @@
 #include "vdb/spill_file.h"
 
+#include "core/environment_count.h"
 #include "core/error.h"
+#include "core/huge_pages.h"
+#include "core/process_memory.h"
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 
 namespace yv {
@@ -42,25 +47,55 @@ void writeAllAt(int fd, std::span<const std::uint8_t> bytes, std::uint64_t offse
     }
 }
 
-SpillFile::SpillFile(const std::string& dir, std::string purpose)
+SpillFile::SpillFile(const std::string& dir, std::string purpose, std::uint64_t memoryBytes)
     : where_(std::move(purpose) + " (an unnamed temporary file in " + (dir.empty() ? "." : dir) + ")"),
-      fd_(openUnnamed(dir.empty() ? "." : dir, where_)) {}
+      fd_(openUnnamed(dir.empty() ? "." : dir, where_)) {
+    if (memoryBytes == 0) return;
+    // Address space only: a page is taken when first written (MAP_NORESERVE:
+    // not counted against the commit limit before that), 2 MiB at a time
+    // where the kernel offers huge pages. Where the mapping is refused, all
+    // of it goes to the file.
+    const std::uint64_t rounded = (memoryBytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+    void* p = ::mmap(nullptr, rounded, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (p == MAP_FAILED) return;
+    ::madvise(p, rounded, MADV_HUGEPAGE); // advice only
+    memory_ = static_cast<std::uint8_t*>(p);
+    memoryBytes_ = rounded;
+}
+
+SpillFile::~SpillFile() {
+    if (memory_) ::munmap(memory_, memoryBytes_);
+}
 
 std::uint64_t SpillFile::append(std::span<const std::uint8_t> bytes) {
     const std::uint64_t at = end_.fetch_add(bytes.size());
-    writeAllAt(fd_.get(), bytes, at, "cannot write " + where_);
+    writeAt(at, bytes);
     return at;
 }
 
 void SpillFile::writeAt(std::uint64_t offset, std::span<const std::uint8_t> bytes) {
     YV_CHECK(offset + bytes.size() <= end_.load());
-    writeAllAt(fd_.get(), bytes, offset, "cannot write " + where_);
+    if (offset < memoryBytes_) {
+        const std::size_t inMemory = std::size_t(std::min<std::uint64_t>(bytes.size(), memoryBytes_ - offset));
+        std::memcpy(memory_ + offset, bytes.data(), inMemory);
+        bytes = bytes.subspan(inMemory);
+        offset += inMemory;
+    }
+    if (!bytes.empty()) writeAllAt(fd_.get(), bytes, offset - memoryBytes_, "cannot write " + where_);
 }
 
 void SpillFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
+    if (offset < memoryBytes_) {
+        const std::size_t inMemory = std::size_t(std::min<std::uint64_t>(out.size(), memoryBytes_ - offset));
+        std::memcpy(out.data(), memory_ + offset, inMemory);
+        out = out.subspan(inMemory);
+        offset += inMemory;
+    }
+    if (out.empty()) return;
     std::size_t done = 0;
+    const std::uint64_t at = offset - memoryBytes_;
     while (done < out.size()) {
-        const ssize_t n = ::pread(fd_.get(), out.data() + done, out.size() - done, off_t(offset + done));
+        const ssize_t n = ::pread(fd_.get(), out.data() + done, out.size() - done, off_t(at + done));
         if (n < 0) {
             if (errno == EINTR) continue;
             throw Error("cannot read " + where_ + ": " + errnoText(errno));
@@ -68,6 +103,14 @@ void SpillFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
         if (n == 0) throw Error("cannot read " + where_ + ": it ends early");
         done += std::size_t(n);
     }
+}
+
+std::uint64_t spillMemoryBytes() {
+    constexpr std::uint64_t kMB = std::uint64_t(1) << 20;
+    const char* what = "MB of memory for the .vdb writer's scratch space";
+    if (const std::optional<long> mb = countFromEnvironment("YV_SPILL_MEMORY_MB", 0, 1l << 30, what))
+        return std::uint64_t(*mb) * kMB;
+    return std::min(physicalMemoryBytes() / 4, availableMemoryBytes() / 2);
 }
 
 } // namespace yv

@@ -140,7 +140,8 @@ VdbAssembler::VdbAssembler(std::string path, const VoxelGrid& grid, Reduce reduc
         }
     }
     const std::filesystem::path dir = std::filesystem::path(m.path).parent_path();
-    m.spill = std::make_unique<SpillFile>(dir.string(), "the OpenVDB file " + m.path + " (its leaves, before they are put in order)");
+    m.spill = std::make_unique<SpillFile>(dir.string(), "the OpenVDB file " + m.path + " (its leaves, before they are put in order)",
+                                          options.scratchMemoryBytes);
 }
 
 VdbAssembler::~VdbAssembler() = default;
@@ -418,9 +419,9 @@ void VdbAssembler::Impl::writeFile(FileLayout& f, const LeafStream::Result* stre
     YV_CHECK(header.size() == f.header.size());
     output->patch(0, header);
     traceSpanSince("write the file in chunks", recordsStart);
-    // The scratch file is let go while the disk takes the output: freeing
-    // its cached pages (as many as the output's) took 0.7 s after an 8 GB
-    // write, on a core that the fsync leaves idle.
+    // The scratch space is let go while the disk takes the output: freeing
+    // the cached pages of its file took 0.7 s after an 8 GB write, on a core
+    // that the fsync leaves idle.
     std::jthread dropSpill([this] { spill.reset(); });
     const auto syncStart = std::chrono::steady_clock::now();
     file->sync();

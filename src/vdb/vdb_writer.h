@@ -79,6 +79,10 @@ struct VdbWriteOptions {
     /// their leaves streamed into the file as they come
     /// (VdbAssembler::streamRegions); streamLeavesFromEnvironment() for the commands.
     bool streamLeaves = false;
+    /// Bytes of the scratch space for encoded leaves held in memory, the
+    /// rest in a file beside the output (vdb/spill_file.h; spillMemoryBytes()
+    /// for the commands, shared by the processes of a node).
+    std::uint64_t scratchMemoryBytes = 0;
     /// Bytes per chunk of the output (vdb/chunked_output.h; 0: its default).
     /// Tests make it small, so that chunks cut through leaf records.
     std::uint64_t outputChunkBytes = 0;
