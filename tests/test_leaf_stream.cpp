@@ -454,3 +454,28 @@ TEST_CASE("finalLeaves gives every leaf in tree order while the stream still wri
         CHECK_FALSE(stream.finish().intact);
     }
 }
+
+TEST_CASE("sortInTreeOrder puts leaves in tree order, ties by batch and then by their place before", "[vdb][leafstream]") {
+    std::mt19937_64 random(11);
+    // Few orders and batches, so that ties are many; sizes on both sides of the key sort's threshold.
+    for (std::size_t count : {std::size_t(0), std::size_t(1), std::size_t(300), std::size_t(4095), std::size_t(70001)}) {
+        INFO(count << " leaves");
+        std::vector<LeafRecord> leaves(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            leaves[i].order = random() % (count / 4 + 1);
+            leaves[i].source = std::uint32_t(random() % 3);
+            leaves[i].at[0] = i; // who it was
+            leaves[i].bytes[1] = std::uint32_t(random());
+            leaves[i].mask[7] = random();
+        }
+        std::vector<LeafRecord> expected = leaves;
+        std::stable_sort(expected.begin(), expected.end(), inTreeOrder);
+        sortInTreeOrder(leaves);
+        REQUIRE(leaves.size() == expected.size());
+        bool same = true;
+        for (std::size_t i = 0; i < count; ++i)
+            same = same && leaves[i].at[0] == expected[i].at[0] && leaves[i].order == expected[i].order &&
+                   leaves[i].bytes[1] == expected[i].bytes[1] && leaves[i].mask == expected[i].mask;
+        CHECK(same);
+    }
+}

@@ -6,9 +6,12 @@
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <bit>
+#include <limits>
+#include <tuple>
 #include <utility>
 
 namespace yv {
@@ -129,6 +132,29 @@ void addBatch(PyramidLevel& level, EncodedBatch&& batch, std::uint32_t source) {
     if (!batch.bounds.empty()) level.activeBounds.expand(batch.bounds);
     level.activeVoxels += batch.activeVoxels;
     level.statistics += batch.statistics;
+}
+
+void sortInTreeOrder(std::vector<LeafRecord>& leaves) {
+    // Below this the records' own sort is as fast.
+    constexpr std::size_t kKeySortFrom = 4096;
+    if (leaves.size() < kKeySortFrom) {
+        std::stable_sort(leaves.begin(), leaves.end(), inTreeOrder);
+        return;
+    }
+    struct Key {
+        std::uint64_t order;
+        std::uint32_t source, place;
+        bool operator<(const Key& o) const { return std::tie(order, source, place) < std::tie(o.order, o.source, o.place); }
+    };
+    YV_CHECK(leaves.size() <= std::numeric_limits<std::uint32_t>::max());
+    std::vector<Key> keys(leaves.size());
+    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t i) {
+        keys[i] = {leaves[i].order, leaves[i].source, std::uint32_t(i)};
+    });
+    tbb::parallel_sort(keys.begin(), keys.end());
+    std::vector<LeafRecord> sorted(leaves.size());
+    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t i) { sorted[i] = leaves[keys[i].place]; });
+    leaves.swap(sorted);
 }
 
 template EncodedBatch encodeBatch(const PyramidLevel&, SpillFile&, const VoxelBrickBatch&, OctantOutput);

@@ -91,6 +91,12 @@ inline bool inTreeOrder(const LeafRecord& a, const LeafRecord& b) {
     return a.order != b.order ? a.order < b.order : a.source < b.source;
 }
 
+/// Sorts `leaves` by inTreeOrder (equal ones by their place before). The
+/// keys are sorted and the 160-byte records then moved once: sorting the
+/// records themselves, moved at every step, took 0.3 to 0.6 s for the last
+/// million leaves of the draped garment at 8192 while the disk waited.
+void sortInTreeOrder(std::vector<LeafRecord>& leaves);
+
 using BrickMask = std::array<std::uint64_t, kBrickVoxels / 64>;
 
 /// Adds the active voxels' values (density, then the axis: four floats a

@@ -5,7 +5,6 @@
 #include "core/trace.h"
 #include "vdb/grid_checksums.h"
 
-#include <tbb/parallel_sort.h>
 
 #include <fcntl.h>
 #include <linux/falloc.h>
@@ -132,22 +131,26 @@ void LeafStream::run() {
                 std::erase_if(pending_, [](const PendingBatch& b) { return b.taken == b.leaves.size(); });
                 streamedBelow_ = below;
                 early = below != kNoRegionLeft;
-                if (ready.empty()) continue;
                 // Appended under the lock, so that finalLeaves() never sees them half in.
-                first = take(std::move(ready));
+                if (!ready.empty()) first = take(std::move(ready));
+                else first = result_.leaves.size();
             }
-            if (result_.intact) stream(first, early);
+            wake_.notify_all(); // finalLeaves() waits for the last take
+            if (result_.intact && first < result_.leaves.size()) stream(first, early);
         }
     } catch (...) {
-        std::lock_guard lock(mutex_);
-        error_ = std::current_exception();
+        {
+            std::lock_guard lock(mutex_);
+            error_ = std::current_exception();
+        }
+        wake_.notify_all();
     }
 }
 
 /// Sorts `ready` (every leaf between the last frontier and this one) and
 /// appends it to the leaves taken; returns where it starts.
 std::size_t LeafStream::take(std::vector<LeafRecord>&& ready) {
-    tbb::parallel_sort(ready.begin(), ready.end(), inTreeOrder);
+    sortInTreeOrder(ready);
     std::vector<LeafRecord>& leaves = result_.leaves;
     // A leaf at or below one already streamed (a brick given twice, or out
     // of its region): the stream stops, and the end writes the file whole.
@@ -158,19 +161,14 @@ std::size_t LeafStream::take(std::vector<LeafRecord>&& ready) {
 }
 
 std::optional<std::vector<LeafRecord>> LeafStream::finalLeaves() {
-    std::lock_guard lock(mutex_);
+    std::unique_lock lock(mutex_);
     YV_CHECK(nextUnfinished_ == done_.size());
-    if (error_ || !result_.intact) return std::nullopt;
-    std::vector<LeafRecord> rest;
-    for (const PendingBatch& batch : pending_)
-        rest.insert(rest.end(), batch.leaves.begin() + std::ptrdiff_t(batch.taken), batch.leaves.end());
-    tbb::parallel_sort(rest.begin(), rest.end(), inTreeOrder);
-    if (!followsInOrder(result_.leaves, rest)) return std::nullopt;
-    std::vector<LeafRecord> leaves;
-    leaves.reserve(result_.leaves.size() + rest.size());
-    leaves.insert(leaves.end(), result_.leaves.begin(), result_.leaves.end());
-    leaves.insert(leaves.end(), rest.begin(), rest.end());
-    return leaves;
+    // Every region is done, so the stream's next take is its last: every
+    // leaf, sorted once there (a step it is still writing ends first).
+    wake_.wait(lock, [&] { return streamedBelow_ == kNoRegionLeft || error_ || abandoned_; });
+    if (error_ || abandoned_ || !result_.intact) return std::nullopt;
+    YV_CHECK(pending_.empty());
+    return result_.leaves; // a copy: the stream's thread still reads its own
 }
 
 /// Writes each grid's records of the leaves taken from `first` on, as far as
@@ -216,7 +214,7 @@ LeafStream::Result LeafStream::finish() {
     for (const PendingBatch& batch : pending_)
         rest.insert(rest.end(), batch.leaves.begin() + std::ptrdiff_t(batch.taken), batch.leaves.end());
     pending_.clear();
-    tbb::parallel_sort(rest.begin(), rest.end(), inTreeOrder);
+    sortInTreeOrder(rest);
     std::vector<LeafRecord>& leaves = result_.leaves;
     result_.intact = result_.intact && followsInOrder(leaves, rest);
     leaves.insert(leaves.end(), rest.begin(), rest.end());

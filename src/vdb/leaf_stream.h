@@ -79,8 +79,10 @@ class LeafStream {
     };
     /// Once every region is done: every leaf, in tree order, as finish()
     /// will hand them over, while the stream still writes them (the writer
-    /// lays out the file meanwhile). Nothing when the stream is no longer in
-    /// order or has failed (finish() then says which).
+    /// lays out the file meanwhile). Waits for the stream's last take of
+    /// leaves (after the step it is writing), which sorts them once. Nothing
+    /// when the stream is no longer in order or has failed (finish() then
+    /// says which).
     std::optional<std::vector<LeafRecord>> finalLeaves();
     /// Stops the stream's thread and hands over what it holds; rethrows its
     /// error (a failed write). Call once.

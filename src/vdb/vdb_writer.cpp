@@ -20,7 +20,6 @@
 
 #include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -211,7 +210,7 @@ void VdbAssembler::regionDone(std::size_t region) {
 /// Puts level 0's leaves in tree order; throws when a brick came twice.
 void VdbAssembler::Impl::sortLeaves() {
     std::vector<LeafRecord>& leaves = levels[0].leaves;
-    tbb::parallel_sort(leaves.begin(), leaves.end(), inTreeOrder);
+    sortInTreeOrder(leaves);
     for (std::size_t i = 1; i < leaves.size(); ++i) {
         if (leaves[i].order == leaves[i - 1].order) {
             const std::string& a = sources[leaves[i - 1].source];
@@ -239,7 +238,7 @@ double VdbAssembler::Impl::buildPyramid() {
         if (l == 1) octantMemory = OctantMemory();
         std::vector<OctantRecord>().swap(pending);
         std::swap(pending, next);
-        tbb::parallel_sort(levels[l].leaves.begin(), levels[l].leaves.end(), inTreeOrder);
+        sortInTreeOrder(levels[l].leaves);
     }
     return secondsSince(start);
 }
