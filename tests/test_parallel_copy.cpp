@@ -3,6 +3,7 @@
 // several threads at once (one gets the threads, the others copy alone)
 // each get their own bytes.
 #include "core/parallel_copy.h"
+#include "byte_pattern.h"
 
 #include <catch2/catch.hpp>
 
@@ -13,28 +14,14 @@
 #include <vector>
 
 using namespace yv;
-
-namespace {
-
-/// Bytes that differ from one offset to the next and from one seed to another.
-std::vector<std::uint8_t> pattern(std::size_t bytes, std::uint32_t seed) {
-    std::vector<std::uint8_t> v(bytes);
-    std::uint32_t x = seed * 2654435761u + 1u;
-    for (std::uint8_t& b : v) {
-        x = x * 1664525u + 1013904223u;
-        b = std::uint8_t(x >> 24);
-    }
-    return v;
-}
-
-} // namespace
+using yv::test::bytePattern;
 
 TEST_CASE("copyInParallel copies every byte of small and large copies and of odd sizes", "[parallel_copy]") {
     // The copies of 4 MiB and more go to the helpers: there must be one, even on two cores.
     REQUIRE(copyHelperThreads() >= 1);
     for (std::size_t bytes : {std::size_t(0), std::size_t(1), std::size_t(4095), std::size_t(4) << 20,
                               (std::size_t(4) << 20) + 1, (std::size_t(37) << 20) + 12345}) {
-        const std::vector<std::uint8_t> from = pattern(bytes, 7);
+        const std::vector<std::uint8_t> from = bytePattern(bytes, 7);
         // Guard bytes on both sides: nothing outside the range is written.
         std::vector<std::uint8_t> to(bytes + 64, 0xAB);
         copyInParallel(to.data() + 32, from.data(), bytes);
@@ -50,7 +37,7 @@ TEST_CASE("copyInParallel from several threads at once gives each caller its own
     constexpr std::size_t kBytes = (std::size_t(24) << 20) + 7;
     std::vector<std::vector<std::uint8_t>> from, to;
     for (int c = 0; c < kCallers; ++c) {
-        from.push_back(pattern(kBytes, std::uint32_t(c + 1)));
+        from.push_back(bytePattern(kBytes, std::uint32_t(c + 1)));
         to.emplace_back(kBytes, 0);
     }
     std::vector<std::thread> callers;

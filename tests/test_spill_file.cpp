@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "core/process_memory.h"
 #include "vdb/spill_file.h"
+#include "byte_pattern.h"
 #include "test_helpers.h"
 
 #include <catch2/catch.hpp>
@@ -17,21 +18,11 @@
 
 namespace fs = std::filesystem;
 using namespace yv;
+using yv::test::bytePattern;
 
 namespace {
 
 fs::path scratchDir() { return yv::test::processScratchDir("yv_spill_test"); }
-
-/// Bytes that differ from one offset to the next and from one seed to another.
-std::vector<std::uint8_t> pattern(std::size_t bytes, std::uint32_t seed) {
-    std::vector<std::uint8_t> v(bytes);
-    std::uint32_t x = seed * 2654435761u + 1u;
-    for (std::uint8_t& b : v) {
-        x = x * 1664525u + 1013904223u;
-        b = std::uint8_t(x >> 24);
-    }
-    return v;
-}
 
 constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
 
@@ -53,7 +44,7 @@ TEST_CASE("The scratch space reads back what was appended, in memory, in the fil
         for (std::uint32_t t = 0; t < 4; ++t)
             threads.emplace_back([&, t] {
                 for (std::uint32_t i = 0; i < 40; ++i) {
-                    std::vector<std::uint8_t> bytes = pattern(20000 + 1237 * i + 3 * t + (i % 7) * 40000, t * 100 + i);
+                    std::vector<std::uint8_t> bytes = bytePattern(20000 + 1237 * i + 3 * t + (i % 7) * 40000, t * 100 + i);
                     const std::uint64_t at = spill.append(bytes);
                     pieces[t].push_back({at, std::move(bytes)});
                 }
@@ -87,8 +78,8 @@ TEST_CASE("The scratch space reads back what was appended, in memory, in the fil
 TEST_CASE("The scratch space takes a reserved range filled in pieces from several threads across the line",
           "[vdb][spill]") {
     SpillFile spill(scratchDir().string(), "the test's scratch space", 2 * kMiB);
-    const std::uint64_t before = spill.append(pattern(kMiB + 17, 1));
-    const std::vector<std::uint8_t> bytes = pattern(3 * kMiB + 5, 2);
+    const std::uint64_t before = spill.append(bytePattern(kMiB + 17, 1));
+    const std::vector<std::uint8_t> bytes = bytePattern(3 * kMiB + 5, 2);
     const std::uint64_t at = spill.reserve(bytes.size());
     REQUIRE(at == kMiB + 17);
     REQUIRE(at < 2 * kMiB); // the range starts in memory and ends in the file
@@ -105,7 +96,7 @@ TEST_CASE("The scratch space takes a reserved range filled in pieces from severa
     CHECK(back == bytes);
     std::vector<std::uint8_t> first(kMiB + 17);
     spill.read(before, first);
-    CHECK(first == pattern(kMiB + 17, 1));
+    CHECK(first == bytePattern(kMiB + 17, 1));
     CHECK(spill.bytesInMemory() == 2 * kMiB);
     CHECK(spill.size() == 4 * kMiB + 22);
 }
