@@ -144,7 +144,9 @@ void sortInTreeOrder(std::vector<LeafRecord>& leaves) {
     struct Key {
         std::uint64_t order;
         std::uint32_t source, place;
-        bool operator<(const Key& o) const { return std::tie(order, source, place) < std::tie(o.order, o.source, o.place); }
+        bool operator<(const Key& o) const {
+            return std::tie(order, source, place) < std::tie(o.order, o.source, o.place);
+        }
     };
     YV_CHECK(leaves.size() <= std::numeric_limits<std::uint32_t>::max());
     std::vector<Key> keys(leaves.size());

@@ -5,7 +5,6 @@
 #include "core/trace.h"
 #include "vdb/grid_checksums.h"
 
-
 #include <fcntl.h>
 #include <linux/falloc.h>
 #include <sys/stat.h>
