@@ -31,6 +31,7 @@
 #include <map>
 #include <optional>
 #include <random>
+#include <span>
 #include <thread>
 
 using namespace yv;
@@ -455,7 +456,7 @@ TEST_CASE("finalLeaves gives every leaf in tree order while the stream still wri
     }
 }
 
-TEST_CASE("sortInTreeOrder puts leaves in tree order, ties by batch and then by their place before", "[vdb][leafstream]") {
+TEST_CASE("sortInTreeOrder and appendInTreeOrder put leaves in tree order, ties by batch and then by their place before", "[vdb][leafstream]") {
     std::mt19937_64 random(11);
     // Few orders and batches, so that ties are many; sizes on both sides of the key sort's threshold.
     for (std::size_t count : {std::size_t(0), std::size_t(1), std::size_t(300), std::size_t(4095), std::size_t(70001)}) {
@@ -477,5 +478,28 @@ TEST_CASE("sortInTreeOrder puts leaves in tree order, ties by batch and then by 
             same = same && leaves[i].at[0] == expected[i].at[0] && leaves[i].order == expected[i].order &&
                    leaves[i].bytes[1] == expected[i].bytes[1] && leaves[i].mask == expected[i].mask;
         CHECK(same);
+
+        // The same leaves as pieces appended after others: each piece's leaves in the
+        // pieces' order where they tie, after the leaves already there.
+        std::vector<LeafRecord> original = expected;
+        std::shuffle(original.begin(), original.end(), random);
+        std::vector<std::span<const LeafRecord>> pieces;
+        for (std::size_t from = 0; from < count;) {
+            const std::size_t n = std::min<std::size_t>(count - from, 1 + random() % 9000);
+            pieces.emplace_back(original.data() + from, n);
+            from += n;
+        }
+        std::vector<LeafRecord> appended(5);
+        for (std::size_t i = 0; i < appended.size(); ++i) appended[i].at[0] = 1000000 + i;
+        appendInTreeOrder(pieces, appended);
+        std::vector<LeafRecord> reference = original;
+        std::stable_sort(reference.begin(), reference.end(), inTreeOrder);
+        REQUIRE(appended.size() == count + 5);
+        bool kept = true, sorted = true;
+        for (std::size_t i = 0; i < 5; ++i) kept = kept && appended[i].at[0] == 1000000 + i;
+        for (std::size_t i = 0; i < count; ++i)
+            sorted = sorted && appended[5 + i].at[0] == reference[i].at[0] && appended[5 + i].mask == reference[i].mask;
+        CHECK(kept);
+        CHECK(sorted);
     }
 }

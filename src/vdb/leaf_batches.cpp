@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <bit>
 #include <limits>
+#include <span>
 #include <tuple>
 #include <utility>
 
@@ -134,28 +135,48 @@ void addBatch(PyramidLevel& level, EncodedBatch&& batch, std::uint32_t source) {
     level.statistics += batch.statistics;
 }
 
-void sortInTreeOrder(std::vector<LeafRecord>& leaves) {
+void appendInTreeOrder(std::span<const std::span<const LeafRecord>> pieces, std::vector<LeafRecord>& leaves) {
+    std::size_t count = 0;
+    for (std::span<const LeafRecord> piece : pieces) count += piece.size();
+    const std::size_t first = leaves.size();
     // Below this the records' own sort is as fast.
     constexpr std::size_t kKeySortFrom = 4096;
-    if (leaves.size() < kKeySortFrom) {
-        std::stable_sort(leaves.begin(), leaves.end(), inTreeOrder);
+    if (count < kKeySortFrom) {
+        for (std::span<const LeafRecord> piece : pieces) leaves.insert(leaves.end(), piece.begin(), piece.end());
+        std::stable_sort(leaves.begin() + std::ptrdiff_t(first), leaves.end(), inTreeOrder);
         return;
     }
+    // A record's key and where it lies: ties go by piece, then place in it.
     struct Key {
         std::uint64_t order;
-        std::uint32_t source, place;
+        std::uint32_t source, piece, place;
         bool operator<(const Key& o) const {
-            return std::tie(order, source, place) < std::tie(o.order, o.source, o.place);
+            return std::tie(order, source, piece, place) < std::tie(o.order, o.source, o.piece, o.place);
         }
     };
-    YV_CHECK(leaves.size() <= std::numeric_limits<std::uint32_t>::max());
-    std::vector<Key> keys(leaves.size());
-    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t i) {
-        keys[i] = {leaves[i].order, leaves[i].source, std::uint32_t(i)};
-    });
+    YV_CHECK(pieces.size() <= std::numeric_limits<std::uint32_t>::max());
+    std::vector<Key> keys(count);
+    std::size_t at = 0;
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+        const std::span<const LeafRecord> piece = pieces[p];
+        YV_CHECK(piece.size() <= std::numeric_limits<std::uint32_t>::max());
+        tbb::parallel_for(std::size_t(0), piece.size(), [&, at](std::size_t i) {
+            keys[at + i] = {piece[i].order, piece[i].source, std::uint32_t(p), std::uint32_t(i)};
+        });
+        at += piece.size();
+    }
     tbb::parallel_sort(keys.begin(), keys.end());
-    std::vector<LeafRecord> sorted(leaves.size());
-    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t i) { sorted[i] = leaves[keys[i].place]; });
+    leaves.resize(first + count);
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+        leaves[first + i] = pieces[keys[i].piece][keys[i].place];
+    });
+}
+
+void sortInTreeOrder(std::vector<LeafRecord>& leaves) {
+    std::vector<LeafRecord> sorted;
+    sorted.reserve(leaves.size());
+    const std::span<const LeafRecord> all(leaves);
+    appendInTreeOrder(std::span(&all, 1), sorted);
     leaves.swap(sorted);
 }
 

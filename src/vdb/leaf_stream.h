@@ -23,6 +23,7 @@
 #include <exception>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <thread>
 #include <vector>
 
@@ -91,7 +92,7 @@ class LeafStream {
   private:
     void run();
     /// Appends leaves the frontier passed; returns where they start. Under mutex_.
-    std::size_t take(std::vector<LeafRecord>&& ready);
+    std::size_t take(std::span<const std::span<const LeafRecord>> ready);
     /// Writes the records of the leaves taken from `first` on. `early`: some
     /// region was not done yet when they were taken.
     void stream(std::size_t first, bool early);
@@ -113,6 +114,7 @@ class LeafStream {
     std::vector<PendingBatch> pending_;
     std::vector<bool> done_;
     std::size_t nextUnfinished_ = 0; ///< regions before it are done
+    std::size_t leavesGiven_ = 0;    ///< leaves add() was given
     bool stopping_ = false;
     bool abandoned_ = false; ///< the run is given up: stream nothing more
 
