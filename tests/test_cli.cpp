@@ -336,19 +336,25 @@ TEST_CASE("CLI: a .vdb write that fails (the file-size limit, as a full disk) is
     REQUIRE(run("gen --pattern knit --crossings 400 -o " + bcc.string()).exitCode == 0);
     fs::remove(vdb);
     // The child runs with a 64 KiB file-size limit (SIGXFSZ ignored, so writes
-    // past it fail with EFBIG, the way they fail with ENOSPC on a full disk).
-    const std::string cmd = "ulimit -f 64; trap '' XFSZ; exec " + std::string(YV_BINARY_DIR) + "/yarnvox voxelize " +
-                            bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution 256";
-    const RunResult r = run_shell(cmd);
-    INFO(r.output);
-    CHECK(r.exitCode == 1);
-    CHECK(r.output.find("cannot write the OpenVDB file") != std::string::npos);
-    CHECK(r.output.find("wrote") == std::string::npos);
-    CHECK_FALSE(fs::exists(vdb));
-    std::size_t leftovers = 0;
-    for (const auto& e : fs::directory_iterator(vdb.parent_path()))
-        leftovers += e.path().filename().string().rfind("full.vdb.partial", 0) == 0;
-    CHECK(leftovers == 0);
+    // past it fail with EFBIG, the way they fail with ENOSPC on a full disk):
+    // the output fails, or with the writer's scratch space all in its file
+    // (YV_SPILL_MEMORY_MB=0), the scratch file first.
+    for (const char* scratchInFile : {"0", "1"}) {
+        const std::string cmd = "ulimit -f 64; trap '' XFSZ; " +
+                                std::string(scratchInFile[0] == '1' ? "export YV_SPILL_MEMORY_MB=0; " : "") + "exec " +
+                                std::string(YV_BINARY_DIR) + "/yarnvox voxelize " + bcc.string() + " -o " + vdb.string() +
+                                " --backend cpu --resolution 256";
+        const RunResult r = run_shell(cmd);
+        INFO(scratchInFile << ": " << r.output);
+        CHECK(r.exitCode == 1);
+        CHECK(r.output.find("cannot write the OpenVDB file") != std::string::npos);
+        CHECK(r.output.find("wrote") == std::string::npos);
+        CHECK_FALSE(fs::exists(vdb));
+        std::size_t leftovers = 0;
+        for (const auto& e : fs::directory_iterator(vdb.parent_path()))
+            leftovers += e.path().filename().string().rfind("full.vdb.partial", 0) == 0;
+        CHECK(leftovers == 0);
+    }
     // Without the limit the same run writes a file OpenVDB reads.
     REQUIRE(run("voxelize " + bcc.string() + " -o " + vdb.string() + " --backend cpu --resolution 256").exitCode == 0);
     CHECK(fs::file_size(vdb) > 64 * 1024);
