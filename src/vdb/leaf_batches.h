@@ -97,8 +97,8 @@ inline bool inTreeOrder(const LeafRecord& a, const LeafRecord& b) {
 /// million leaves of the draped garment at 8192 while the disk waited.
 void sortInTreeOrder(std::vector<LeafRecord>& leaves);
 /// Appends the records of `pieces` to `leaves` in tree order (equal ones in
-/// the pieces' order), each moved once: what a stream takes from many regions' batches, sorted without
-/// being gathered first.
+/// the pieces' order), each moved once: what a stream takes from many
+/// regions' batches, sorted without being gathered first.
 void appendInTreeOrder(std::span<const std::span<const LeafRecord>> pieces, std::vector<LeafRecord>& leaves);
 
 using BrickMask = std::array<std::uint64_t, kBrickVoxels / 64>;

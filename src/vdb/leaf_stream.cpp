@@ -121,19 +121,10 @@ void LeafStream::run() {
                 wake_.wait(lock, [&] { return stopping_ || frontier() > streamedBelow_; });
                 const std::uint64_t below = frontier();
                 if (abandoned_ || below <= streamedBelow_) return; // stopping, and nothing new
-                // Each batch's leaves below the frontier, where they lie.
-                std::vector<std::span<const LeafRecord>> ready;
-                for (PendingBatch& batch : pending_) {
-                    const auto from = batch.leaves.begin() + std::ptrdiff_t(batch.taken);
-                    const auto cut = std::partition_point(from, batch.leaves.end(),
-                                                          [&](const LeafRecord& r) { return r.order < below; });
-                    if (cut != from) ready.emplace_back(from, cut);
-                    batch.taken = std::size_t(cut - batch.leaves.begin());
-                }
                 streamedBelow_ = below;
                 early = below != kNoRegionLeft;
                 // Appended under the lock, so that finalLeaves() never sees them half in.
-                first = take(ready);
+                first = take(takeBelow(below));
                 std::erase_if(pending_, [](const PendingBatch& b) { return b.taken == b.leaves.size(); });
             }
             wake_.notify_all(); // finalLeaves() waits for the last take
@@ -146,6 +137,18 @@ void LeafStream::run() {
         }
         wake_.notify_all();
     }
+}
+
+std::vector<std::span<const LeafRecord>> LeafStream::takeBelow(std::uint64_t below) {
+    std::vector<std::span<const LeafRecord>> ready;
+    for (PendingBatch& batch : pending_) {
+        const auto from = batch.leaves.begin() + std::ptrdiff_t(batch.taken);
+        const auto cut =
+            std::partition_point(from, batch.leaves.end(), [&](const LeafRecord& r) { return r.order < below; });
+        if (cut != from) ready.emplace_back(from, cut);
+        batch.taken = std::size_t(cut - batch.leaves.begin());
+    }
+    return ready;
 }
 
 /// Appends `ready` (every leaf between the last frontier and this one) to
@@ -218,14 +221,8 @@ LeafStream::Result LeafStream::finish() {
     thread_.join();
     if (error_) std::rethrow_exception(error_);
     // What no frontier passed: the last regions' leaves (or every leaf of a run given up early).
-    std::vector<LeafRecord> rest;
-    for (const PendingBatch& batch : pending_)
-        rest.insert(rest.end(), batch.leaves.begin() + std::ptrdiff_t(batch.taken), batch.leaves.end());
+    take(takeBelow(kNoRegionLeft));
     pending_.clear();
-    sortInTreeOrder(rest);
-    std::vector<LeafRecord>& leaves = result_.leaves;
-    result_.intact = result_.intact && followsInOrder(leaves, rest);
-    leaves.insert(leaves.end(), rest.begin(), rest.end());
     return std::move(result_);
 }
 

@@ -91,6 +91,9 @@ class LeafStream {
 
   private:
     void run();
+    /// Marks every pending leaf below `below` taken and returns where they
+    /// lie in their batches (until the batches are erased). Under mutex_.
+    std::vector<std::span<const LeafRecord>> takeBelow(std::uint64_t below);
     /// Appends leaves the frontier passed; returns where they start. Under mutex_.
     std::size_t take(std::span<const std::span<const LeafRecord>> ready);
     /// Writes the records of the leaves taken from `first` on. `early`: some

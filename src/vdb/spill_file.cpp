@@ -73,24 +73,23 @@ std::uint64_t SpillFile::append(std::span<const std::uint8_t> bytes) {
     return at;
 }
 
+std::size_t SpillFile::inMemory(std::uint64_t offset, std::size_t bytes) const {
+    return offset < memoryBytes_ ? std::size_t(std::min<std::uint64_t>(bytes, memoryBytes_ - offset)) : 0;
+}
+
 void SpillFile::writeAt(std::uint64_t offset, std::span<const std::uint8_t> bytes) {
     YV_CHECK(offset + bytes.size() <= end_.load());
-    if (offset < memoryBytes_) {
-        const std::size_t inMemory = std::size_t(std::min<std::uint64_t>(bytes.size(), memoryBytes_ - offset));
-        std::memcpy(memory_ + offset, bytes.data(), inMemory);
-        bytes = bytes.subspan(inMemory);
-        offset += inMemory;
-    }
-    if (!bytes.empty()) writeAllAt(fd_.get(), bytes, offset - memoryBytes_, "cannot write " + where_);
+    const std::size_t held = inMemory(offset, bytes.size());
+    if (held > 0) std::memcpy(memory_ + offset, bytes.data(), held);
+    if (held < bytes.size())
+        writeAllAt(fd_.get(), bytes.subspan(held), offset + held - memoryBytes_, "cannot write " + where_);
 }
 
 void SpillFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
-    if (offset < memoryBytes_) {
-        const std::size_t inMemory = std::size_t(std::min<std::uint64_t>(out.size(), memoryBytes_ - offset));
-        std::memcpy(out.data(), memory_ + offset, inMemory);
-        out = out.subspan(inMemory);
-        offset += inMemory;
-    }
+    const std::size_t held = inMemory(offset, out.size());
+    if (held > 0) std::memcpy(out.data(), memory_ + offset, held);
+    out = out.subspan(held);
+    offset += held;
     if (out.empty()) return;
     std::size_t done = 0;
     const std::uint64_t at = offset - memoryBytes_;

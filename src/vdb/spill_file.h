@@ -51,6 +51,9 @@ class SpillFile {
     std::uint64_t bytesInMemory() const { return std::min(end_.load(), memoryBytes_); }
 
   private:
+    /// Of `bytes` at `offset`, how many from the start lie in the memory part.
+    std::size_t inMemory(std::uint64_t offset, std::size_t bytes) const;
+
     std::string where_;
     Fd fd_;
     std::uint8_t* memory_ = nullptr; ///< memoryBytes_ of address space, pages taken as written
