@@ -15,6 +15,11 @@ void measureSliceLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uin
     measureSliceLanes<AvxLanes>(p, count, first, halfDiagonal, out);
 }
 
+void measureSliceLanesAvxPair(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, double halfDiagonal,
+                              double (&out)[8][kSliceMeasureValues]) {
+    measureSliceLanes<AvxPairLanes>(p, count, first, halfDiagonal, out);
+}
+
 void sliceVoxelLanesAvx(const double (&p)[4][3], std::uint32_t count, std::uint32_t first, const double (&origin)[3],
                         double invVoxelSize, double (&out)[4][kSliceVoxelValues]) {
     sliceVoxelLanes<AvxLanes>(p, count, first, origin, invVoxelSize, out);
