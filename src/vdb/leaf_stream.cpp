@@ -13,6 +13,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
+#include <optional>
 #include <limits>
 #include <span>
 
@@ -108,35 +110,66 @@ void LeafStream::regionDone(std::size_t region) {
 }
 
 void LeafStream::run() {
+    // A step's records are written on a thread of their own while this one
+    // takes the next step's leaves: the take (a sort of up to a million
+    // leaves at 8192) no longer leaves the disk idle. Steps still write one
+    // after another, in order.
+    std::future<void> writing;
     try {
         for (;;) {
-            std::size_t first = 0;
-            bool early = false;
+            std::vector<std::span<const LeafRecord>> ready;
+            std::uint64_t below = 0;
+            std::size_t given = 0;
             {
                 std::unique_lock lock(mutex_);
                 // Leaves below the frontier are final: every region that could add one is done.
                 const auto frontier = [&] {
                     return nextUnfinished_ < firstOrders_.size() ? firstOrders_[nextUnfinished_] : kNoRegionLeft;
                 };
-                wake_.wait(lock, [&] { return stopping_ || frontier() > streamedBelow_; });
-                const std::uint64_t below = frontier();
-                if (abandoned_ || below <= streamedBelow_) return; // stopping, and nothing new
+                wake_.wait(lock, [&] { return stopping_ || error_ || frontier() > streamedBelow_; });
+                below = frontier();
+                if (abandoned_ || error_ || below <= streamedBelow_) break; // stopping, and nothing new
                 streamedBelow_ = below;
-                early = below != kNoRegionLeft;
-                // Appended under the lock, so that finalLeaves() never sees them half in.
-                first = take(takeBelow(below));
-                std::erase_if(pending_, [](const PendingBatch& b) { return b.taken == b.leaves.size(); });
+                ready = takeBelow(below);
+                given = leavesGiven_;
             }
-            wake_.notify_all(); // finalLeaves() waits for the last take
-            if (result_.intact && first < result_.leaves.size()) stream(first, early);
+            // Outside the lock, so that add() is never held up by a take: the
+            // batches' leaves stay where they lie (add() appends batches, and
+            // moving a batch keeps its leaves' storage), and only this thread
+            // erases batches.
+            const std::size_t first = take(ready, given);
+            const bool early = below != kNoRegionLeft;
+            std::optional<Step> step;
+            if (result_.intact && first < result_.leaves.size()) step = stepFrom(first);
+            {
+                std::lock_guard lock(mutex_);
+                std::erase_if(pending_, [](const PendingBatch& b) { return b.taken == b.leaves.size(); });
+                // The last step no longer reads the leaves: finalLeaves() may take them.
+                leavesFinal_ = !early;
+            }
+            wake_.notify_all();
+            if (!step) continue;
+            if (writing.valid()) writing.wait(); // one step written at a time, in order
+            writing = std::async(std::launch::async, [this, early, next = std::move(*step)]() mutable {
+                try {
+                    writeStep(std::move(next), early);
+                } catch (...) {
+                    failed(std::current_exception()); // a full disk stops the run at its next region
+                }
+            });
         }
     } catch (...) {
-        {
-            std::lock_guard lock(mutex_);
-            error_ = std::current_exception();
-        }
-        wake_.notify_all();
+        failed(std::current_exception());
     }
+    if (writing.valid()) writing.wait();
+}
+
+void LeafStream::failed(std::exception_ptr error) {
+    {
+        std::lock_guard lock(mutex_);
+        if (!error_) error_ = std::move(error);
+    }
+    wake_.notify_all();
 }
 
 std::vector<std::span<const LeafRecord>> LeafStream::takeBelow(std::uint64_t below) {
@@ -153,7 +186,7 @@ std::vector<std::span<const LeafRecord>> LeafStream::takeBelow(std::uint64_t bel
 
 /// Appends `ready` (every leaf between the last frontier and this one) to
 /// the leaves taken, in tree order; returns where it starts.
-std::size_t LeafStream::take(std::span<const std::span<const LeafRecord>> ready) {
+std::size_t LeafStream::take(std::span<const std::span<const LeafRecord>> ready, std::size_t given) {
     std::vector<LeafRecord>& leaves = result_.leaves;
     const std::size_t first = leaves.size();
     if (ready.empty()) return first;
@@ -162,7 +195,7 @@ std::size_t LeafStream::take(std::span<const std::span<const LeafRecord>> ready)
     for (std::span<const LeafRecord> piece : ready) count += piece.size();
     // Room for every leaf given so far: the last take (half the leaves of the
     // draped garment at 8192) then rarely moves the ones taken before.
-    if (leaves.capacity() < first + count) leaves.reserve(std::max(leavesGiven_, 2 * leaves.capacity()));
+    if (leaves.capacity() < first + count) leaves.reserve(std::max(given, 2 * leaves.capacity()));
     appendInTreeOrder(ready, leaves);
     // A leaf at or below one already streamed (a brick given twice, or out
     // of its region): the stream stops, and the end writes the file whole.
@@ -175,38 +208,71 @@ std::optional<std::vector<LeafRecord>> LeafStream::finalLeaves() {
     std::unique_lock lock(mutex_);
     YV_CHECK(nextUnfinished_ == done_.size());
     // Every region is done, so the stream's next take is its last: every
-    // leaf, sorted once there (a step it is still writing ends first).
-    wake_.wait(lock, [&] { return streamedBelow_ == kNoRegionLeft || error_ || abandoned_; });
+    // leaf, sorted once there. Once the stream has found where their records
+    // lie, it no longer reads them: they are handed over, not copied.
+    wake_.wait(lock, [&] { return leavesFinal_ || error_ || abandoned_; });
     if (error_ || abandoned_ || !result_.intact) return std::nullopt;
     YV_CHECK(pending_.empty());
-    return result_.leaves; // a copy: the stream's thread still reads its own
+    handedOver_ = true;
+    return std::move(result_.leaves);
 }
 
-/// Writes each grid's records of the leaves taken from `first` on, as far as
-/// whole blocks go: a block cut by the last record is written again, whole,
-/// next time.
-void LeafStream::stream(std::size_t first, bool early) {
-    const TraceSpan span("stream leaf records");
+/// Where the records of the leaves taken from `first` on lie in the scratch
+/// space, after those of the steps before, for each grid.
+LeafStream::Step LeafStream::stepFrom(std::size_t first) {
     signalAtTestPoint("stream-leaves"); // a signal while the regions still come
-    const auto start = std::chrono::steady_clock::now();
     const std::vector<LeafRecord>& leaves = result_.leaves;
+    Step step;
+    for (int g = 0; g < grids_; ++g) {
+        std::vector<SpillRun>& runs = step.runs[g];
+        std::uint64_t& at = recordBytes_[g];
+        for (std::size_t i = first; i < leaves.size(); ++i) {
+            const std::uint64_t from = leaves[i].at[g], bytes = leaves[i].bytes[g];
+            if (bytes == 0) continue;
+            if (!runs.empty() && runs.back().from + runs.back().bytes == from) runs.back().bytes += bytes;
+            else runs.push_back({at, from, bytes});
+            at += bytes;
+        }
+        step.recordEnd[g] = at;
+    }
+    return step;
+}
+
+/// Fills out[0, n) with lane bytes [at, at + n) from `runs` (in lane order).
+void LeafStream::fillFromRuns(const std::vector<SpillRun>& runs, std::uint64_t at, std::span<std::uint8_t> out) const {
+    const std::uint64_t end = at + out.size();
+    auto run = std::partition_point(runs.begin(), runs.end(), [&](const SpillRun& r) { return r.at + r.bytes <= at; });
+    for (; run != runs.end() && run->at < end; ++run) {
+        const std::uint64_t lo = std::max(run->at, at), hi = std::min(run->at + run->bytes, end);
+        spill_.read(run->from + (lo - run->at), out.subspan(lo - at, hi - lo));
+    }
+}
+
+/// Writes each grid's records as far as whole blocks go: a block cut by the
+/// last record is written again, whole, next time. `early`: some region was
+/// not done yet when the leaves were taken.
+void LeafStream::writeStep(Step&& step, bool early) {
+    const TraceSpan span("stream leaf records");
+    const auto start = std::chrono::steady_clock::now();
     constexpr std::uint64_t kBlock = kChecksumBlockBytes;
     static_assert(kBlock % ChunkedOutput::kAlignment == 0);
     for (int g = 0; g < grids_; ++g) {
-        addRecordPieces(leaves, g, recordBytes_[g], pieces_[g], first);
-        for (std::size_t i = first; i < leaves.size(); ++i) recordBytes_[g] += leaves[i].bytes[g];
-        const std::uint64_t from = result_.streamedBytes[g], to = recordBytes_[g] / kBlock * kBlock;
+        std::vector<SpillRun>& runs = runs_[g];
+        runs.insert(runs.end(), step.runs[g].begin(), step.runs[g].end());
+        const std::uint64_t from = result_.streamedBytes[g], to = step.recordEnd[g] / kBlock * kBlock;
         if (to <= from) continue;
         std::vector<std::uint64_t>& sums = result_.blockSums[g];
         sums.resize(to / kBlock);
         const std::uint64_t lane = lanes_.laneAt[g];
         output_.writeRangeOnThreads(lane + from, lane + to, [&](std::uint64_t at, std::span<std::uint8_t> out) {
-            fillFromRecords(pieces_[g], spill_, at - lane, out);
+            fillFromRuns(runs, at - lane, out);
             for (std::uint64_t b = 0; b < out.size(); b += kBlock)
                 sums[(at - lane + b) / kBlock] = blockChecksum(out.subspan(b, kBlock));
         }, kStreamWriters);
         result_.streamedBytes[g] = to;
         if (early) result_.bytesBeforeLastRegion += to - from;
+        // Only the block cut by the last record is written again.
+        std::erase_if(runs, [&](const SpillRun& r) { return r.at + r.bytes <= to; });
     }
     result_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -221,7 +287,7 @@ LeafStream::Result LeafStream::finish() {
     thread_.join();
     if (error_) std::rethrow_exception(error_);
     // What no frontier passed: the last regions' leaves (or every leaf of a run given up early).
-    take(takeBelow(kNoRegionLeft));
+    if (!handedOver_) take(takeBelow(kNoRegionLeft), leavesGiven_);
     pending_.clear();
     return std::move(result_);
 }

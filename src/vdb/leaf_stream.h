@@ -78,12 +78,12 @@ class LeafStream {
         std::uint64_t bytesBeforeLastRegion = 0;
         double seconds = 0.0; ///< spent streaming (on the stream's thread)
     };
-    /// Once every region is done: every leaf, in tree order, as finish()
-    /// will hand them over, while the stream still writes them (the writer
-    /// lays out the file meanwhile). Waits for the stream's last take of
-    /// leaves (after the step it is writing), which sorts them once. Nothing
-    /// when the stream is no longer in order or has failed (finish() then
-    /// says which).
+    /// Once every region is done: every leaf, in tree order, while the
+    /// stream still writes them (the writer lays out the file meanwhile).
+    /// Waits for the stream's last take of leaves, which sorts them once,
+    /// and hands them over: finish()'s Result then holds none. Nothing when
+    /// the stream is no longer in order or has failed (finish() then says
+    /// which).
     std::optional<std::vector<LeafRecord>> finalLeaves();
     /// Stops the stream's thread and hands over what it holds; rethrows its
     /// error (a failed write). Call once.
@@ -91,14 +91,32 @@ class LeafStream {
 
   private:
     void run();
+    /// Keeps the stream's first error (add() and finish() rethrow it) and wakes its waiters.
+    void failed(std::exception_ptr error);
     /// Marks every pending leaf below `below` taken and returns where they
     /// lie in their batches (until the batches are erased). Under mutex_.
     std::vector<std::span<const LeafRecord>> takeBelow(std::uint64_t below);
-    /// Appends leaves the frontier passed; returns where they start. Under mutex_.
-    std::size_t take(std::span<const std::span<const LeafRecord>> ready);
-    /// Writes the records of the leaves taken from `first` on. `early`: some
-    /// region was not done yet when they were taken.
-    void stream(std::size_t first, bool early);
+    /// Appends leaves the frontier passed (room kept for `given` leaves, all
+    /// that add() was given); returns where they start. The stream's thread's.
+    std::size_t take(std::span<const std::span<const LeafRecord>> ready, std::size_t given);
+    /// Consecutive bytes of one grid's records: `bytes` at `at` in its lane,
+    /// read from `from` in the scratch space.
+    struct SpillRun {
+        std::uint64_t at, from, bytes;
+    };
+    /// What a step writes: its leaves' records as runs, and where each
+    /// grid's records end after them.
+    struct Step {
+        std::vector<SpillRun> runs[kMaxGrids];
+        std::uint64_t recordEnd[kMaxGrids] = {};
+    };
+    /// The records of the leaves taken from `first` on, after the steps before.
+    Step stepFrom(std::size_t first);
+    /// Writes a step's records, as far as whole blocks go (on a thread of
+    /// its own, while the stream takes the next step's leaves). `early`:
+    /// some region was not done yet when its leaves were taken.
+    void writeStep(Step&& step, bool early);
+    void fillFromRuns(const std::vector<SpillRun>& runs, std::uint64_t at, std::span<std::uint8_t> out) const;
 
     const SpillFile& spill_;
     ChunkedOutput& output_;
@@ -122,11 +140,14 @@ class LeafStream {
     bool abandoned_ = false; ///< the run is given up: stream nothing more
 
     // The stream's thread's own (result_.leaves grows under mutex_ only).
-    std::uint64_t streamedBelow_ = 0; ///< every leaf below this order is streamed
+    std::uint64_t streamedBelow_ = 0; ///< every leaf below this order is taken (or being taken)
     Result result_;
     std::uint64_t recordBytes_[kMaxGrids] = {}; ///< records of result_.leaves, per grid
-    std::vector<RecordPiece> pieces_[kMaxGrids]; ///< at lane offsets
+    /// The writing step's: runs from the last block it cut on, per grid.
+    std::vector<SpillRun> runs_[kMaxGrids];
     std::exception_ptr error_; ///< set under mutex_
+    bool leavesFinal_ = false; ///< the last take is in, and the stream reads its leaves no more (under mutex_)
+    bool handedOver_ = false;  ///< finalLeaves() took the leaves
     std::thread thread_;
 };
 

@@ -444,10 +444,11 @@ void VdbAssembler::write(const VolumeMetadata& metadata) {
     std::optional<FileLayout> layout;
     std::vector<FileSegment> segments;
     if (m.stream) {
-        // Made while the stream writes its last leaves: the pyramid and the layout.
+        // Made while the stream takes and writes its last leaves: the pyramid
+        // (from the regions' octants, not level 0's leaves), then the layout.
+        pyramidSeconds = m.buildPyramid();
         if (std::optional<std::vector<LeafRecord>> leaves = m.stream->finalLeaves()) {
             m.levels[0].leaves = std::move(*leaves);
-            pyramidSeconds = m.buildPyramid();
             layout = m.layOut(metadata, m.levels[0].gridCount, m.lanes->block);
             segments = m.streamedSegments(*layout);
         }
