@@ -5,6 +5,8 @@
 #include "core/error.h"
 #include "core/world_units.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <bit>
 #include <cerrno>
@@ -12,7 +14,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <utility>
 
@@ -154,38 +158,74 @@ Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name
     garment.yarns.reserve(curveCount);
     readRadius(p, name, garment);
 
+    // Each curve's count says where the next begins: the counts are read in
+    // file order, the points then on every core. A broken count is said
+    // after any bad point of a curve before it, as a reading in file order would.
+    struct CurveBytes {
+        std::size_t at; ///< its first point
+        std::uint64_t points;
+        bool closed;
+    };
+    std::vector<CurveBytes> curves;
+    curves.reserve(curveCount);
     std::size_t at = kHeaderSize;
     std::uint64_t pointSum = 0;
-    for (std::uint64_t i = 0; i < curveCount; ++i) {
-        // Built only on failure: files hold up to millions of curves.
-        const auto curve = [i] { return "curve " + std::to_string(i); };
-        if (size - at < 4)
-            fail(name, at, "truncated " + curve() + ": expected 4-byte control-point count, file ends");
-        const auto raw = static_cast<std::int32_t>(loadLe(p + at, 4));
-        // Widened before negating: -INT32_MIN does not fit in 32 bits.
-        const std::uint64_t n = static_cast<std::uint64_t>(std::abs(std::int64_t{raw}));
-        if (n < 2)
-            fail(name, at, curve() + " has " + std::to_string(n) +
-                               " control points: expected at least 2");
-        at += 4;
-        if ((size - at) / kPointSize < n)
-            fail(name, at, "truncated " + curve() + ": expected " + std::to_string(n) + " control points (" +
-                               std::to_string(n * kPointSize) + " bytes), file ends after " +
-                               std::to_string(size - at));
+    std::exception_ptr brokenCount;
+    for (std::uint64_t i = 0; i < curveCount && !brokenCount; ++i) {
+        try {
+            // Built only on failure: files hold up to millions of curves.
+            const auto curve = [i] { return "curve " + std::to_string(i); };
+            if (size - at < 4)
+                fail(name, at, "truncated " + curve() + ": expected 4-byte control-point count, file ends");
+            const auto raw = static_cast<std::int32_t>(loadLe(p + at, 4));
+            // Widened before negating: -INT32_MIN does not fit in 32 bits.
+            const std::uint64_t n = static_cast<std::uint64_t>(std::abs(std::int64_t{raw}));
+            if (n < 2)
+                fail(name, at, curve() + " has " + std::to_string(n) + " control points: expected at least 2");
+            at += 4;
+            if ((size - at) / kPointSize < n)
+                fail(name, at, "truncated " + curve() + ": expected " + std::to_string(n) + " control points (" +
+                                   std::to_string(n * kPointSize) + " bytes), file ends after " +
+                                   std::to_string(size - at));
+            curves.push_back({at, n, raw < 0});
+            at += n * kPointSize;
+            pointSum += n;
+        } catch (const Error&) {
+            brokenCount = std::current_exception();
+        }
+    }
 
-        Yarn& yarn = garment.yarns.emplace_back();
-        yarn.closed = raw < 0;
-        yarn.points.resize(n);
-        for (std::uint64_t j = 0; j < n; ++j) {
-            for (int k = 0; k < 3; ++k, at += 4) {
-                const float v = std::bit_cast<float>(static_cast<std::uint32_t>(loadLe(p + at, 4)));
-                if (const std::string problem = coordinateProblem(v); !problem.empty())
-                    fail(name, at, curve() + " point " + std::to_string(j) + ": " + kAxes[k] + " coordinate " + problem);
+    garment.yarns.resize(curves.size());
+    std::mutex firstBadMutex;
+    std::size_t firstBad = curves.size();
+    std::exception_ptr badPoint;
+    tbb::parallel_for(std::size_t(0), curves.size(), [&](std::size_t i) {
+        const CurveBytes& c = curves[i];
+        Yarn& yarn = garment.yarns[i];
+        yarn.closed = c.closed;
+        yarn.points.resize(c.points);
+        for (std::uint64_t j = 0; j < c.points; ++j)
+            for (int k = 0; k < 3; ++k) {
+                const std::size_t from = c.at + (j * 3 + k) * 4;
+                const float v = std::bit_cast<float>(static_cast<std::uint32_t>(loadLe(p + from, 4)));
+                if (const std::string problem = coordinateProblem(v); !problem.empty()) {
+                    const std::lock_guard lock(firstBadMutex);
+                    if (i < firstBad) {
+                        firstBad = i;
+                        try {
+                            fail(name, from, "curve " + std::to_string(i) + " point " + std::to_string(j) + ": " +
+                                                 kAxes[k] + " coordinate " + problem);
+                        } catch (const Error&) {
+                            badPoint = std::current_exception();
+                        }
+                    }
+                    return;
+                }
                 yarn.points[j][k] = v;
             }
-        }
-        pointSum += n;
-    }
+    });
+    if (badPoint) std::rethrow_exception(badPoint);
+    if (brokenCount) std::rethrow_exception(brokenCount);
 
     if (at != size)
         fail(name, at, std::to_string(size - at) + " trailing bytes after the last of " +
@@ -221,6 +261,7 @@ Garment readBcc(const std::string& path) {
                                  std::to_string(loadLe(bytes.data() + 8, 8)) + " curves, " +
                                  std::to_string(loadLe(bytes.data() + 16, 8)) + " control points)");
     const std::uint64_t limit = S_ISREG(st.st_mode) ? std::uint64_t(st.st_size) : *implied + 1;
+    if (S_ISREG(st.st_mode)) bytes.reserve(limit); // the file's own size: no growth, no copies
     constexpr std::size_t kChunk = std::size_t(1) << 22;
     while (bytes.size() < limit) {
         const std::size_t used = bytes.size();

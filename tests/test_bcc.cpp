@@ -201,6 +201,23 @@ TEST_CASE("bcc: corruptions name the offset and the reason", "[bcc]") {
         poke(b, 68 + 8, 0xff800000u, 4); // curve 0, point 0, z
         CHECK_THAT(parseError(b), Contains("byte 76: curve 0 point 0: z coordinate is -inf"));
     }
+    // Counts are read first and points on every core; the first problem in
+    // file order is still the one said.
+    SECTION("a bad point before a broken count: the point") {
+        poke(b, 120 + 2 * 12 + 4, 0x7fc00000u, 4); // curve 1, point 2, y
+        b.resize(b.size() - 4);                    // curve 2 truncated
+        CHECK_THAT(parseError(b), Contains("byte 148: curve 1 point 2: y coordinate is nan"));
+    }
+    SECTION("a broken count before a bad point: the count") {
+        poke(b, 116, 1, 4);                   // curve 1's count
+        poke(b, 196, 0x7f800000u, 4);         // curve 2, point 1, x
+        CHECK_THAT(parseError(b), Contains("byte 116: curve 1 has 1 control points"));
+    }
+    SECTION("bad points in several curves: the first curve's") {
+        poke(b, 196, 0x7f800000u, 4);         // curve 2, point 1, x
+        poke(b, 68 + 12 + 4, 0x7fc00000u, 4); // curve 0, point 1, y
+        CHECK_THAT(parseError(b), Contains("byte 84: curve 0 point 1: y coordinate is nan"));
+    }
 }
 
 TEST_CASE("bcc: encoding refuses what the reader would reject", "[bcc]") {

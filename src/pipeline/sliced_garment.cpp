@@ -10,6 +10,7 @@
 #include "plan/resource_estimate.h"
 
 #include <filesystem>
+#include <optional>
 
 namespace yv {
 namespace {
@@ -77,9 +78,15 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
     const SlicePlanCache::FileKey file = job.sliceCache ? SlicePlanCache::keyOf(job.input) : SlicePlanCache::FileKey{};
     if (job.sliceCache) s.garmentRead = job.sliceCache->garment(file);
     if (!s.garmentRead) {
-        auto garment = std::make_shared<Garment>(readBcc(job.input));
+        std::shared_ptr<Garment> garment;
+        {
+            const TraceSpan span("parse the garment");
+            garment = std::make_shared<Garment>(readBcc(job.input));
+        }
         // Real files repeat points and mislabel loops: tidied here, said once.
+        std::optional<TraceSpan> checking(std::in_place, "check the curves");
         const CurveCheckReport curveReport = checkCurves(*garment, job.input);
+        checking.reset();
         if (const std::string dropped = curveReport.droppedText(job.input); !dropped.empty()) tell(dropped);
         for (const std::string& w : curveReport.warnings) tell("warning: " + w);
         s.garmentRead = std::move(garment);
