@@ -71,6 +71,31 @@ TEST_CASE("Disk estimate: a yarn's voxels from its length and grown cross-sectio
         before = area;
     }
     CHECK(yv::grownFibreArea(fibres, 0.3, 0.1) < yv::grownFibreArea(disk, 0.3, 0.1));
+    // On a small random mask, the texels a brute-force dilation finds: every
+    // texel of the padded grid with a fibre texel at most `grow` before it
+    // along both axes.
+    {
+        yv::CrossSection random;
+        random.size = 23;
+        random.density.resize(23 * 23);
+        std::uint32_t x = 7;
+        for (std::uint8_t& d : random.density) d = (x = x * 1664525u + 1013904223u) >> 29 == 0 ? 255 : 0;
+        for (int grow : {0, 1, 2, 5, 30}) {
+            const double texelSide = 2.0 * 0.3 / 23;
+            const int m = 23 + grow;
+            std::size_t texels = 0;
+            for (int ty = 0; ty < m; ++ty)
+                for (int tx = 0; tx < m; ++tx) {
+                    bool near = false;
+                    for (int sy = std::max(0, ty - grow); sy <= std::min(22, ty) && !near; ++sy)
+                        for (int sx = std::max(0, tx - grow); sx <= std::min(22, tx) && !near; ++sx)
+                            near = random.density[std::size_t(sy) * 23 + sx] != 0;
+                    texels += near;
+                }
+            INFO("grow " << grow);
+            CHECK(yv::grownFibreArea(random, 0.3, grow * texelSide) == Approx(texels * texelSide * texelSide));
+        }
+    }
 
     yv::OutputPlan run;
     run.yarnLength = 100.0;

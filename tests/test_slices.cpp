@@ -78,6 +78,31 @@ TEST_CASE("Slice spacing picks the slice count per segment", "[slices]") {
     opt.radius = 0.1;
     const SlicePlan plan = planSlices(test::straightYarn({0, 0, 0}, {1, 0, 0}, 3), opt);
     for (const SegmentRecord& seg : plan.segments) CHECK(seg.sliceCount == 10u);
+    CHECK(plan.fewestSlices == 10u);
+    CHECK(plan.mostSlices == 10u);
+}
+
+TEST_CASE("The plan's yarn length and fewest and most slices are its segments'", "[slices]") {
+    // Segments of different lengths (the curve's spans grow), so different slice counts at one spacing.
+    Garment g;
+    g.yarns.push_back(Yarn{{{0, 0, 0}, {0.3, 0, 0}, {1, 0.2, 0}, {2.5, 0, 0.4}, {5, 1, 0}}, false});
+    g.yarns.push_back(Yarn{{{0, 2, 0}, {1, 2, 0}, {1, 3, 0}, {0, 3, 0}}, true});
+    SliceOptions opt;
+    opt.spacing = 0.05;
+    opt.radius = 0.1;
+    const SlicePlan plan = planSlices(g, opt);
+    double length = 0.0;
+    std::uint32_t fewest = ~0u, most = 0;
+    for (const SegmentRecord& seg : plan.segments) {
+        length += seg.length;
+        fewest = std::min(fewest, seg.sliceCount);
+        most = std::max(most, seg.sliceCount);
+    }
+    CHECK(fewest < most);
+    CHECK(plan.fewestSlices == fewest);
+    CHECK(plan.mostSlices == most);
+    CHECK(plan.yarnLength == length); // the same sum, in the same order
+    CHECK(planSlices(Garment{}, opt).mostSlices == 0u);
 }
 
 TEST_CASE("Fibre direction follows the paper's eq. 1", "[slices]") {

@@ -207,11 +207,17 @@ SlicePlan planSlices(const Garment& garment, const SliceOptions& options, const 
         }
     });
 
-    // Slice offsets run over the whole garment.
+    // Slice offsets run over the whole garment; the same pass sums what the
+    // plan's users would each find with a pass of their own over a few
+    // hundred MB of records.
     std::uint64_t firstSlice = 0;
+    plan.fewestSlices = plan.segments.empty() ? 0 : ~0u;
     for (SegmentRecord& rec : plan.segments) {
         rec.firstSlice = firstSlice;
         firstSlice += rec.sliceCount;
+        plan.yarnLength += rec.length;
+        plan.fewestSlices = std::min(plan.fewestSlices, rec.sliceCount);
+        plan.mostSlices = std::max(plan.mostSlices, rec.sliceCount);
     }
     plan.sliceCount = firstSlice;
 

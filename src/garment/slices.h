@@ -61,6 +61,8 @@ struct SlicePlan {
     glm::dvec3 curveMin{0.0}, curveMax{0.0};   ///< exact bounds of the curves (see curveBounds)
     double maxReach = 0.0;                     ///< largest SegmentRecord::reach
     double maxSpacing = 0.0;                   ///< largest slice thickness (distance between slices)
+    double yarnLength = 0.0;                   ///< the segments' lengths summed in order
+    std::uint32_t fewestSlices = 0, mostSlices = 0; ///< the least and most slices of a segment (0 without segments)
 };
 
 /// A placed slice: a square of side 2 radius centred at `center`, spanned by

@@ -89,12 +89,8 @@ GlBudget chooseBudget(const GlVoxelizeSettings& settings, const SlicePlan& plan,
     budget.maxGroups = static_cast<GLuint>(std::min(info.maxComputeWorkGroupCountX, 65535));
 
     // The smallest piece of work is one segment over one brick.
-    std::uint32_t maxSlices = 0, minSlices = ~0u;
-    for (const SegmentRecord& s : plan.segments) {
-        maxSlices = std::max(maxSlices, s.sliceCount);
-        minSlices = std::min(minSlices, s.sliceCount);
-    }
-    budget.uniformSlices = minSlices == maxSlices ? maxSlices : 0;
+    const std::uint32_t maxSlices = plan.mostSlices;
+    budget.uniformSlices = plan.fewestSlices == plan.mostSlices ? plan.mostSlices : 0;
     // Each sample's slab column is split over at most this many voxels
     // (and over at most 8 of one brick).
     const double slabDepth = 2.0 * std::max(0.0, plan.maxReach - plan.options.radius * std::sqrt(2.0)) / grid.voxelSize;

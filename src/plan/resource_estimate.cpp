@@ -139,7 +139,7 @@ ExpectedOutput expectOutput(const OutputPlan& run) {
 
 OutputPlan outputPlan(const SlicePlan& plan, const VoxelGrid& grid, const CrossSection& xs, const VdbShape& shape) {
     OutputPlan run;
-    for (const SegmentRecord& s : plan.segments) run.yarnLength += s.length;
+    run.yarnLength = plan.yarnLength;
     run.radius = plan.options.radius;
     run.voxelSize = grid.voxelSize;
     run.xs = &xs;
