@@ -10,7 +10,6 @@
 #include "plan/resource_estimate.h"
 
 #include <filesystem>
-#include <optional>
 
 namespace yv {
 namespace {
@@ -84,9 +83,11 @@ SlicedGarment sliceGarment(const VoxelizeJob& job, bool throughWorkDir, const Te
             garment = std::make_shared<Garment>(readBcc(job.input));
         }
         // Real files repeat points and mislabel loops: tidied here, said once.
-        std::optional<TraceSpan> checking(std::in_place, "check the curves");
-        const CurveCheckReport curveReport = checkCurves(*garment, job.input);
-        checking.reset();
+        CurveCheckReport curveReport;
+        {
+            const TraceSpan span("check the curves");
+            curveReport = checkCurves(*garment, job.input);
+        }
         if (const std::string dropped = curveReport.droppedText(job.input); !dropped.empty()) tell(dropped);
         for (const std::string& w : curveReport.warnings) tell("warning: " + w);
         s.garmentRead = std::move(garment);

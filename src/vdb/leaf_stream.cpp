@@ -14,8 +14,8 @@
 #include <algorithm>
 #include <chrono>
 #include <future>
-#include <optional>
 #include <limits>
+#include <optional>
 #include <span>
 
 namespace yv {

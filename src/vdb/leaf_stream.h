@@ -66,6 +66,7 @@ class LeafStream {
 
     struct Result {
         /// Every leaf added: in tree order when `intact`; else in no order.
+        /// None once finalLeaves() has handed them over.
         std::vector<LeafRecord> leaves;
         /// The records were streamed in tree order, and the lanes hold
         /// streamedBytes[g] bytes of grid g's records from their start.
@@ -76,7 +77,7 @@ class LeafStream {
         /// Of the bytes streamed, those written while some region was not
         /// done yet: the part of the file written during the run.
         std::uint64_t bytesBeforeLastRegion = 0;
-        double seconds = 0.0; ///< spent streaming (on the stream's thread)
+        double seconds = 0.0; ///< spent writing the steps
     };
     /// Once every region is done: every leaf, in tree order, while the
     /// stream still writes them (the writer lays out the file meanwhile).
@@ -116,6 +117,7 @@ class LeafStream {
     /// its own, while the stream takes the next step's leaves). `early`:
     /// some region was not done yet when its leaves were taken.
     void writeStep(Step&& step, bool early);
+    /// Lane bytes [at, at + out.size()) from `runs` (in lane order).
     void fillFromRuns(const std::vector<SpillRun>& runs, std::uint64_t at, std::span<std::uint8_t> out) const;
 
     const SpillFile& spill_;
@@ -139,7 +141,8 @@ class LeafStream {
     bool stopping_ = false;
     bool abandoned_ = false; ///< the run is given up: stream nothing more
 
-    // The stream's thread's own (result_.leaves grows under mutex_ only).
+    // The stream's thread's own; result_'s streamed bytes, block sums and
+    // seconds the writing step's (one at a time, after the step before).
     std::uint64_t streamedBelow_ = 0; ///< every leaf below this order is taken (or being taken)
     Result result_;
     std::uint64_t recordBytes_[kMaxGrids] = {}; ///< records of result_.leaves, per grid
