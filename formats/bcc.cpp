@@ -62,8 +62,12 @@ std::string quoted(const std::uint8_t* p, std::size_t n) {
     return s + "\"";
 }
 
+Error byteError(const std::string& name, std::size_t offset, const std::string& what) {
+    return Error(name + ": byte " + std::to_string(offset) + ": " + what);
+}
+
 [[noreturn]] void fail(const std::string& name, std::size_t offset, const std::string& what) {
-    throw Error(name + ": byte " + std::to_string(offset) + ": " + what);
+    throw byteError(name, offset, what);
 }
 
 /// Reads until `n` bytes or the end of the file; returns how many arrived.
@@ -212,12 +216,9 @@ Garment parseBcc(const std::vector<std::uint8_t>& bytes, const std::string& name
                     const std::lock_guard lock(firstBadMutex);
                     if (i < firstBad) {
                         firstBad = i;
-                        try {
-                            fail(name, from, "curve " + std::to_string(i) + " point " + std::to_string(j) + ": " +
-                                                 kAxes[k] + " coordinate " + problem);
-                        } catch (const Error&) {
-                            badPoint = std::current_exception();
-                        }
+                        badPoint = std::make_exception_ptr(byteError(
+                            name, from, "curve " + std::to_string(i) + " point " + std::to_string(j) + ": " +
+                                            kAxes[k] + " coordinate " + problem));
                     }
                     return;
                 }

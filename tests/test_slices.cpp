@@ -80,6 +80,7 @@ TEST_CASE("Slice spacing picks the slice count per segment", "[slices]") {
     for (const SegmentRecord& seg : plan.segments) CHECK(seg.sliceCount == 10u);
     CHECK(plan.fewestSlices == 10u);
     CHECK(plan.mostSlices == 10u);
+    CHECK(plan.uniformSlices() == 10u);
 }
 
 TEST_CASE("The plan's yarn length and fewest and most slices are its segments'", "[slices]") {
@@ -101,6 +102,7 @@ TEST_CASE("The plan's yarn length and fewest and most slices are its segments'",
     CHECK(fewest < most);
     CHECK(plan.fewestSlices == fewest);
     CHECK(plan.mostSlices == most);
+    CHECK(plan.uniformSlices() == 0u);
     CHECK(plan.yarnLength == length); // the same sum, in the same order
     CHECK(planSlices(Garment{}, opt).mostSlices == 0u);
 }

@@ -63,6 +63,9 @@ struct SlicePlan {
     double maxSpacing = 0.0;                   ///< largest slice thickness (distance between slices)
     double yarnLength = 0.0;                   ///< the segments' lengths summed in order
     std::uint32_t fewestSlices = 0, mostSlices = 0; ///< the least and most slices of a segment (0 without segments)
+
+    /// The slices of every segment where all have as many, else 0.
+    std::uint32_t uniformSlices() const { return fewestSlices == mostSlices ? mostSlices : 0; }
 };
 
 /// A placed slice: a square of side 2 radius centred at `center`, spanned by

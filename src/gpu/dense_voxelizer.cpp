@@ -153,13 +153,8 @@ struct DenseDraw {
 /// then drawn into `channels` (dense.frag); returns the draw's seconds.
 double drawSlices(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, TexelReads reads, int S,
                   const DenseDraw& draw, const GlTexture& crossSection, const DenseChannels& channels) {
-    std::uint32_t minSlices = ~0u, maxSlices = 0;
-    for (const SegmentRecord& s : plan.segments) {
-        minSlices = std::min(minSlices, s.sliceCount);
-        maxSlices = std::max(maxSlices, s.sliceCount);
-    }
     const SliceDraw sliceDraw{draw.segments.id(), draw.drawList.id(), static_cast<int>(plan.segments.size()),
-                              minSlices == maxSlices ? maxSlices : 0u, draw.instances};
+                              plan.uniformSlices(), draw.instances};
     GlBuffer records;
     GlProgram program = GlProgram::graphics("slice.vert", "dense.frag", crossSectionDefines(xs, reads));
     const SlicePlacer placer;

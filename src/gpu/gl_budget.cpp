@@ -89,13 +89,12 @@ GlBudget chooseBudget(const GlVoxelizeSettings& settings, const SlicePlan& plan,
     budget.maxGroups = static_cast<GLuint>(std::min(info.maxComputeWorkGroupCountX, 65535));
 
     // The smallest piece of work is one segment over one brick.
-    const std::uint32_t maxSlices = plan.mostSlices;
-    budget.uniformSlices = plan.fewestSlices == plan.mostSlices ? plan.mostSlices : 0;
+    budget.uniformSlices = plan.uniformSlices();
     // Each sample's slab column is split over at most this many voxels
     // (and over at most 8 of one brick).
     const double slabDepth = 2.0 * std::max(0.0, plan.maxReach - plan.options.radius * std::sqrt(2.0)) / grid.voxelSize;
     const std::uint64_t pieces = std::min<std::uint64_t>(8, 2 + static_cast<std::uint64_t>(slabDepth));
-    const std::uint64_t worst = std::uint64_t(maxSlices) * 64 * settings.base.supersample * settings.base.supersample * pieces;
+    const std::uint64_t worst = std::uint64_t(plan.mostSlices) * 64 * settings.base.supersample * settings.base.supersample * pieces;
     if (capacity < worst)
         throw Error("fragment budget " + std::to_string(capacity) + " is below the " + std::to_string(worst) +
                     " fragments one segment can put into one brick; raise --fragment-budget");
