@@ -16,14 +16,23 @@
 // (a driver may lock per process).
 //
 //   yv_bench_compile_threads [--threads 1,2,4,8] [--separate 2,4] [--processes 2,4]
-//                            [--rounds 3] [--device -1]
+//                            [--rounds 3] [--device -1] [--cold K]
 // Run with __GL_SHADER_DISK_CACHE_PATH pointing at an empty folder.
+//
+// --cold K: what a first run's process sees. No probe: the context is made,
+// then the programs a default GL voxelize compiles (with their #defines, in
+// the order the run needs them) are compiled on K threads with unshared
+// contexts taking the next program as they finish (K = 0: on the first
+// context, every compile started and then every link waited for, as the run
+// does), their binaries loaded into the first context. One JSON line; run
+// each K in a fresh process with a fresh cache folder.
 #include "core/error.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_program.h"
 
 #include <epoxy/gl.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -46,14 +55,26 @@ namespace {
 
 struct Shader {
     std::vector<std::string> files; ///< compute: one; graphics: vertex, fragment
+    std::vector<std::string> defines = {};
 };
+
+/// A default voxelize's programs (the draped garment's options: the texture
+/// cross-section read in quads, mean reduction, no albedo), longest link first.
+std::vector<Shader> defaultRunPrograms() {
+    const std::vector<std::string> xs = {"CROSS_SECTION_DISK 0", "CROSS_SECTION_GATHER 0", "CROSS_SECTION_QUAD 1"};
+    return {{{"brick_resolve.comp"}},         {{"sample.comp"}, xs},          {{"slice_items.comp"}, xs},
+            {{"slice_setup.comp"}},           {{"brick_scan.comp"}},          {{"brick_resolve_scan.comp"}},
+            {{"buffer_clear.comp"}},          {{"brick_resolve.comp"}, {"COUNT_ONLY 1"}},
+            {{"brick_scatter.comp"}},         {{"sample_dispatch.comp"}},     {{"brick_flag.comp"}}};
+}
 
 double since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 GlProgram build(const Shader& s, int salt) {
-    const std::vector<std::string> defines = {"YV_SALT " + std::to_string(salt)};
+    std::vector<std::string> defines = s.defines;
+    defines.push_back("YV_SALT " + std::to_string(salt));
     GlProgram p = s.files.size() == 1 ? GlProgram::compute(s.files[0], defines)
                                       : GlProgram::graphics(s.files[0], s.files[1], defines);
     p.waitLinked();
@@ -68,7 +89,8 @@ struct Binary {
 
 /// Compiles and links `s` (salted) on the current context, returned as a binary.
 Binary compileToBinary(const Shader& s, int salt) {
-    const std::vector<std::string> defines = {"YV_SALT " + std::to_string(salt)};
+    std::vector<std::string> defines = s.defines;
+    defines.push_back("YV_SALT " + std::to_string(salt));
     std::vector<GlShader> stages;
     if (s.files.size() == 1) {
         stages.push_back(startShaderStage(GL_COMPUTE_SHADER, s.files[0], defines));
@@ -120,12 +142,60 @@ void readAll(int fd, void* data, std::size_t n) {
     }
 }
 
+/// --cold K (see the top of the file).
+int coldCompile(GlContext& gl, int contexts, int device, double contextSeconds) {
+    const std::vector<Shader> shaders = defaultRunPrograms();
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<double> linkMs(shaders.size(), 0.0);
+    double loadSeconds = 0.0; // the binaries into the first context
+    if (contexts == 0) {
+        std::vector<GlProgram> programs;
+        // Timed at the start of each: NVIDIA's driver compiles inside glLinkProgram.
+        for (std::size_t i = 0; i < shaders.size(); ++i) {
+            const Shader& s = shaders[i];
+            const auto linkStart = std::chrono::steady_clock::now();
+            programs.push_back(s.files.size() == 1 ? GlProgram::compute(s.files[0], s.defines)
+                                                   : GlProgram::graphics(s.files[0], s.files[1], s.defines));
+            linkMs[i] = 1e3 * since(linkStart);
+        }
+        for (const GlProgram& p : programs) p.waitLinked();
+        for (const GlProgram& p : programs) p.use();
+        glFinish();
+    } else {
+        std::vector<Binary> binaries(shaders.size());
+        std::atomic<std::size_t> next{0};
+        std::vector<std::thread> workers;
+        for (int t = 0; t < contexts; ++t)
+            workers.emplace_back([&] {
+                GlContext own(GlContextOptions{device, false});
+                for (std::size_t i; (i = next.fetch_add(1)) < shaders.size();) {
+                    const auto linkStart = std::chrono::steady_clock::now();
+                    binaries[i] = compileToBinary(shaders[i], 0);
+                    linkMs[i] = 1e3 * since(linkStart);
+                }
+            });
+        for (std::thread& w : workers) w.join();
+        const auto loadStart = std::chrono::steady_clock::now();
+        gl.makeCurrent();
+        for (const Binary& b : binaries) glUseProgram(loadBinary(b));
+        glFinish();
+        loadSeconds = since(loadStart);
+    }
+    std::printf("{\"cold_contexts\": %d, \"first_context_s\": %.3f, \"linked_s\": %.3f, \"load_s\": %.3f, \"link_ms\": {",
+                contexts, contextSeconds, since(start), loadSeconds);
+    for (std::size_t i = 0; i < shaders.size(); ++i)
+        std::printf("%s\"%s%s\": %.1f", i ? ", " : "", shaders[i].files[0].c_str(),
+                    shaders[i].defines.empty() ? "" : "*", linkMs[i]);
+    std::printf("}, \"renderer\": \"%s\"}\n", gl.info().renderer.c_str());
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) try {
     std::vector<int> threadCounts = {1, 2, 4, 8}, separateCounts, processCounts;
     int rounds = 3, device = -1;
-    int childIndex = -1, childCount = 0, childSalt = 0;
+    int childIndex = -1, childCount = 0, childSalt = 0, cold = -1;
     for (int i = 1; i < argc; ++i) {
         const std::string k = argv[i];
         auto value = [&]() -> std::string {
@@ -144,11 +214,14 @@ int main(int argc, char** argv) try {
             childIndex = std::stoi(value());
             childCount = std::stoi(value());
             childSalt = std::stoi(value());
-        } else if (k == "--rounds") rounds = std::stoi(value());
+        } else if (k == "--cold") cold = std::stoi(value());
+        else if (k == "--rounds") rounds = std::stoi(value());
         else if (k == "--device") device = std::stoi(value());
         else throw Error("unknown option " + k);
     }
+    const auto processStart = std::chrono::steady_clock::now();
     GlContext gl(GlContextOptions{device, false});
+    if (cold >= 0) return coldCompile(gl, cold, device, since(processStart));
     const std::vector<Shader> candidates = {
         {{"brick_flag.comp"}}, {{"buffer_clear.comp"}}, {{"brick_scan.comp"}}, {{"brick_scatter.comp"}},
         {{"brick_max_orient.comp"}}, {{"slice_setup.comp"}}, {{"slice_runs.comp"}}, {{"sample.comp"}},

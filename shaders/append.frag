@@ -6,6 +6,8 @@
 // the cross-section's support, widened a little, so that float rounding in
 // this stage never drops a sample that sample.comp would keep.
 
+#include "layout.glsl"
+
 layout(binding = kItemCountAtomic, offset = 0) uniform atomic_uint uItemCount;
 // x: the slice (its instance in the draw), y: the pixel on the region's face, x | y << 16.
 layout(std430, binding = kItemsBinding) writeonly buffer Items { uvec2 items[]; };

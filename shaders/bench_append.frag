@@ -1,5 +1,8 @@
 // Append microbenchmark: the least a fragment of append.frag must do, one
 // atomic counter increment and one 16-byte Fragment store per fragment.
+
+#include "layout.glsl"
+
 layout(binding = 0, offset = 0) uniform atomic_uint uFragmentCount;
 layout(std430, binding = 2) writeonly buffer Fragments { Fragment fragments[]; };
 uniform uint uCapacity;

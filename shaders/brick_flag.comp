@@ -1,4 +1,7 @@
 // Brick pass 1: flag every brick of the region that a fragment touches.
+
+#include "layout.glsl"
+
 layout(local_size_x = 256) in;
 
 layout(std430, binding = kFragmentsBinding) readonly buffer Fragments { Fragment fragments[]; };

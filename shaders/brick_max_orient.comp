@@ -1,5 +1,8 @@
 // Brick pass 4 (max only): among the fragments that reached their voxel's
 // max density, the largest axis code wins, as in the CPU reduction.
+
+#include "layout.glsl"
+
 layout(local_size_x = 256) in;
 
 layout(std430, binding = kFragmentsBinding) readonly buffer Fragments { Fragment fragments[]; };

@@ -9,6 +9,9 @@
 // fraction, structure tensor). OVERLAP_SUM: mean densities are not clamped.
 // ALBEDO (mean only): three more words per voxel, and each active voxel's
 // colour (R G B floats) written from uAlbedoBase, in the voxels' order.
+
+#include "layout.glsl"
+
 layout(local_size_x = 128) in;
 // NVIDIA's compiler unrolls the Jacobi sweeps below in full: 213 and 278 ms
 // to link this program on the H200 with no shader cache, 157 and 200 ms with
@@ -106,8 +109,7 @@ dvec3 decodeAxisD(uint code) {
 }
 #else
 // One Jacobi rotation zeroing a[p][q] (src/core/bricks.cpp: principalAxis's
-// inner step). p and q are constants at every call, so once inlined every
-// index is too and the matrices stay in registers.
+// inner step).
 void jacobiRotate(inout double a[3][3], inout double v[3][3], int p, int q) {
     if (a[p][q] == 0.0LF) return;
     precise double theta = (a[q][q] - a[p][p]) / (2.0LF * a[p][q]);
@@ -143,9 +145,11 @@ dvec3 principalAxis(double t[6]) {
         precise double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
         precise double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
         if (off <= 1e-30LF * diag || off == 0.0LF) break;
-        jacobiRotate(a, v, 0, 1);
-        jacobiRotate(a, v, 0, 2);
-        jacobiRotate(a, v, 1, 2);
+        // The pivots (0,1), (0,2), (1,2) in a loop that stays one: a single
+        // copy of the rotation's double divisions and square roots to
+        // compile (an H100 with no shader cache links this program 20 to
+        // 40 ms sooner; the resolve takes as long: bench/results/README.md).
+        for (int r = 0; r < 3; ++r) jacobiRotate(a, v, r == 2 ? 1 : 0, r == 0 ? 1 : 2);
     }
     int best = 0;
     if (a[1][1] > a[best][best]) best = 1;

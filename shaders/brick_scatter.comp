@@ -3,6 +3,10 @@
 // REDUCE_MAX: atomicMax on the density bits; brick_max_orient.comp then
 // picks the winning sample's axis. ALBEDO (mean only): three more words, the
 // fragments' volume fraction times colour from the second fragment list.
+
+#include "layout.glsl"
+#include "axis_codes.glsl"
+
 layout(local_size_x = 256) in;
 
 layout(std430, binding = kFragmentsBinding) readonly buffer Fragments { Fragment fragments[]; };

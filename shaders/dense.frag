@@ -11,6 +11,8 @@
 // different sample than the density. That race is the baseline's nature (r8
 // images have no atomics); it is measured, not fixed.
 
+#include "common.glsl"
+
 layout(binding = kCrossSectionUnit) uniform usampler2D uCrossSection; // R8UI, texel 255 = solid fibre
 layout(binding = kDenseDensityImage, r8) uniform image3D uDensity;
 layout(binding = kDenseThetaImage, r8) uniform writeonly image3D uTheta;

@@ -6,6 +6,9 @@
 // fragments of back faces are dropped, so each slab counts once a pixel.
 // Drawn as a point (SLAB_POINTS), the ray is the pixel's, from the inverse
 // of the camera's matrix; pixels whose ray misses the slab are dropped.
+
+#include "slabs.glsl"
+
 #ifdef SLAB_POINTS
 flat in mat3 slabFrame; // columns: right, up, tangent
 uniform mat4 inverseViewProjection;

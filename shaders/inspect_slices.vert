@@ -13,6 +13,9 @@
 // margin beyond the picture on every side (guardScale: the picture's share), so that a point
 // whose centre lies just outside the picture, which GL would drop whole,
 // still draws its part inside.
+
+#include "slabs.glsl"
+
 layout(location = 0) in uint sliceIndex;
 layout(binding = kSliceTableUnit) uniform samplerBuffer slices; // per slice: (centre, thickness), (tangent, place in its run)
 layout(binding = kSliceSpansUnit) uniform usamplerBuffer spans; // per slice drawn: the slices its slab stands for

@@ -15,6 +15,9 @@
 // whose transmittance falls below kOpaque takes no more, and the group
 // stops once all of its pixels have. The picture is written premultiplied
 // (colour, 1 - transmittance), every pixel of the tile.
+
+#include "slabs.glsl"
+
 layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(binding = kSliceTableUnit) uniform samplerBuffer slices; // per slice: (centre, thickness), (tangent, place in its run)

@@ -32,6 +32,9 @@
 // farthest of their keys into `nearestKey` and `farthestKey`. One that spans
 // more than uMaxTilesPerSlab tiles counts none and sets `tooWide`: the frame
 // is drawn otherwise.
+
+#include "slabs.glsl"
+
 layout(local_size_x = 256) in;
 
 layout(binding = kSliceTableUnit) uniform samplerBuffer slices; // per slice: (centre, thickness), (tangent, place in its run)

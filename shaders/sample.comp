@@ -8,6 +8,10 @@
 // Why not in the fragment shader: on an H100 only a few of the GPU's units
 // run fragment shaders, and this work, the footprint's cells above all, then
 // took most of the raster pass (bench/results/sample-pass-2026-11-24-h100).
+
+#include "common.glsl"
+#include "axis_codes.glsl"
+
 layout(local_size_x = 128) in;
 
 layout(binding = kCrossSectionUnit) uniform usampler2D uCrossSection; // R8UI, texel 255 = solid fibre

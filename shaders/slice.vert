@@ -9,6 +9,9 @@
 // of them covers every pixel whose sample can hold fibre; what is sampled
 // there depends on the pixel alone, so what is written never depends on the
 // shape drawn, the runs or the region.
+
+#include "common.glsl"
+
 layout(std430, binding = kSlicesBinding) readonly buffer Slices { SliceRecord slices[]; };
 #if SLICE_POINTS && SLICE_RUN > 1
 // x: a run's first slice, y: its slices, all with one projection axis.

@@ -8,6 +8,9 @@
 // face (sliceFaceBox, which a sprite covers too) with append.frag's test, so
 // the items are the raster's; sample.comp decides from the item alone, so
 // the voxels are the same, bit for bit.
+
+#include "common.glsl"
+
 layout(local_size_x = 256) in;
 
 layout(std430, binding = kSlicesBinding) readonly buffer Slices { SliceRecord slices[]; };

@@ -9,6 +9,9 @@
 // (chooseSlicePrimitive's margin allows for it). Which slices join changes
 // what is drawn, not what is sampled: append.frag tests every pixel against
 // each slice of its run.
+
+#include "common.glsl"
+
 layout(local_size_x = 256) in;
 
 layout(std430, binding = kSlicesBinding) readonly buffer Slices { SliceRecord slices[]; };

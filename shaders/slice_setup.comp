@@ -2,6 +2,9 @@
 // record i is instance i of the draw's segment list (slice.vert reads it for
 // the sprite, sample.comp for the sampling). On an H100 only a few units run
 // vertex shaders, where this curve work was a fifth of the raster's time.
+
+#include "slice_placement.glsl"
+
 layout(local_size_x = 256) in;
 
 layout(std430, binding = kSegmentsBinding) readonly buffer Segments { GpuSegment segments[]; };

@@ -6,6 +6,7 @@
 
 #include <epoxy/egl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -78,30 +79,97 @@ std::optional<std::string> shaderText(const std::string& name) {
     return std::nullopt;
 }
 
-GlShader startShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
-    const std::optional<std::string> override = shaderOverride(name), commonOverride = shaderOverride("common.glsl");
-    const char* text = override ? override->c_str() : shaderSource(name.c_str());
-    if (!text)
+namespace {
+
+/// A shader's source as given to the driver, and the files its source-string
+/// numbers stand for (files[i] is number i + 1).
+struct ComposedShader {
+    std::string text;
+    std::vector<std::string> files;
+};
+
+/// FILE of an `#include "FILE"` line, else nullopt.
+std::optional<std::string> includedFile(const std::string& line) {
+    const std::size_t hash = line.find_first_not_of(" \t");
+    if (hash == std::string::npos || line.compare(hash, 8, "#include") != 0) return std::nullopt;
+    const std::size_t open = line.find('"', hash + 8), close = line.find('"', open + 1);
+    if (open == std::string::npos || close == std::string::npos || close == open + 1)
+        throw Error("a malformed #include line: " + line);
+    return line.substr(open + 1, close - open - 1);
+}
+
+/// Appends `name`'s text under source-string number `number`, each
+/// `#include "FILE"` line replaced by FILE's text under a number of its own,
+/// the first time FILE is included (the next times by a blank line).
+void appendWithIncludes(const std::string& name, int number, ComposedShader& out, int depth) {
+    const std::optional<std::string> text = shaderText(name);
+    if (!text) return; // the caller said which file is missing
+    out.text += "#line 1 " + std::to_string(number) + "\n";
+    std::istringstream lines(*text);
+    int lineNumber = 0;
+    for (std::string line; std::getline(lines, line);) {
+        ++lineNumber;
+        std::optional<std::string> file;
+        try {
+            file = includedFile(line);
+        } catch (const Error& e) {
+            throw Error("shader " + name + " line " + std::to_string(lineNumber) + ": " + e.what());
+        }
+        if (!file) {
+            out.text += line + "\n";
+            continue;
+        }
+        if (std::find(out.files.begin(), out.files.end(), *file) == out.files.end()) {
+            if (!shaderText(*file))
+                throw Error("shader " + name + " line " + std::to_string(lineNumber) + " includes " + *file +
+                            ", which is not among the embedded shaders (add shaders/" + *file +
+                            " to YV_SHADERS in CMakeLists.txt)");
+            if (depth >= 8) throw Error("shader " + name + ": #include nested more than 8 deep");
+            out.files.push_back(*file);
+            appendWithIncludes(*file, static_cast<int>(out.files.size()), out, depth + 1);
+        }
+        out.text += "#line " + std::to_string(lineNumber + 1) + " " + std::to_string(number) + "\n";
+    }
+}
+
+/// "#version 450 core", the #define lines, bindings.glsl (the binding points'
+/// names, always the built-in list: the C++ that binds the buffers was built
+/// with it), then the shader with its includes. A shader includes only what
+/// it uses: NVIDIA's compiler takes 5 to 9 ms a program to read the rest
+/// (bench/results/README.md, 2026-12-06: a first run's compiles).
+ComposedShader composeShader(const std::string& name, const std::vector<std::string>& defines) {
+    if (!shaderText(name))
         throw Error("shader " + name + ": not among the embedded shaders (add shaders/" + name +
                     " to YV_SHADERS in CMakeLists.txt)");
-    const char* common = commonOverride ? commonOverride->c_str() : shaderSource("common.glsl");
-    // The binding points' names, always the built-in list: the C++ that binds
-    // the buffers was compiled with it (gl_bindings.h).
-    const char* bindings = shaderSource("bindings.glsl");
+    ComposedShader out{"#version 450 core\n", {name, "bindings.glsl"}};
+    for (const std::string& d : defines) out.text += "#define " + d + "\n";
+    out.text += "#line 1 2\n";
+    if (const char* bindings = shaderSource("bindings.glsl")) out.text += bindings;
+    out.text += "\n";
+    appendWithIncludes(name, 1, out, 0);
+    return out;
+}
 
-    std::string src = "#version 450 core\n";
-    for (const std::string& d : defines) src += "#define " + d + "\n";
-    // Source-string numbers 1, 2 and 3 let driver logs tell the files apart.
-    src += "#line 1 3\n";
-    if (bindings) src += bindings;
-    src += "\n#line 1 1\n";
-    if (common) src += common;
-    src += "\n#line 1 2\n";
-    src += text;
+/// "source-string 1 is NAME, 2 is bindings.glsl, 3 is ...": how to read a driver's log.
+std::string sourceStringNames(const std::string& name) {
+    std::string names;
+    try {
+        const ComposedShader composed = composeShader(name, {});
+        for (std::size_t i = 0; i < composed.files.size(); ++i)
+            names += (i ? ", " : "source-string ") + std::to_string(i + 1) + " is " + composed.files[i];
+    } catch (const Error&) {
+        names = "source-string 1 is " + name + ", 2 is bindings.glsl";
+    }
+    return names;
+}
 
+} // namespace
+
+GlShader startShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
+    const ComposedShader composed = composeShader(name, defines);
     GlShader shader(glCreateShader(stage));
     if (!shader) throw Error("shader " + name + ": glCreateShader failed (no current GL context?)");
-    const char* p = src.c_str();
+    const char* p = composed.text.c_str();
     glShaderSource(shader.id(), 1, &p, nullptr);
     // Traced by name: a first run with no shader cache waits on the driver's compiler.
     const auto start = std::chrono::steady_clock::now();
@@ -115,8 +183,7 @@ void checkShaderStage(const GlShader& shader, const std::string& name) {
     glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
     if (!ok) {
         const std::string log = shaderLog(shader.id());
-        throw Error("shader " + name + ": compile failed (source-string 1 is common.glsl, 2 is " + name +
-                    ", 3 is bindings.glsl):\n" + log);
+        throw Error("shader " + name + ": compile failed (" + sourceStringNames(name) + "):\n" + log);
     }
 }
 
