@@ -34,9 +34,7 @@ void combineAccumulators(Reduce reduce, std::uint32_t* dst, const std::uint32_t*
 }
 
 int VoxelBrick::activeCount() const {
-    int n = 0;
-    for (std::uint64_t w : activeMask) n += std::popcount(w);
-    return n;
+    return activeVoxelCount(activeMask);
 }
 
 glm::dvec3 principalAxis(const double t[6]) {

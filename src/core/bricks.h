@@ -3,6 +3,7 @@
 // OpenVDB LeafNode, and voxels inside it are ordered as OpenVDB orders them.
 #pragma once
 
+#include "core/brick_mask.h"
 #include "core/sampling.h"
 #include "core/voxel_grid.h"
 
@@ -51,7 +52,7 @@ struct VoxelBrick {
     std::uint64_t key = 0;
     std::array<float, kBrickVoxels> density{};
     std::array<glm::vec3, kBrickVoxels> orientation{};
-    std::array<std::uint64_t, kBrickVoxels / 64> activeMask{}; ///< voxel v active: bit v % 64 of word v / 64
+    std::array<std::uint64_t, kBrickMaskWords> activeMask{}; ///< voxel v active: bit v % 64 of word v / 64
     /// Linear RGB fibre colour per voxel (zero where inactive), for runs with
     /// --albedo; empty otherwise, so runs without it carry nothing.
     std::vector<glm::vec3> albedo;

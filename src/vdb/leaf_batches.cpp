@@ -79,7 +79,7 @@ EncodedBatch encodeBatch(const PyramidLevel& level, SpillFile& spill, const Batc
             for (int g = 0; g < level.gridCount; ++g) r.load[g] = bricks.encode(*level.encoders[g], b, r.mask, encoded[g][i]);
             if (octants.skip) bricks.octant(b, r.mask, octants.skip, encoded[kOctants][i]);
             pieceBounds[i] = activeBounds(bricks.key(b), r.mask);
-            for (std::uint64_t word : r.mask) activeCounts[i] += std::uint32_t(std::popcount(word));
+            activeCounts[i] += std::uint32_t(activeVoxelCount(r.mask));
             if (counted) bricks.count(b, r.mask, half, statistics.local());
         });
         statistics.combine_each([&](const VoxelStatistics& s) { batch.statistics += s; });

@@ -162,8 +162,8 @@ struct PackedBrickBatch {
         // A packed voxel is its density and axis, four floats: the brick's
         // active voxels are the values countStoredValues takes, one after another.
         static_assert(sizeof(PackedVoxel) == 4 * sizeof(float));
-        std::size_t active = 0; // the mask's, which packedBrickMask checked against the voxels held
-        for (std::uint64_t word : mask) active += std::size_t(std::popcount(word));
+        // The mask's count, which packedBrickMask checked against the voxels held.
+        const std::size_t active = std::size_t(activeVoxelCount(mask));
         float values[4 * kBrickVoxels];
         std::memcpy(values, packed.voxels.data() + packed.headers[i].firstVoxel, active * sizeof(PackedVoxel));
         countStoredValues(mask.data(), values, active, half, s);

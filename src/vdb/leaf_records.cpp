@@ -1,5 +1,6 @@
 #include "vdb/leaf_records.h"
 
+#include "core/brick_mask.h"
 #include "core/error.h"
 
 #include <openvdb/Types.h>
@@ -86,8 +87,7 @@ void decodeLeafRecord(std::span<const std::uint8_t> record, const VdbIndex& inde
                     " bytes, shorter than its mask (damaged)");
     std::memcpy(words, record.data(), sizeof words);
     if (activeOut) std::memcpy(activeOut, words, sizeof words);
-    std::size_t active = 0;
-    for (std::uint64_t w : words) active += std::size_t(std::popcount(w));
+    const std::size_t active = std::size_t(activeVoxelCount(words));
     if (record.size() != sizeof words + 1 + active * components * valueBytes || record[sizeof words] != 0)
         throw Error(leafWhere(index, grid, leaf, brick, recordAt) + ": the record's mask or layout differs from the topology (damaged)");
     std::fill(out, out + 512 * components, 0.0f);

@@ -1,5 +1,6 @@
 #include "vdb/openvdb_encoding.h"
 
+#include "core/brick_mask.h"
 #include "core/error.h"
 #include "core/half_floats.h"
 
@@ -175,8 +176,7 @@ LeafLoadInfo encodeLeaf(std::unique_ptr<TaggedStream>& stream, const GridEncodin
         // the active values in voxel order. Written directly: OpenVDB's
         // writer fills and scans all 512 values (6 KiB for a vector) and
         // goes through a stream, several times the cost of the bytes.
-        std::size_t active = 0;
-        for (std::uint64_t w : words) active += std::size_t(std::popcount(w));
+        const std::size_t active = std::size_t(activeVoxelCount(words));
         const std::size_t components = encoding.kind == GridKind::Density ? 1 : 3;
         const std::size_t at = out.size();
         out.resize(at + sizeof words + 1 + active * components * (encoding.half ? 2 : 4));

@@ -1,5 +1,6 @@
 #include "view/view_volume.h"
 
+#include "core/brick_mask.h"
 #include "core/error.h"
 #include "inspect/slice_instances.h"
 #include "inspect/run_slices.h"
@@ -40,7 +41,8 @@ std::uint64_t countActiveVoxels(const VolumeSource& source) {
     source.forEachBrickConcurrently(bounds.min / 8, bounds.max / 8, [&](const SourceBrick& brick) {
         std::uint64_t n = 0;
         if (brick.active) {
-            for (int w = 0; w < 8; ++w) n += std::uint64_t(std::popcount(brick.active[w]));
+            const std::span<const std::uint64_t, kBrickMaskWords> mask(brick.active, kBrickMaskWords);
+            n = std::uint64_t(activeVoxelCount(mask));
         } else {
             for (int i = 0; i < 512; ++i) n += brick.density[i] > 0.0f ? 1 : 0;
         }
