@@ -26,12 +26,18 @@
 // context, every compile started and then every link waited for, as the run
 // does), their binaries loaded into the first context. One JSON line; run
 // each K in a fresh process with a fresh cache folder.
+//
+// --cold-processes K: the same programs over this process and K copies of
+// itself started first thing (a driver that compiles one program at a time
+// in a process may compile side by side in several), each copy's binaries
+// loaded here; seconds from the process's start.
 #include "core/error.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_program.h"
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -190,12 +196,99 @@ int coldCompile(GlContext& gl, int contexts, int device, double contextSeconds) 
     return 0;
 }
 
+/// --cold-processes K: which of defaultRunPrograms() worker W of K + 1
+/// compiles (worker 0 is the first process): longest first, each to the
+/// worker with the least so far, by each program's link time on an H100
+/// with no shader cache (ms, defaultRunPrograms' order).
+std::vector<std::size_t> coldShare(int worker, int workers) {
+    const double linkMs[] = {136, 154, 56, 40, 27, 25, 3, 19, 12, 3, 4};
+    std::vector<double> load(std::size_t(workers), 0.0);
+    std::vector<std::size_t> order(std::size(linkMs)), share;
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return linkMs[a] > linkMs[b]; });
+    for (std::size_t i : order) {
+        const std::size_t w = std::size_t(std::min_element(load.begin(), load.end()) - load.begin());
+        load[w] += linkMs[i];
+        if (int(w) == worker) share.push_back(i);
+    }
+    return share;
+}
+
+/// --cold-child W K: compiles worker W's share, binaries to stdout.
+int coldChild(int worker, int workers, int device) {
+    GlContext own(GlContextOptions{device, false});
+    const std::vector<Shader> shaders = defaultRunPrograms();
+    for (std::size_t i : coldShare(worker, workers + 1)) {
+        const Binary b = compileToBinary(shaders[i], 0);
+        const std::uint32_t header[3] = {std::uint32_t(i), b.format, std::uint32_t(b.bytes.size())};
+        writeAll(1, header, sizeof header);
+        writeAll(1, b.bytes.data(), b.bytes.size());
+    }
+    return 0;
+}
+
+/// --cold-processes K: K copies of this program started first thing, each
+/// compiling its share while this process makes its context and compiles
+/// its own; their binaries loaded here. Seconds from the process's start.
+int coldProcesses(int children, int device, const char* self, std::chrono::steady_clock::time_point processStart) {
+    std::vector<pid_t> pids;
+    std::vector<int> pipes;
+    for (int c = 1; c <= children; ++c) {
+        int fds[2];
+        if (::pipe(fds) != 0) throw Error("pipe failed");
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
+        posix_spawn_file_actions_addclose(&actions, fds[0]);
+        const std::string index = std::to_string(c), count = std::to_string(children), deviceText = std::to_string(device);
+        const char* args[] = {self, "--cold-child", index.c_str(), count.c_str(), "--device", deviceText.c_str(), nullptr};
+        pid_t pid = 0;
+        if (posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, const_cast<char**>(args), environ) != 0)
+            throw Error("posix_spawn failed");
+        posix_spawn_file_actions_destroy(&actions);
+        ::close(fds[1]);
+        pids.push_back(pid);
+        pipes.push_back(fds[0]);
+    }
+    GlContext gl(GlContextOptions{device, false});
+    const double contextSeconds = since(processStart);
+    const std::vector<Shader> shaders = defaultRunPrograms();
+    std::vector<GlProgram> own;
+    for (std::size_t i : coldShare(0, children + 1))
+        own.push_back(shaders[i].files.size() == 1 ? GlProgram::compute(shaders[i].files[0], shaders[i].defines)
+                                                   : GlProgram::graphics(shaders[i].files[0], shaders[i].files[1],
+                                                                         shaders[i].defines));
+    for (const GlProgram& p : own) p.use();
+    const double ownSeconds = since(processStart);
+    std::size_t loaded = 0;
+    for (int c = 0; c < children; ++c) {
+        for (std::size_t n = coldShare(c + 1, children + 1).size(); n > 0; --n) {
+            std::uint32_t header[3];
+            readAll(pipes[std::size_t(c)], header, sizeof header);
+            Binary b;
+            b.format = header[1];
+            b.bytes.resize(header[2]);
+            readAll(pipes[std::size_t(c)], b.bytes.data(), b.bytes.size());
+            glUseProgram(loadBinary(b));
+            ++loaded;
+        }
+        ::close(pipes[std::size_t(c)]);
+        int status = 0;
+        ::waitpid(pids[std::size_t(c)], &status, 0);
+    }
+    glFinish();
+    std::printf("{\"cold_processes\": %d, \"context_s\": %.3f, \"own_share_s\": %.3f, \"loaded\": %zu, "
+                "\"all_linked_s\": %.3f}\n",
+                children, contextSeconds, ownSeconds, loaded, since(processStart));
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) try {
     std::vector<int> threadCounts = {1, 2, 4, 8}, separateCounts, processCounts;
     int rounds = 3, device = -1;
-    int childIndex = -1, childCount = 0, childSalt = 0, cold = -1;
+    int childIndex = -1, childCount = 0, childSalt = 0, cold = -1, coldChildren = -1, coldWorker = -1;
     for (int i = 1; i < argc; ++i) {
         const std::string k = argv[i];
         auto value = [&]() -> std::string {
@@ -215,11 +308,18 @@ int main(int argc, char** argv) try {
             childCount = std::stoi(value());
             childSalt = std::stoi(value());
         } else if (k == "--cold") cold = std::stoi(value());
+        else if (k == "--cold-processes") coldChildren = std::stoi(value());
+        else if (k == "--cold-child") { // W K
+            coldWorker = std::stoi(value());
+            coldChildren = std::stoi(value());
+        }
         else if (k == "--rounds") rounds = std::stoi(value());
         else if (k == "--device") device = std::stoi(value());
         else throw Error("unknown option " + k);
     }
     const auto processStart = std::chrono::steady_clock::now();
+    if (coldWorker > 0) return coldChild(coldWorker, coldChildren, device);
+    if (coldChildren >= 0) return coldProcesses(coldChildren, device, argv[0], processStart);
     GlContext gl(GlContextOptions{device, false});
     if (cold >= 0) return coldCompile(gl, cold, device, since(processStart));
     const std::vector<Shader> candidates = {

@@ -12,6 +12,10 @@
 #include "common.glsl"
 
 layout(local_size_x = 256) in;
+// Loops kept as loops: NVIDIA's compiler links this program 10 ms sooner with
+// no shader cache (54 -> 44 ms on an H100) and the raster takes as long
+// (bench/results/README.md, 2026-12-06). Other drivers ignore the pragma.
+#pragma optionNV(unroll none)
 
 layout(std430, binding = kSlicesBinding) readonly buffer Slices { SliceRecord slices[]; };
 // x: the slice (its record), y: the pixel on the region's face, x | y << 16.
