@@ -30,7 +30,9 @@
 // --cold-processes K: the same programs over this process and K copies of
 // itself started first thing (a driver that compiles one program at a time
 // in a process may compile side by side in several), each copy's binaries
-// loaded here; seconds from the process's start.
+// loaded here; seconds from the process's start. --cold-warmers K: the
+// copies only compile (into the driver's disk cache, which all processes
+// share); once they are done this process compiles their programs too.
 #include "core/error.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_program.h"
@@ -214,11 +216,21 @@ std::vector<std::size_t> coldShare(int worker, int workers) {
     return share;
 }
 
-/// --cold-child W K: compiles worker W's share, binaries to stdout.
-int coldChild(int worker, int workers, int device) {
+GlProgram buildProgram(const Shader& s) {
+    return s.files.size() == 1 ? GlProgram::compute(s.files[0], s.defines)
+                               : GlProgram::graphics(s.files[0], s.files[1], s.defines);
+}
+
+/// --cold-child W K: compiles worker W's share, binaries to stdout; with
+/// `warmOnly` it only compiles them (the driver's disk cache keeps them).
+int coldChild(int worker, int workers, int device, bool warmOnly) {
     GlContext own(GlContextOptions{device, false});
     const std::vector<Shader> shaders = defaultRunPrograms();
     for (std::size_t i : coldShare(worker, workers + 1)) {
+        if (warmOnly) {
+            buildProgram(shaders[i]).waitLinked();
+            continue;
+        }
         const Binary b = compileToBinary(shaders[i], 0);
         const std::uint32_t header[3] = {std::uint32_t(i), b.format, std::uint32_t(b.bytes.size())};
         writeAll(1, header, sizeof header);
@@ -230,7 +242,8 @@ int coldChild(int worker, int workers, int device) {
 /// --cold-processes K: K copies of this program started first thing, each
 /// compiling its share while this process makes its context and compiles
 /// its own; their binaries loaded here. Seconds from the process's start.
-int coldProcesses(int children, int device, const char* self, std::chrono::steady_clock::time_point processStart) {
+int coldProcesses(int children, int device, const char* self, std::chrono::steady_clock::time_point processStart,
+                  bool warmOnly) {
     std::vector<pid_t> pids;
     std::vector<int> pipes;
     for (int c = 1; c <= children; ++c) {
@@ -241,7 +254,8 @@ int coldProcesses(int children, int device, const char* self, std::chrono::stead
         posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
         posix_spawn_file_actions_addclose(&actions, fds[0]);
         const std::string index = std::to_string(c), count = std::to_string(children), deviceText = std::to_string(device);
-        const char* args[] = {self, "--cold-child", index.c_str(), count.c_str(), "--device", deviceText.c_str(), nullptr};
+        const char* args[] = {self,         warmOnly ? "--cold-warm-child" : "--cold-child",
+                              index.c_str(), count.c_str(), "--device", deviceText.c_str(), nullptr};
         pid_t pid = 0;
         if (posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, const_cast<char**>(args), environ) != 0)
             throw Error("posix_spawn failed");
@@ -254,13 +268,30 @@ int coldProcesses(int children, int device, const char* self, std::chrono::stead
     const double contextSeconds = since(processStart);
     const std::vector<Shader> shaders = defaultRunPrograms();
     std::vector<GlProgram> own;
-    for (std::size_t i : coldShare(0, children + 1))
-        own.push_back(shaders[i].files.size() == 1 ? GlProgram::compute(shaders[i].files[0], shaders[i].defines)
-                                                   : GlProgram::graphics(shaders[i].files[0], shaders[i].files[1],
-                                                                         shaders[i].defines));
+    for (std::size_t i : coldShare(0, children + 1)) own.push_back(buildProgram(shaders[i]));
     for (const GlProgram& p : own) p.use();
     const double ownSeconds = since(processStart);
     std::size_t loaded = 0;
+    if (warmOnly) {
+        // The copies compiled into the driver's disk cache: once they are
+        // gone, this process's compiles of their programs are the cache's hits.
+        for (int c = 0; c < children; ++c) {
+            ::close(pipes[std::size_t(c)]);
+            int status = 0;
+            ::waitpid(pids[std::size_t(c)], &status, 0);
+        }
+        const double waited = since(processStart);
+        for (int c = 0; c < children; ++c)
+            for (std::size_t i : coldShare(c + 1, children + 1)) {
+                buildProgram(shaders[i]).use();
+                ++loaded;
+            }
+        glFinish();
+        std::printf("{\"cold_warmers\": %d, \"context_s\": %.3f, \"own_share_s\": %.3f, \"warmers_done_s\": %.3f, "
+                    "\"compiled_after\": %zu, \"all_linked_s\": %.3f}\n",
+                    children, contextSeconds, ownSeconds, waited, loaded, since(processStart));
+        return 0;
+    }
     for (int c = 0; c < children; ++c) {
         for (std::size_t n = coldShare(c + 1, children + 1).size(); n > 0; --n) {
             std::uint32_t header[3];
@@ -289,6 +320,7 @@ int main(int argc, char** argv) try {
     std::vector<int> threadCounts = {1, 2, 4, 8}, separateCounts, processCounts;
     int rounds = 3, device = -1;
     int childIndex = -1, childCount = 0, childSalt = 0, cold = -1, coldChildren = -1, coldWorker = -1;
+    bool warmOnly = false;
     for (int i = 1; i < argc; ++i) {
         const std::string k = argv[i];
         auto value = [&]() -> std::string {
@@ -308,8 +340,11 @@ int main(int argc, char** argv) try {
             childCount = std::stoi(value());
             childSalt = std::stoi(value());
         } else if (k == "--cold") cold = std::stoi(value());
-        else if (k == "--cold-processes") coldChildren = std::stoi(value());
-        else if (k == "--cold-child") { // W K
+        else if (k == "--cold-processes" || k == "--cold-warmers") {
+            coldChildren = std::stoi(value());
+            warmOnly = k == "--cold-warmers";
+        } else if (k == "--cold-child" || k == "--cold-warm-child") { // W K
+            warmOnly = k == "--cold-warm-child";
             coldWorker = std::stoi(value());
             coldChildren = std::stoi(value());
         }
@@ -318,8 +353,8 @@ int main(int argc, char** argv) try {
         else throw Error("unknown option " + k);
     }
     const auto processStart = std::chrono::steady_clock::now();
-    if (coldWorker > 0) return coldChild(coldWorker, coldChildren, device);
-    if (coldChildren >= 0) return coldProcesses(coldChildren, device, argv[0], processStart);
+    if (coldWorker > 0) return coldChild(coldWorker, coldChildren, device, warmOnly);
+    if (coldChildren >= 0) return coldProcesses(coldChildren, device, argv[0], processStart, warmOnly);
     GlContext gl(GlContextOptions{device, false});
     if (cold >= 0) return coldCompile(gl, cold, device, since(processStart));
     const std::vector<Shader> candidates = {
