@@ -13,6 +13,5 @@ void addMergeCommand(CLI::App& app);
 void addInspectCommand(CLI::App& app);
 void addExportCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
-void addCompileProgramsCommand(CLI::App& app);
 
 } // namespace yv

@@ -58,7 +58,6 @@ int runCommand(int argc, char** argv) {
     yv::addInspectCommand(app);
     yv::addExportCommand(app);
     yv::addViewCommand(app);
-    yv::addCompileProgramsCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

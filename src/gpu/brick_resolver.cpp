@@ -17,9 +17,7 @@ double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(
 
 constexpr std::uint64_t kScanBlock = 1024; // slots one scan work group covers (brick_resolve_scan.comp)
 
-} // namespace
-
-std::vector<std::string> brickResolveDefines(Reduce reduce, Overlap overlap, bool albedo, bool countOnly) {
+std::vector<std::string> variant(Reduce reduce, Overlap overlap, bool albedo, bool countOnly) {
     std::vector<std::string> defines;
     if (reduce == Reduce::Max) defines.push_back("REDUCE_MAX 1");
     if (albedo) defines.push_back("ALBEDO 1");
@@ -28,11 +26,13 @@ std::vector<std::string> brickResolveDefines(Reduce reduce, Overlap overlap, boo
     return defines;
 }
 
+} // namespace
+
 GlBrickResolver::GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes, bool albedo)
     : reduce_(reduce), albedo_(albedo), gpuBytes_(gpuBytes),
-      count_(GlProgram::compute("brick_resolve.comp", brickResolveDefines(reduce, overlap, albedo, true))),
+      count_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, albedo, true))),
       scan_(GlProgram::compute("brick_resolve_scan.comp")),
-      resolve_(GlProgram::compute("brick_resolve.comp", brickResolveDefines(reduce, overlap, albedo, false))) {
+      resolve_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, albedo, false))) {
     if (albedo && reduce != Reduce::Mean)
         throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
     totals_.reserve(8, gpuBytes_);

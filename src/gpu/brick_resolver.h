@@ -30,10 +30,6 @@ struct BrickKeys {
 
 /// Resolves bricks on a live GL 4.5 context (needs double precision in
 /// shaders, core since 4.0).
-/// brick_resolve.comp's #defines for a run's reduction, overlap rule and
-/// albedo; `countOnly` for the pass that counts each slot's active voxels.
-std::vector<std::string> brickResolveDefines(Reduce reduce, Overlap overlap, bool albedo, bool countOnly);
-
 class GlBrickResolver {
   public:
     /// `gpuBytes`, where given, tracks the sum of yarnvox's GPU buffers.

@@ -38,8 +38,5 @@ GlTexture uploadAlbedoTexture(const CrossSection& xs);
 /// exact coverage or the texture (each variant compiles only the code it
 /// runs), and the texel reads `reads` (not Auto).
 std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads);
-/// The same from whether the cross-section is the analytic disk (known
-/// from the options before the garment is read).
-std::vector<std::string> crossSectionDefines(bool analyticDisk, TexelReads reads);
 
 } // namespace yv

@@ -2,7 +2,6 @@
 
 #include "core/error.h"
 #include "core/trace.h"
-#include "gpu/program_cache.h"
 #include "gpu/shader_sources.h"
 
 #include <epoxy/egl.h>
@@ -164,66 +163,19 @@ std::string sourceStringNames(const std::string& name) {
     return names;
 }
 
-/// Starts compiling `text`, the composed source of shader file `name`.
-GlShader compileComposed(GLenum stage, const std::string& name, const std::string& text) {
+} // namespace
+
+GlShader startShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
+    const ComposedShader composed = composeShader(name, defines);
     GlShader shader(glCreateShader(stage));
     if (!shader) throw Error("shader " + name + ": glCreateShader failed (no current GL context?)");
-    const char* p = text.c_str();
+    const char* p = composed.text.c_str();
     glShaderSource(shader.id(), 1, &p, nullptr);
     // Traced by name: a first run with no shader cache waits on the driver's compiler.
     const auto start = std::chrono::steady_clock::now();
     glCompileShader(shader.id());
     if (traceEnabled()) traceSpanSince("compile " + name, start);
     return shader;
-}
-
-} // namespace
-
-/// The program cache's binary under `key` as a linked program, or nullopt
-/// (none there; or one the driver refuses, which the next store replaces).
-std::optional<GlProgram> GlProgram::loadLinkedProgram(const std::string& key, const std::string& names) {
-    const std::optional<std::filesystem::path> dir = programCacheDir();
-    if (!dir) return std::nullopt;
-    const auto start = std::chrono::steady_clock::now();
-    const std::optional<ProgramBinary> binary = loadCachedProgram(*dir, key);
-    if (!binary) return std::nullopt;
-    GlProgram program(glCreateProgram());
-    glProgramBinary(program.id_, binary->format, binary->bytes.data(), GLsizei(binary->bytes.size()));
-    GLint ok = GL_FALSE;
-    glGetProgramiv(program.id_, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        countProgramCache(0, 0, 1);
-        return std::nullopt;
-    }
-    countProgramCache(1, 0, 0);
-    if (traceEnabled()) traceSpanSince("load " + names + " from the program cache", start);
-    return program;
-}
-
-/// Stores linked `program` in the program cache under `key` (nothing where
-/// the driver gives no binary or the cache cannot be written).
-void GlProgram::storeLinkedProgram(GLuint program, const std::string& key) {
-    const std::optional<std::filesystem::path> dir = programCacheDir();
-    GLint length = 0;
-    glGetProgramiv(program, GL_PROGRAM_BINARY_LENGTH, &length);
-    if (!dir || length <= 0) return;
-    ProgramBinary binary{0, std::vector<std::uint8_t>(std::size_t(length))};
-    GLsizei written = 0;
-    glGetProgramBinary(program, length, &written, &binary.format, binary.bytes.data());
-    binary.bytes.resize(std::size_t(std::max(written, 0)));
-    if (!binary.bytes.empty() && storeCachedProgram(*dir, key, binary)) countProgramCache(0, 1, 0);
-}
-
-bool computeProgramCached(const std::string& name, const std::vector<std::string>& defines) {
-    const std::optional<std::filesystem::path> dir = programCacheDir();
-    if (!dir) return false;
-    const std::string key = programKey(driverIdentity(), {{GL_COMPUTE_SHADER, composeShader(name, defines).text}});
-    std::error_code ignored;
-    return std::filesystem::exists(*dir / (key + ".bin"), ignored);
-}
-
-GlShader startShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
-    return compileComposed(stage, name, composeShader(name, defines).text);
 }
 
 void checkShaderStage(const GlShader& shader, const std::string& name) {
@@ -241,15 +193,14 @@ GlShader compileShaderStage(GLenum stage, const std::string& name, const std::ve
     return shader;
 }
 
-GlProgram GlProgram::link(std::vector<Stage> stages, const std::string& names, std::string cacheKey) {
+GlProgram GlProgram::link(std::vector<Stage> stages, const std::string& names) {
     GlProgram program(glCreateProgram());
     for (const Stage& s : stages) glAttachShader(program.id_, s.shader.id());
-    if (!cacheKey.empty()) glProgramParameteri(program.id_, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
     const auto start = std::chrono::steady_clock::now();
     glLinkProgram(program.id_);
     if (traceEnabled()) traceSpanSince("link " + names, start);
     // The stages stay until the check: a failed compile's log is theirs.
-    program.pending_ = std::make_unique<Pending>(Pending{std::move(stages), names, std::move(cacheKey)});
+    program.pending_ = std::make_unique<Pending>(Pending{std::move(stages), names});
     return program;
 }
 
@@ -265,38 +216,29 @@ void GlProgram::waitLinked() const {
         throw Error("shader " + pending->names + ": link failed:\n" + programLog(id_));
     }
     for (const Stage& s : pending->stages) glDetachShader(id_, s.shader.id());
-    if (!pending->cacheKey.empty()) storeLinkedProgram(id_, pending->cacheKey);
-}
-
-GlProgram GlProgram::build(const std::vector<StageFile>& files, const std::vector<std::string>& defines) {
-    std::string names;
-    for (const StageFile& f : files) names += (names.empty() ? "" : " + ") + f.name;
-    std::vector<std::pair<GLenum, std::string>> texts;
-    for (const StageFile& f : files) texts.emplace_back(f.type, composeShader(f.name, defines).text);
-    std::string key;
-    if (programCacheDir()) {
-        key = programKey(driverIdentity(), texts);
-        if (std::optional<GlProgram> cached = loadLinkedProgram(key, names)) return std::move(*cached);
-    }
-    std::vector<Stage> stages;
-    for (std::size_t i = 0; i < files.size(); ++i)
-        stages.push_back({compileComposed(files[i].type, files[i].name, texts[i].second), files[i].name});
-    return link(std::move(stages), names, std::move(key));
 }
 
 GlProgram GlProgram::compute(const std::string& name, const std::vector<std::string>& defines) {
-    return build({{GL_COMPUTE_SHADER, name}}, defines);
+    std::vector<Stage> stages;
+    stages.push_back({startShaderStage(GL_COMPUTE_SHADER, name, defines), name});
+    return link(std::move(stages), name);
 }
 
 GlProgram GlProgram::graphics(const std::string& vertexName, const std::string& fragmentName,
                               const std::vector<std::string>& defines) {
-    return build({{GL_VERTEX_SHADER, vertexName}, {GL_FRAGMENT_SHADER, fragmentName}}, defines);
+    std::vector<Stage> stages;
+    stages.push_back({startShaderStage(GL_VERTEX_SHADER, vertexName, defines), vertexName});
+    stages.push_back({startShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines), fragmentName});
+    return link(std::move(stages), vertexName + " + " + fragmentName);
 }
 
 GlProgram GlProgram::graphicsWithGeometry(const std::string& vertexName, const std::string& geometryName,
                                           const std::string& fragmentName, const std::vector<std::string>& defines) {
-    return build({{GL_VERTEX_SHADER, vertexName}, {GL_GEOMETRY_SHADER, geometryName}, {GL_FRAGMENT_SHADER, fragmentName}},
-                 defines);
+    std::vector<Stage> stages;
+    stages.push_back({startShaderStage(GL_VERTEX_SHADER, vertexName, defines), vertexName});
+    stages.push_back({startShaderStage(GL_GEOMETRY_SHADER, geometryName, defines), geometryName});
+    stages.push_back({startShaderStage(GL_FRAGMENT_SHADER, fragmentName, defines), fragmentName});
+    return link(std::move(stages), vertexName + " + " + geometryName + " + " + fragmentName);
 }
 
 GlProgram::~GlProgram() {

@@ -18,9 +18,6 @@ namespace yv {
 /// gl_bindings.h), shaders/common.glsl, then the shader file itself, each
 /// part behind a #line marker so driver logs point at the right file.
 ///
-/// A program an earlier run linked with the same driver and the same source
-/// text is loaded from yarnvox's program cache (program_cache.h) instead.
-///
 /// Making one starts the driver's compile and link and returns: the outcome
 /// is asked for at the program's first use (or waitLinked()), so a driver
 /// that compiles on threads of its own may compile the programs a run makes
@@ -63,22 +60,10 @@ class GlProgram {
     struct Pending {
         std::vector<Stage> stages;
         std::string names;
-        std::string cacheKey; ///< where the linked program goes in the program cache ("" for none)
-    };
-    struct StageFile {
-        GLenum type;
-        std::string name;
     };
     explicit GlProgram(GLuint id) : id_(id) {}
-    /// From the program cache where it holds the program, else compiled
-    /// (and stored there once linked: waitLinked).
-    static GlProgram build(const std::vector<StageFile>& files, const std::vector<std::string>& defines);
-    /// The program cache's binary under `key` as a linked program, or nullopt.
-    static std::optional<GlProgram> loadLinkedProgram(const std::string& key, const std::string& names);
-    /// Stores linked `program` in the program cache under `key`.
-    static void storeLinkedProgram(GLuint program, const std::string& key);
     /// Attaches and starts the link; `names` is what a link error reports.
-    static GlProgram link(std::vector<Stage> stages, const std::string& names, std::string cacheKey);
+    static GlProgram link(std::vector<Stage> stages, const std::string& names);
     GLuint id_ = 0;
     mutable std::unique_ptr<Pending> pending_; ///< until waitLinked() has checked it
 };
@@ -98,10 +83,6 @@ GlShader compileShaderStage(GLenum stage, const std::string& name, const std::ve
 GlShader startShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines);
 /// Throws yv::Error with `name` and the driver's log when `shader` did not compile.
 void checkShaderStage(const GlShader& shader, const std::string& name);
-
-/// Whether yarnvox's program cache holds the compute program that shader
-/// file `name` with `defines` builds, for the current context's driver.
-bool computeProgramCached(const std::string& name, const std::vector<std::string>& defines);
 
 /// Throws yv::Error naming `where` when glGetError reports an error.
 void checkGlError(const char* where);

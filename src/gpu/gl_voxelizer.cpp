@@ -8,7 +8,6 @@
 #include "gpu/gl_budget.h"
 #include "gpu/gl_buffer.h"
 #include "gpu/gpu_layout.h"
-#include "gpu/program_helpers.h"
 #include "gpu/raster_pass.h"
 #include "gpu/sample_lists.h"
 #include "gpu/sample_pass.h"
@@ -153,8 +152,6 @@ void GlBackend::Impl::prepare() {
     const TexelReads reads = texelReadsFor(settings_.texelReads);
     SampleTextures textures = uploadSampleTextures(xs_, reads, albedo_, &gpuBytes_);
     const auto compileStart = std::chrono::steady_clock::now();
-    // Their programs are then in the program cache (program_helpers.h).
-    waitForProgramHelpers();
     const bool timerQueries = context_.info().hardware();
     raster_ = std::make_unique<RasterPass>(plan_, segments_, drawing_, budget_, crossSectionDefines(xs_, reads),
                                            timerQueries, &gpuBytes_);

@@ -11,15 +11,15 @@ namespace {
 
 constexpr GLuint kSampleGroup = 128; // sample.comp's local_size_x
 
-} // namespace
-
-std::vector<std::string> sampleDefines(bool analyticDisk, TexelReads reads, bool albedo) {
-    std::vector<std::string> defines = crossSectionDefines(analyticDisk, reads);
+std::vector<std::string> sampleDefines(const CrossSection& xs, TexelReads reads, bool albedo) {
+    std::vector<std::string> defines = crossSectionDefines(xs, reads);
     // --albedo compiles variants of their own (ALBEDO), so runs without it
     // keep the programs, fragments and brick words they always had.
     if (albedo) defines.push_back("ALBEDO 1");
     return defines;
 }
+
+} // namespace
 
 SampleTextures uploadSampleTextures(const CrossSection& xs, TexelReads reads, bool albedo, std::uint64_t* gpuBytes) {
     SampleTextures textures;
@@ -36,7 +36,7 @@ SampleTextures uploadSampleTextures(const CrossSection& xs, TexelReads reads, bo
 SamplePass::SamplePass(const CrossSection& xs, TexelReads reads, SampleTextures textures, bool albedo,
                        GLuint maxGroups, bool timerQueries)
     : textures_(std::move(textures)), albedo_(albedo), maxGroups_(maxGroups),
-      sample_(GlProgram::compute("sample.comp", sampleDefines(xs.analyticDisk, reads, albedo))),
+      sample_(GlProgram::compute("sample.comp", sampleDefines(xs, reads, albedo))),
       dispatch_(GlProgram::compute("sample_dispatch.comp")), timer_(timerQueries) {}
 
 void SamplePass::run(const WorkItem& item, const SamplingUniforms& uniforms, const SampleLists& lists,

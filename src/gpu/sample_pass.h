@@ -25,9 +25,6 @@ struct SampleTextures {
 /// adding their bytes to `gpuBytes`.
 SampleTextures uploadSampleTextures(const CrossSection& xs, TexelReads reads, bool albedo, std::uint64_t* gpuBytes);
 
-/// sample.comp's #defines: the cross-section's, and ALBEDO with --albedo.
-std::vector<std::string> sampleDefines(bool analyticDisk, TexelReads reads, bool albedo);
-
 class SamplePass {
   public:
     /// `reads` (not Auto) as `textures` were uploaded; `albedo`: the ALBEDO

@@ -2,7 +2,6 @@
 
 #include "core/trace.h"
 #include "gpu/gl_voxelizer.h"
-#include "gpu/program_helpers.h"
 
 #include <chrono>
 #include <cstdlib>
@@ -28,14 +27,7 @@ GlStart startGl(const VoxelizeJob& job, int spreadIndex) {
         gl.error = std::current_exception();
     }
     gl.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!gl.context) return gl;
-    const bool hardware = gl.context->info().hardware();
-    // On a GPU; on the software path too where YV_COMPILE_PROCESSES asks (tests).
-    if (job.method != VoxelizeMethod::Dense && (hardware || std::getenv("YV_COMPILE_PROCESSES")))
-        startProgramHelpers(slowestBackendPrograms(job.crossSection == "disk", job.albedo, job.reduce, job.overlap,
-                                                   job.sampleItems != SampleItemsRequest::Raster),
-                            GlContextOptions{job.device, false, spreadIndex});
-    if (hardware) compileInvariantPrograms();
+    if (gl.context && gl.context->info().hardware()) compileInvariantPrograms();
     return gl;
 }
 
