@@ -30,7 +30,9 @@
 // --cold-processes K: the same programs over this process and K copies of
 // itself started first thing (a driver that compiles one program at a time
 // in a process may compile side by side in several), each copy's binaries
-// loaded here; seconds from the process's start. --cold-warmers K: the
+// loaded here; seconds from the process's start (bound, never dispatched:
+// on a cold NVIDIA driver such a binary is finalised again at its first
+// dispatch, 0.19 to 0.24 s for a run's programs; bench/results/README.md). --cold-warmers K: the
 // copies only compile (into the driver's disk cache, which all processes
 // share); once they are done this process compiles their programs too.
 #include "core/error.h"
