@@ -152,6 +152,37 @@ void readAll(int fd, void* data, std::size_t n) {
     }
 }
 
+/// A copy of this program with `args` (after argv[0]), its standard output a
+/// pipe: the pid and the pipe's read end.
+std::pair<pid_t, int> spawnSelf(const char* self, const std::vector<std::string>& args) {
+    int fds[2];
+    if (::pipe(fds) != 0) throw Error("pipe failed");
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
+    posix_spawn_file_actions_addclose(&actions, fds[0]);
+    std::vector<char*> argv = {const_cast<char*>(self)};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    if (posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ) != 0)
+        throw Error("posix_spawn failed");
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(fds[1]);
+    return {pid, fds[0]};
+}
+
+/// One binary a child wrote (header: index, format, length; then the bytes).
+std::pair<std::uint32_t, Binary> readBinary(int fd) {
+    std::uint32_t header[3];
+    readAll(fd, header, sizeof header);
+    Binary b;
+    b.format = header[1];
+    b.bytes.resize(header[2]);
+    readAll(fd, b.bytes.data(), b.bytes.size());
+    return {header[0], std::move(b)};
+}
+
 /// --cold K (see the top of the file).
 int coldCompile(GlContext& gl, int contexts, int device, double contextSeconds) {
     const std::vector<Shader> shaders = defaultRunPrograms();
@@ -249,22 +280,10 @@ int coldProcesses(int children, int device, const char* self, std::chrono::stead
     std::vector<pid_t> pids;
     std::vector<int> pipes;
     for (int c = 1; c <= children; ++c) {
-        int fds[2];
-        if (::pipe(fds) != 0) throw Error("pipe failed");
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
-        posix_spawn_file_actions_addclose(&actions, fds[0]);
-        const std::string index = std::to_string(c), count = std::to_string(children), deviceText = std::to_string(device);
-        const char* args[] = {self,         warmOnly ? "--cold-warm-child" : "--cold-child",
-                              index.c_str(), count.c_str(), "--device", deviceText.c_str(), nullptr};
-        pid_t pid = 0;
-        if (posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, const_cast<char**>(args), environ) != 0)
-            throw Error("posix_spawn failed");
-        posix_spawn_file_actions_destroy(&actions);
-        ::close(fds[1]);
+        const auto [pid, out] = spawnSelf(self, {warmOnly ? "--cold-warm-child" : "--cold-child", std::to_string(c),
+                                                 std::to_string(children), "--device", std::to_string(device)});
         pids.push_back(pid);
-        pipes.push_back(fds[0]);
+        pipes.push_back(out);
     }
     GlContext gl(GlContextOptions{device, false});
     const double contextSeconds = since(processStart);
@@ -296,13 +315,7 @@ int coldProcesses(int children, int device, const char* self, std::chrono::stead
     }
     for (int c = 0; c < children; ++c) {
         for (std::size_t n = coldShare(c + 1, children + 1).size(); n > 0; --n) {
-            std::uint32_t header[3];
-            readAll(pipes[std::size_t(c)], header, sizeof header);
-            Binary b;
-            b.format = header[1];
-            b.bytes.resize(header[2]);
-            readAll(pipes[std::size_t(c)], b.bytes.data(), b.bytes.size());
-            glUseProgram(loadBinary(b));
+            glUseProgram(loadBinary(readBinary(pipes[std::size_t(c)]).second));
             ++loaded;
         }
         ::close(pipes[std::size_t(c)]);
@@ -422,32 +435,15 @@ int main(int argc, char** argv) try {
             std::vector<pid_t> children;
             std::vector<int> pipes;
             for (int c = 0; c < processes; ++c) {
-                int fds[2];
-                if (::pipe(fds) != 0) throw Error("pipe failed");
-                posix_spawn_file_actions_t actions;
-                posix_spawn_file_actions_init(&actions);
-                posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
-                posix_spawn_file_actions_addclose(&actions, fds[0]);
-                const std::string index = std::to_string(c), count = std::to_string(processes),
-                                  saltText = std::to_string(salt), deviceText = std::to_string(device);
-                const char* childArgs[] = {argv[0],          "--child",         index.c_str(), count.c_str(),
-                                           saltText.c_str(), "--device",        deviceText.c_str(), nullptr};
-                pid_t pid = 0;
-                if (posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, const_cast<char**>(childArgs), environ) != 0)
-                    throw Error("posix_spawn failed");
-                posix_spawn_file_actions_destroy(&actions);
-                ::close(fds[1]);
+                const auto [pid, out] = spawnSelf(argv[0], {"--child", std::to_string(c), std::to_string(processes),
+                                                            std::to_string(salt), "--device", std::to_string(device)});
                 children.push_back(pid);
-                pipes.push_back(fds[0]);
+                pipes.push_back(out);
             }
             for (int c = 0; c < processes; ++c) {
                 for (std::size_t i = std::size_t(c); i < candidates.size(); i += std::size_t(processes)) {
-                    std::uint32_t header[3];
-                    readAll(pipes[std::size_t(c)], header, sizeof header);
-                    Binary& b = binaries[header[0]];
-                    b.format = header[1];
-                    b.bytes.resize(header[2]);
-                    readAll(pipes[std::size_t(c)], b.bytes.data(), b.bytes.size());
+                    auto [index, binary] = readBinary(pipes[std::size_t(c)]);
+                    binaries[index] = std::move(binary);
                 }
                 ::close(pipes[std::size_t(c)]);
                 int status = 0;
