@@ -15,8 +15,12 @@ namespace yv {
 
 /// A linked GL program. Sources are composed as: "#version 450 core", the
 /// given #define lines, shaders/bindings.glsl (the binding points' names,
-/// gl_bindings.h), shaders/common.glsl, then the shader file itself, each
-/// part behind a #line marker so driver logs point at the right file.
+/// gl_bindings.h), then the shader file itself, each of its `#include
+/// "FILE"` lines replaced by FILE's text the first time (wherever the line
+/// stands: the preprocessor's #if does not hide it). Every file is behind a
+/// #line marker with a source-string number of its own (1 the shader, 2
+/// bindings.glsl, then the includes in order; a compile error lists them),
+/// so driver logs point at the right file and line.
 ///
 /// Making one starts the driver's compile and link and returns: the outcome
 /// is asked for at the program's first use (or waitLinked()), so a driver
