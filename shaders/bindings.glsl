@@ -1,7 +1,7 @@
 // The binding points of every shader storage block, atomic counter, texture
 // and image that a yarnvox shader declares: one name a buffer (or texture),
 // stated once for both languages. GlProgram puts this file before every
-// shader it compiles (ahead of common.glsl), and src/gpu/gl_bindings.h
+// shader it compiles (ahead of the shader and its includes), and src/gpu/gl_bindings.h
 // includes it into namespace yv, so a shader's `layout(binding = kItems)` and
 // the C++ that binds the buffer there say the same name. Only `const int`
 // lines and comments: valid GLSL 4.50 (a constant expression may name a

@@ -1,7 +1,7 @@
 // `inspect --render slices`: the fragment cuts its ray with the slab's
 // piece of yarn (a disk of the yarn's radius swept along the thickness) and
 // blends, premultiplied, with opacity from the length of yarn the ray
-// crosses (common.glsl's slabColour). Drawn as a box, the fragment lies on
+// crosses (slabs.glsl's slabColour). Drawn as a box, the fragment lies on
 // one of the box's faces and the ray runs from the eye through it;
 // fragments of back faces are dropped, so each slab counts once a pixel.
 // Drawn as a point (SLAB_POINTS), the ray is the pixel's, from the inverse

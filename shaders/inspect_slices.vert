@@ -1,6 +1,6 @@
 // `inspect --render slices`: one instance a slice, drawn in the sorted order
 // (instance attribute sliceIndex, farthest first). Each slice is drawn as the
-// slab of yarn it stands for (common.glsl's sliceSlab), a box of
+// slab of yarn it stands for (slabs.glsl's sliceSlab), a box of
 // 2 radius x 2 radius x thickness (a flat quad seen edge-on would cover
 // nothing), whose fragments cut their ray with the yarn's disk
 // (inspect_slices.frag). 14 vertices a box: one triangle strip, corners

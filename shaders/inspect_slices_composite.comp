@@ -4,8 +4,8 @@
 // sorted pairs), in batches of 256: each thread sets up one slab in shared
 // memory (its frame, the eye and light in it) and sets its bit in the
 // bitmap of every pixel of the tile whose centre its screen box holds
-// (common.glsl's slabPixelRange); then each pixel walks its own bits,
-// in order, casting its ray through those slabs (common.glsl's
+// (slabs.glsl's slabPixelRange); then each pixel walks its own bits,
+// in order, casting its ray through those slabs (slabs.glsl's
 // slabBoxInterval and slabColour, as inspect_slices.frag's points do), and
 // blends front to back: colour += transmittance * the slab's,
 // transmittance *= 1 - its alpha. Back to front "over", the same sum.

@@ -26,7 +26,7 @@
 // points only where it is at most the largest point.
 //
 // Tiles (uTiles, render/slice_tiles.h): each kept slab also counts the
-// 16 x 16 tiles of the picture it touches (common.glsl's slabTiles) into
+// 16 x 16 tiles of the picture it touches (slabs.glsl's slabTiles) into
 // `tileCounts` (0 for a slice not drawn) and keeps them in `tileRects`, a
 // byte a coordinate; the slabs kept go into `keptSlabs`, the nearest and
 // farthest of their keys into `nearestKey` and `farthestKey`. One that spans

@@ -153,6 +153,10 @@ TEST_CASE("Results are bit-identical for any thread count: the same .vdb bytes f
 
     const fs::path dir = fs::temp_directory_path() / ("yv_threads_" + std::to_string(getpid()));
     fs::create_directories(dir);
+    // Whether TBB's workers wake before the calling thread has taken every
+    // task is the scheduler's, on a loaded machine too: the runs asked for
+    // several threads must together have run on at least 2.
+    std::uint64_t mostThreadsRan = 0;
     for (Reduce r : {Reduce::Mean, Reduce::Max}) {
         std::vector<std::uint8_t> first;
         for (int threads : {1, 2, 3, 8}) {
@@ -170,13 +174,14 @@ TEST_CASE("Results are bit-identical for any thread count: the same .vdb bytes f
             INFO(toString(r) << ", " << threads << " threads: " << counters.tasks << " tasks on " << counters.threads
                              << " threads");
             CHECK(counters.tasks >= 8);
-            if (threads > 1) CHECK(counters.threads >= 2);
+            if (threads > 1) mostThreadsRan = std::max(mostThreadsRan, std::uint64_t(counters.threads));
             const std::vector<std::uint8_t> bytes = test::vdbBytesWithoutUuid(vdb);
             const bool sameBytes = first.empty() || bytes == first; // not CHECKed directly: megabytes to print
             CHECK(sameBytes);
             if (first.empty()) first = bytes;
         }
     }
+    CHECK(mostThreadsRan >= 2);
     fs::remove_all(dir);
 }
 

@@ -1,5 +1,6 @@
 // The sampling rule shared by every backend. formats/sampling-rule.md explains
-// it; shaders/common.glsl mirrors these constants and functions.
+// it; shaders/layout.glsl, axis_codes.glsl and common.glsl mirror these
+// constants and functions.
 #pragma once
 
 #include <glm/geometric.hpp>

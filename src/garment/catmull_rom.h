@@ -51,7 +51,7 @@ inline glm::dvec3 evalCatmullRomDerivative(const SegmentPoints& p, double t) {
 }
 
 /// Arc length of the curve for t in [t0, t1]: three-point Gauss-Legendre
-/// quadrature of the speed (shaders/common.glsl: catmullRomArcLength).
+/// quadrature of the speed (shaders/slice_placement.glsl: catmullRomArcLength).
 inline double catmullRomArcLength(const SegmentPoints& p, double t0, double t1) {
     const double mid = 0.5 * (t0 + t1), half = 0.5 * (t1 - t0), node = std::sqrt(0.6) * half;
     return half * (5.0 / 9.0 * glm::length(evalCatmullRomDerivative(p, mid - node)) +

@@ -1,4 +1,4 @@
-// Buffer layouts shared by C++ and shaders/common.glsl (std430), GL-free.
+// Buffer layouts shared by C++ and shaders/layout.glsl (std430), GL-free.
 #pragma once
 
 #include "core/default_init_allocator.h"
@@ -14,7 +14,7 @@ namespace yv {
 /// one triangle and a repeated corner.
 constexpr int kSliceVertices = 4;
 
-/// shaders/common.glsl: GpuSegment.
+/// shaders/layout.glsl: GpuSegment.
 struct GpuSegment {
     /// Control points, voxel units from the segment's anchor (an integer voxel
     /// near P[i], in p[1..3].w), so that floats keep their precision however
@@ -23,7 +23,7 @@ struct GpuSegment {
     float up[4];        ///< knot frame up; w = twist phase at the segment's start (radians, in [0, 2 pi))
     std::uint32_t info[4]; ///< first slice, slice count, float bits of the length (voxel units), yarn
 };
-static_assert(sizeof(GpuSegment) == 96, "GpuSegment must match shaders/common.glsl");
+static_assert(sizeof(GpuSegment) == 96, "GpuSegment must match shaders/layout.glsl");
 
 /// Point sprites draw runs of consecutive slices (shaders/slice_runs.comp)
 /// where the yarn's support is under kSliceRunSupportPixels pixels in radius:
@@ -47,7 +47,7 @@ struct GpuSliceRun {
 };
 static_assert(sizeof(GpuSliceRun) == 8, "GpuSliceRun must match shaders/slice_runs.comp");
 
-/// shaders/common.glsl: SliceRecord, one placed slice (shaders/slice_setup.comp
+/// shaders/layout.glsl: SliceRecord, one placed slice (shaders/slice_setup.comp
 /// writes them; the host only sizes their buffer).
 struct GpuSliceRecord {
     float center[4];    ///< voxel units from the anchor; w: projection axis (int bits)
@@ -57,7 +57,7 @@ struct GpuSliceRecord {
     float tangent[4];   ///< w: slab depth along the projection axis
     float curvature[4];
 };
-static_assert(sizeof(GpuSliceRecord) == 96, "GpuSliceRecord must match shaders/common.glsl");
+static_assert(sizeof(GpuSliceRecord) == 96, "GpuSliceRecord must match shaders/layout.glsl");
 
 /// shaders/append.frag and sample.comp: one sample item, a slice's instance
 /// and a pixel of the region's face (x | y << 16).
@@ -67,14 +67,14 @@ struct GpuSampleItem {
 };
 static_assert(sizeof(GpuSampleItem) == 8, "GpuSampleItem must match shaders/append.frag");
 
-/// shaders/common.glsl: Fragment.
+/// shaders/layout.glsl: Fragment.
 struct GpuFragment {
     std::uint32_t key;     ///< region brick index << 9 | voxel offset in the brick
     std::uint32_t weight;  ///< fixed-point volume fraction
     std::uint32_t axis;    ///< octahedral axis code
     std::uint32_t density; ///< float bits of the cross-section density
 };
-static_assert(sizeof(GpuFragment) == 16, "GpuFragment must match shaders/common.glsl");
+static_assert(sizeof(GpuFragment) == 16, "GpuFragment must match shaders/layout.glsl");
 
 /// shaders/append.frag and brick_scatter.comp: AlbedoFragments (--albedo
 /// only), at the same slot as its fragment.

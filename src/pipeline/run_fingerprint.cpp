@@ -32,7 +32,7 @@ class Fingerprint {
 std::uint64_t samplingCodeHash() {
     Fingerprint f;
     f.add(kCpuSamplingRuleVersion);
-    // "common.glsl,slice.vert,...": the names CMake embeds, in its order.
+    // "bindings.glsl,layout.glsl,...": the names CMake embeds, in its order.
     std::string_view names = YV_SHADER_NAMES;
     while (!names.empty()) {
         const std::size_t comma = std::min(names.find(','), names.size());

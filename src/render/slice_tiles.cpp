@@ -15,7 +15,7 @@
 namespace yv {
 namespace {
 
-constexpr int kTilePixels = 16;          // common.glsl's slabTiles (>> 4), the composite's group size
+constexpr int kTilePixels = 16;          // slabs.glsl's slabTiles (>> 4), the composite's group size
 constexpr std::uint64_t kGroup = 256;    // inspect_slices_tiles.comp's local_size_x
 constexpr std::uint32_t kMinDepthBits = 12; // fewer depth steps than this: too many tiles for one key
 
