@@ -82,11 +82,21 @@ double since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-GlProgram build(const Shader& s, int salt) {
+/// `s`'s defines and a salt no cache has seen for another salt.
+std::vector<std::string> salted(const Shader& s, int salt) {
     std::vector<std::string> defines = s.defines;
     defines.push_back("YV_SALT " + std::to_string(salt));
-    GlProgram p = s.files.size() == 1 ? GlProgram::compute(s.files[0], defines)
-                                      : GlProgram::graphics(s.files[0], s.files[1], defines);
+    return defines;
+}
+
+/// Starts `s`'s compile and link with `defines` on the current context.
+GlProgram startProgram(const Shader& s, const std::vector<std::string>& defines) {
+    return s.files.size() == 1 ? GlProgram::compute(s.files[0], defines)
+                               : GlProgram::graphics(s.files[0], s.files[1], defines);
+}
+
+GlProgram build(const Shader& s, int salt) {
+    GlProgram p = startProgram(s, salted(s, salt));
     p.waitLinked();
     return p;
 }
@@ -99,8 +109,7 @@ struct Binary {
 
 /// Compiles and links `s` (salted) on the current context, returned as a binary.
 Binary compileToBinary(const Shader& s, int salt) {
-    std::vector<std::string> defines = s.defines;
-    defines.push_back("YV_SALT " + std::to_string(salt));
+    const std::vector<std::string> defines = salted(s, salt);
     std::vector<GlShader> stages;
     if (s.files.size() == 1) {
         stages.push_back(startShaderStage(GL_COMPUTE_SHADER, s.files[0], defines));
@@ -172,7 +181,14 @@ std::pair<pid_t, int> spawnSelf(const char* self, const std::vector<std::string>
     return {pid, fds[0]};
 }
 
-/// One binary a child wrote (header: index, format, length; then the bytes).
+/// Writes binary `index` for the parent: a header (index, format, length), then the bytes.
+void writeBinary(int fd, std::uint32_t index, const Binary& b) {
+    const std::uint32_t header[3] = {index, b.format, std::uint32_t(b.bytes.size())};
+    writeAll(fd, header, sizeof header);
+    writeAll(fd, b.bytes.data(), b.bytes.size());
+}
+
+/// One binary a child wrote (writeBinary).
 std::pair<std::uint32_t, Binary> readBinary(int fd) {
     std::uint32_t header[3];
     readAll(fd, header, sizeof header);
@@ -195,8 +211,7 @@ int coldCompile(GlContext& gl, int contexts, int device, double contextSeconds) 
         for (std::size_t i = 0; i < shaders.size(); ++i) {
             const Shader& s = shaders[i];
             const auto linkStart = std::chrono::steady_clock::now();
-            programs.push_back(s.files.size() == 1 ? GlProgram::compute(s.files[0], s.defines)
-                                                   : GlProgram::graphics(s.files[0], s.files[1], s.defines));
+            programs.push_back(startProgram(s, s.defines));
             linkMs[i] = 1e3 * since(linkStart);
         }
         for (const GlProgram& p : programs) p.waitLinked();
@@ -222,7 +237,8 @@ int coldCompile(GlContext& gl, int contexts, int device, double contextSeconds) 
         glFinish();
         loadSeconds = since(loadStart);
     }
-    std::printf("{\"cold_contexts\": %d, \"first_context_s\": %.3f, \"linked_s\": %.3f, \"load_s\": %.3f, \"link_ms\": {",
+    std::printf("{\"cold_contexts\": %d, \"first_context_s\": %.3f, \"linked_s\": %.3f, \"load_s\": %.3f, "
+                "\"link_ms\": {",
                 contexts, contextSeconds, since(start), loadSeconds);
     for (std::size_t i = 0; i < shaders.size(); ++i)
         std::printf("%s\"%s%s\": %.1f", i ? ", " : "", shaders[i].files[0].c_str(),
@@ -249,11 +265,6 @@ std::vector<std::size_t> coldShare(int worker, int workers) {
     return share;
 }
 
-GlProgram buildProgram(const Shader& s) {
-    return s.files.size() == 1 ? GlProgram::compute(s.files[0], s.defines)
-                               : GlProgram::graphics(s.files[0], s.files[1], s.defines);
-}
-
 /// --cold-child W K: compiles worker W's share, binaries to stdout; with
 /// `warmOnly` it only compiles them (the driver's disk cache keeps them).
 int coldChild(int worker, int workers, int device, bool warmOnly) {
@@ -261,13 +272,10 @@ int coldChild(int worker, int workers, int device, bool warmOnly) {
     const std::vector<Shader> shaders = defaultRunPrograms();
     for (std::size_t i : coldShare(worker, workers + 1)) {
         if (warmOnly) {
-            buildProgram(shaders[i]).waitLinked();
+            startProgram(shaders[i], shaders[i].defines).waitLinked();
             continue;
         }
-        const Binary b = compileToBinary(shaders[i], 0);
-        const std::uint32_t header[3] = {std::uint32_t(i), b.format, std::uint32_t(b.bytes.size())};
-        writeAll(1, header, sizeof header);
-        writeAll(1, b.bytes.data(), b.bytes.size());
+        writeBinary(1, std::uint32_t(i), compileToBinary(shaders[i], 0));
     }
     return 0;
 }
@@ -289,7 +297,7 @@ int coldProcesses(int children, int device, const char* self, std::chrono::stead
     const double contextSeconds = since(processStart);
     const std::vector<Shader> shaders = defaultRunPrograms();
     std::vector<GlProgram> own;
-    for (std::size_t i : coldShare(0, children + 1)) own.push_back(buildProgram(shaders[i]));
+    for (std::size_t i : coldShare(0, children + 1)) own.push_back(startProgram(shaders[i], shaders[i].defines));
     for (const GlProgram& p : own) p.use();
     const double ownSeconds = since(processStart);
     std::size_t loaded = 0;
@@ -304,7 +312,7 @@ int coldProcesses(int children, int device, const char* self, std::chrono::stead
         const double waited = since(processStart);
         for (int c = 0; c < children; ++c)
             for (std::size_t i : coldShare(c + 1, children + 1)) {
-                buildProgram(shaders[i]).use();
+                startProgram(shaders[i], shaders[i].defines).use();
                 ++loaded;
             }
         glFinish();
@@ -388,9 +396,7 @@ int main(int argc, char** argv) try {
                 b = compileToBinary(candidates[i], childSalt);
             } catch (const Error&) {
             }
-            const std::uint32_t header[3] = {std::uint32_t(i), b.format, std::uint32_t(b.bytes.size())};
-            writeAll(1, header, sizeof header);
-            writeAll(1, b.bytes.data(), b.bytes.size());
+            writeBinary(1, std::uint32_t(i), b);
         }
         return 0;
     }
@@ -470,12 +476,8 @@ int main(int argc, char** argv) try {
             double contextSeconds = 0.0;
             if (threads <= 1) {
                 // As a run does: every compile started, then every link waited for.
-                const std::vector<std::string> defines = {"YV_SALT " + std::to_string(salt)};
-                for (std::size_t i = 0; i < shaders.size(); ++i) {
-                    const Shader& s = shaders[i];
-                    programs[i] = s.files.size() == 1 ? GlProgram::compute(s.files[0], defines)
-                                                      : GlProgram::graphics(s.files[0], s.files[1], defines);
-                }
+                for (std::size_t i = 0; i < shaders.size(); ++i)
+                    programs[i] = startProgram(shaders[i], salted(shaders[i], salt));
                 for (const GlProgram& p : programs) p.waitLinked();
             } else {
                 std::vector<std::thread> workers;

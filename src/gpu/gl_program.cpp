@@ -98,14 +98,13 @@ std::optional<std::string> includedFile(const std::string& line) {
     return line.substr(open + 1, close - open - 1);
 }
 
-/// Appends `name`'s text under source-string number `number`, each
-/// `#include "FILE"` line replaced by FILE's text under a number of its own,
-/// the first time FILE is included (the next times by a blank line).
-void appendWithIncludes(const std::string& name, int number, ComposedShader& out, int depth) {
-    const std::optional<std::string> text = shaderText(name);
-    if (!text) return; // the caller said which file is missing
+/// Appends `text`, shader file `name`'s, under source-string number
+/// `number`, each `#include "FILE"` line replaced by FILE's text under a
+/// number of its own the first time FILE is included (the next times by
+/// nothing but the #line that follows).
+void appendWithIncludes(const std::string& name, const std::string& text, int number, ComposedShader& out, int depth) {
     out.text += "#line 1 " + std::to_string(number) + "\n";
-    std::istringstream lines(*text);
+    std::istringstream lines(text);
     int lineNumber = 0;
     for (std::string line; std::getline(lines, line);) {
         ++lineNumber;
@@ -120,13 +119,14 @@ void appendWithIncludes(const std::string& name, int number, ComposedShader& out
             continue;
         }
         if (std::find(out.files.begin(), out.files.end(), *file) == out.files.end()) {
-            if (!shaderText(*file))
+            const std::optional<std::string> included = shaderText(*file);
+            if (!included)
                 throw Error("shader " + name + " line " + std::to_string(lineNumber) + " includes " + *file +
                             ", which is not among the embedded shaders (add shaders/" + *file +
                             " to YV_SHADERS in CMakeLists.txt)");
             if (depth >= 8) throw Error("shader " + name + ": #include nested more than 8 deep");
             out.files.push_back(*file);
-            appendWithIncludes(*file, static_cast<int>(out.files.size()), out, depth + 1);
+            appendWithIncludes(*file, *included, static_cast<int>(out.files.size()), out, depth + 1);
         }
         out.text += "#line " + std::to_string(lineNumber + 1) + " " + std::to_string(number) + "\n";
     }
@@ -138,7 +138,8 @@ void appendWithIncludes(const std::string& name, int number, ComposedShader& out
 /// it uses: NVIDIA's compiler takes 5 to 9 ms a program to read the rest
 /// (bench/results/README.md, 2026-12-06: a first run's compiles).
 ComposedShader composeShader(const std::string& name, const std::vector<std::string>& defines) {
-    if (!shaderText(name))
+    const std::optional<std::string> text = shaderText(name);
+    if (!text)
         throw Error("shader " + name + ": not among the embedded shaders (add shaders/" + name +
                     " to YV_SHADERS in CMakeLists.txt)");
     ComposedShader out{"#version 450 core\n", {name, "bindings.glsl"}};
@@ -146,7 +147,7 @@ ComposedShader composeShader(const std::string& name, const std::vector<std::str
     out.text += "#line 1 2\n";
     if (const char* bindings = shaderSource("bindings.glsl")) out.text += bindings;
     out.text += "\n";
-    appendWithIncludes(name, 1, out, 0);
+    appendWithIncludes(name, *text, 1, out, 0);
     return out;
 }
 
