@@ -153,7 +153,7 @@ TEST_CASE("every program a GL run asks for compiles, for every choice of variant
         CHECK(requests[1].name == (choice.slicePrimitive == SlicePrimitive::Point ? "sample_dispatch.comp"
                                                                                    : "slice_items.comp"));
         CHECK(requests.back().name == "brick_resolve.comp");
-        GlProgramCompiler compiler(context, requests);
+        GlProgramCompiler compiler(context, requests, 4);
         for (const ProgramRequest& r : requests) {
             INFO(r.name);
             CHECK_NOTHROW(compiler.take(r.name, r.defines).waitLinked());
@@ -179,15 +179,18 @@ TEST_CASE("GL: a run whose programs come from the compile thread gives the brick
         return voxelizeGl(plan, xs, grid, settings, context);
     }();
 
-    auto context = std::make_unique<GlContext>();
-    auto compiler = std::make_unique<GlProgramCompiler>(*context, runPrograms(GlProgramChoice{}));
-    GlBackend backend(plan, xs, grid, settings, std::move(context), std::move(compiler));
-    const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), 1});
-    REQUIRE(zoom.regions.size() > 1);
-    KeepRegions sink;
-    backend.run(zoom.regions, sink);
-    CHECK(sink.accumulators.empty());
-    const BrickVolume ahead = unpackVolume(grid, Reduce::Mean, sink.packed);
-    REQUIRE(!ahead.bricks.empty());
-    CHECK(sameBricks(ahead, inPlace));
+    for (int threads : {1, 3}) {
+        INFO(threads << " compile threads");
+        auto context = std::make_unique<GlContext>();
+        auto compiler = std::make_unique<GlProgramCompiler>(*context, runPrograms(GlProgramChoice{}), threads);
+        GlBackend backend(plan, xs, grid, settings, std::move(context), std::move(compiler));
+        const ZoomPlan zoom = planZoomRegions(plan, grid, xs, {backend.fragmentBudget(), backend.maxRegionSize(), 1});
+        REQUIRE(zoom.regions.size() > 1);
+        KeepRegions sink;
+        backend.run(zoom.regions, sink);
+        CHECK(sink.accumulators.empty());
+        const BrickVolume ahead = unpackVolume(grid, Reduce::Mean, sink.packed);
+        REQUIRE(!ahead.bricks.empty());
+        CHECK(sameBricks(ahead, inPlace));
+    }
 }

@@ -1,5 +1,6 @@
 #include "gpu/gl_program_compiler.h"
 
+#include "core/environment_count.h"
 #include "core/error.h"
 #include "core/trace.h"
 
@@ -11,30 +12,38 @@
 
 namespace yv {
 
-GlProgramCompiler::GlProgramCompiler(const GlContext& context, std::vector<ProgramRequest> requests)
+GlProgramCompiler::GlProgramCompiler(const GlContext& context, std::vector<ProgramRequest> requests, int threads)
     : requests_(std::move(requests)), promises_(requests_.size()), taken_(requests_.size(), false) {
     futures_.reserve(promises_.size());
     for (std::promise<GlProgram>& p : promises_) futures_.push_back(p.get_future());
-    thread_ = std::thread([this, &context] { compileAll(context); });
+    threadCount_ = std::clamp(threads, 1, 16);
+    for (int t = 0; t < threadCount_; ++t) threads_.emplace_back([this, &context] { compileOn(context); });
 }
 
 GlProgramCompiler::~GlProgramCompiler() {
     stop_ = true;
-    if (thread_.joinable()) thread_.join();
+    for (std::thread& t : threads_) t.join();
 }
 
-void GlProgramCompiler::compileAll(const GlContext& context) {
+int GlProgramCompiler::threadsForRuns() {
+    return int(countFromEnvironment("YV_COMPILE_THREADS", 1, 16, "compile threads").value_or(kDefaultThreads));
+}
+
+void GlProgramCompiler::compileOn(const GlContext& context) {
     std::unique_ptr<GlContext> sharing;
     try {
         const TraceSpan span("make the compile thread's GL context");
         sharing = context.makeSharing();
     } catch (const Error&) {
-        // No second context: each program is compiled where it is taken, as
-        // without a compiler (an empty program says so).
-        for (std::promise<GlProgram>& p : promises_) p.set_value(GlProgram{});
+        // The last thread without a context leaves each program to be
+        // compiled where it is taken, as without a compiler (an empty
+        // program says so); the others' threads take the requests.
+        if (++withoutContext_ == threadCount_)
+            for (std::size_t i = next_.exchange(requests_.size()); i < requests_.size(); ++i)
+                promises_[i].set_value(GlProgram{});
         return;
     }
-    for (std::size_t i = 0; i < requests_.size(); ++i) {
+    for (std::size_t i = next_++; i < requests_.size(); i = next_++) {
         if (stop_) {
             promises_[i].set_value(GlProgram{});
             continue;

@@ -32,11 +32,13 @@ class GlProgramCompiler {
   public:
     /// Compiles nothing ahead: take() compiles on the calling thread.
     GlProgramCompiler() = default;
-    /// Starts compiling `requests` in their order on a thread of its own,
-    /// through a context sharing `context`'s objects (made there; where it
-    /// cannot be made, take() compiles on the calling thread, as without a
-    /// compiler). `context` must outlive the compiler.
-    GlProgramCompiler(const GlContext& context, std::vector<ProgramRequest> requests);
+    /// Starts compiling `requests` in their order on `threads` threads of
+    /// its own, each through a context sharing `context`'s objects (made
+    /// there; where none can be made, take() compiles on the calling
+    /// thread, as without a compiler), each taking the next request as it
+    /// finishes one. `context` must outlive the compiler.
+    GlProgramCompiler(const GlContext& context, std::vector<ProgramRequest> requests,
+                      int threads = kDefaultThreads);
     /// Stops after the program being compiled and waits for the thread;
     /// programs not taken are deleted (a context of the share group must be
     /// current, as for any GlProgram).
@@ -53,15 +55,22 @@ class GlProgramCompiler {
     /// Requests not taken yet.
     std::size_t waiting() const;
 
+    /// Compile threads a run starts (YV_COMPILE_THREADS sets it, 1 to 16).
+    static constexpr int kDefaultThreads = 2;
+    static int threadsForRuns();
+
   private:
-    void compileAll(const GlContext& context);
+    void compileOn(const GlContext& context);
 
     std::vector<ProgramRequest> requests_;
     std::vector<std::promise<GlProgram>> promises_; ///< set on the thread, one a request
     std::vector<std::future<GlProgram>> futures_;   ///< handed out by take()
     std::vector<bool> taken_;
+    int threadCount_ = 0;
+    std::atomic<std::size_t> next_{0};   ///< the next request a thread takes
+    std::atomic<int> withoutContext_{0}; ///< threads that could not make their context
     std::atomic<bool> stop_{false};
-    std::thread thread_;
+    std::vector<std::thread> threads_;
 };
 
 } // namespace yv

@@ -49,7 +49,8 @@ GlStart startGl(const VoxelizeJob& job, int spreadIndex) {
     const bool glBackendAhead = job.method == VoxelizeMethod::Sparse &&
                                 (job.backend == BackendRequest::Gl || (gl.context && gl.context->info().hardware()));
     if (gl.context && glBackendAhead)
-        gl.programs = std::make_unique<GlProgramCompiler>(*gl.context, runPrograms(programChoiceFor(job)));
+        gl.programs = std::make_unique<GlProgramCompiler>(*gl.context, runPrograms(programChoiceFor(job)),
+                                                          GlProgramCompiler::threadsForRuns());
     return gl;
 }
 
