@@ -1,6 +1,7 @@
 #include "core/error.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_program.h"
+#include "gpu/gl_voxelizer.h"
 #include "test_helpers.h"
 
 #include <catch2/catch.hpp>
@@ -257,6 +258,13 @@ TEST_CASE("a sharing context's program runs on the first context, on that contex
     CHECK(run.counter == n);
     CHECK(run.sum == n * (n - 1) / 2);
     glDeleteProgram(prog);
+}
+
+TEST_CASE("the GL backend's programs compiled before a run are embedded shaders that compile", "[gl]") {
+    YV_REQUIRE_GL();
+    yv::GlContext ctx;
+    REQUIRE_NOTHROW(yv::compileInvariantPrograms());
+    REQUIRE_NOTHROW(yv::checkGlError("programs without variants"));
 }
 
 TEST_CASE("a context that cannot be made is an Error, not a crash", "[gl]") {

@@ -50,8 +50,7 @@ Resolved resolveOnCpu(Reduce reduce, Overlap overlap, const std::vector<BrickAcc
 Resolved resolveOnGpu(Reduce reduce, Overlap overlap, const std::vector<BrickAccumulator>& accs,
                       std::uint64_t* bytesRead = nullptr) {
     const GlContext context;
-    GlProgramCompiler here;
-    GlBrickResolver resolver(here, reduce, overlap);
+    GlBrickResolver resolver(reduce, overlap);
     PackedBricks packed;
     resolver.resolve(accs, packed);
     if (bytesRead) *bytesRead = resolver.bytesRead();

@@ -24,23 +24,13 @@ std::vector<std::string> scatterDefines(Reduce reduce, bool albedo) {
 
 } // namespace
 
-BrickPass::BrickPass(GlProgramCompiler& programs, Reduce reduce, bool albedo, GLuint maxGroups, bool timerQueries,
-                     std::uint64_t* gpuBytes)
+BrickPass::BrickPass(Reduce reduce, bool albedo, GLuint maxGroups, bool timerQueries, std::uint64_t* gpuBytes)
     : reduce_(reduce), albedo_(albedo), wordsPerVoxel_(wordsPerVoxel(reduce, albedo)), maxGroups_(maxGroups),
-      gpuBytes_(gpuBytes), flag_(programs.take("brick_flag.comp")), clear_(programs.take("buffer_clear.comp")),
-      scan_(programs.take("brick_scan.comp")),
-      scatter_(programs.take("brick_scatter.comp", scatterDefines(reduce, albedo))), timer_(timerQueries) {
-    if (reduce_ == Reduce::Max) maxOrient_ = programs.take("brick_max_orient.comp");
+      gpuBytes_(gpuBytes), flag_(GlProgram::compute("brick_flag.comp")),
+      clear_(GlProgram::compute("buffer_clear.comp")), scan_(GlProgram::compute("brick_scan.comp")),
+      scatter_(GlProgram::compute("brick_scatter.comp", scatterDefines(reduce, albedo))), timer_(timerQueries) {
+    if (reduce_ == Reduce::Max) maxOrient_ = GlProgram::compute("brick_max_orient.comp");
     counts_.reserve(16, gpuBytes_);
-}
-
-std::vector<ProgramRequest> BrickPass::programs(Reduce reduce, bool albedo) {
-    std::vector<ProgramRequest> requests{{"buffer_clear.comp", {}},
-                                         {"brick_flag.comp", {}},
-                                         {"brick_scan.comp", {}},
-                                         {"brick_scatter.comp", scatterDefines(reduce, albedo)}};
-    if (reduce == Reduce::Max) requests.push_back({"brick_max_orient.comp", {}});
-    return requests;
 }
 
 GLuint BrickPass::groupsFor(std::uint64_t threads) const {

@@ -8,7 +8,6 @@
 #include "core/bricks.h"
 #include "gpu/gl_buffer.h"
 #include "gpu/gl_program.h"
-#include "gpu/gl_program_compiler.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/sample_lists.h"
 #include "gpu/work_item.h"
@@ -22,10 +21,7 @@ class BrickPass {
   public:
     /// `reduce` and `albedo` pick the scatter's variant and the words a
     /// voxel has (wordsPerVoxel). `gpuBytes` tracks its buffers.
-    BrickPass(GlProgramCompiler& programs, Reduce reduce, bool albedo, GLuint maxGroups, bool timerQueries,
-              std::uint64_t* gpuBytes);
-    /// The programs the pass takes, in the order it uses them.
-    static std::vector<ProgramRequest> programs(Reduce reduce, bool albedo);
+    BrickPass(Reduce reduce, bool albedo, GLuint maxGroups, bool timerQueries, std::uint64_t* gpuBytes);
 
     /// Builds the bricks of the `fragments` fragments in `lists` over `item`.
     /// Returns the touched bricks (slots), or nothing when they are more

@@ -10,10 +10,10 @@
 
 namespace yv {
 
-BrickReadback::BrickReadback(GlProgramCompiler& programs, Reduce reduce, Overlap overlap, bool albedo,
-                             ReadbackBuffer& small, std::uint64_t* gpuBytes)
+BrickReadback::BrickReadback(Reduce reduce, Overlap overlap, bool albedo, ReadbackBuffer& small,
+                             std::uint64_t* gpuBytes)
     : reduce_(reduce), albedo_(albedo), small_(small), gpuBytes_(gpuBytes),
-      resolver_(programs, reduce, overlap, gpuBytes, albedo) {}
+      resolver_(reduce, overlap, gpuBytes, albedo) {}
 
 void BrickReadback::startPacked(const WorkItem& item, const BrickPass& bricks, GLuint activeBricks, GLuint fragments,
                                 PackedBricks& target) {

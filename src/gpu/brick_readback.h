@@ -10,7 +10,6 @@
 #include "gpu/brick_pass.h"
 #include "gpu/brick_resolver.h"
 #include "gpu/gl_buffer.h"
-#include "gpu/gl_program_compiler.h"
 #include "gpu/work_item.h"
 
 #include <cstdint>
@@ -23,8 +22,7 @@ class BrickReadback {
   public:
     /// `small`: the backend's buffer for reads of a few bytes (shared with
     /// the other passes). `gpuBytes` tracks the buffers.
-    BrickReadback(GlProgramCompiler& programs, Reduce reduce, Overlap overlap, bool albedo, ReadbackBuffer& small,
-                  std::uint64_t* gpuBytes);
+    BrickReadback(Reduce reduce, Overlap overlap, bool albedo, ReadbackBuffer& small, std::uint64_t* gpuBytes);
 
     /// Resolves the `activeBricks` slots that `bricks` built over `item` on
     /// the GPU (the pass's `fragments` bound its active voxels) and queues

@@ -28,24 +28,17 @@ std::vector<std::string> variant(Reduce reduce, Overlap overlap, bool albedo, bo
 
 } // namespace
 
-GlBrickResolver::GlBrickResolver(GlProgramCompiler& programs, Reduce reduce, Overlap overlap,
-                                 std::uint64_t* gpuBytes, bool albedo)
+GlBrickResolver::GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes, bool albedo)
     : reduce_(reduce), albedo_(albedo), gpuBytes_(gpuBytes),
-      count_(programs.take("brick_resolve.comp", variant(reduce, overlap, albedo, true))),
-      scan_(programs.take("brick_resolve_scan.comp")),
-      resolve_(programs.take("brick_resolve.comp", variant(reduce, overlap, albedo, false))) {
+      count_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, albedo, true))),
+      scan_(GlProgram::compute("brick_resolve_scan.comp")),
+      resolve_(GlProgram::compute("brick_resolve.comp", variant(reduce, overlap, albedo, false))) {
     if (albedo && reduce != Reduce::Mean)
         throw Error("--albedo needs --reduce mean (a colour is averaged like the density, not maxed)");
     totals_.reserve(8, gpuBytes_);
     GLint maxGroups = 0;
     glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &maxGroups);
     maxGroups_ = static_cast<GLuint>(std::clamp(maxGroups, 1, 65535));
-}
-
-std::vector<ProgramRequest> GlBrickResolver::programs(Reduce reduce, Overlap overlap, bool albedo) {
-    return {{"brick_resolve.comp", variant(reduce, overlap, albedo, true)},
-            {"brick_resolve_scan.comp", {}},
-            {"brick_resolve.comp", variant(reduce, overlap, albedo, false)}};
 }
 
 void GlBrickResolver::startResolve(GLuint words, std::uint32_t count, const BrickKeys& keys,

@@ -7,7 +7,6 @@
 #include "core/packed_bricks.h"
 #include "gpu/gl_buffer.h"
 #include "gpu/gl_program.h"
-#include "gpu/gl_program_compiler.h"
 
 #include <glm/vec3.hpp>
 
@@ -36,12 +35,7 @@ class GlBrickResolver {
     /// `gpuBytes`, where given, tracks the sum of yarnvox's GPU buffers.
     /// `albedo` (mean only): the slots carry the albedo words, and the packed
     /// bricks get each active voxel's colour.
-    GlBrickResolver(GlProgramCompiler& programs, Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes = nullptr,
-                    bool albedo = false);
-    /// The programs the resolver takes, in the order it uses them.
-    static std::vector<ProgramRequest> programs(Reduce reduce, Overlap overlap, bool albedo);
-    /// True when resolving now would not wait for the compile thread.
-    bool programsLinked() const { return count_.linkedYet() && scan_.linkedYet() && resolve_.linkedYet(); }
+    GlBrickResolver(Reduce reduce, Overlap overlap, std::uint64_t* gpuBytes = nullptr, bool albedo = false);
 
     /// Resolves `count` slots of `words` (wordsPerVoxel(reduce, albedo) channels of
     /// 512 words per slot, channel-major, as BrickAccumulator) and appends the

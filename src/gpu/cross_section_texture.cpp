@@ -58,12 +58,8 @@ GlTexture uploadAlbedoTexture(const CrossSection& xs) {
 }
 
 std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads) {
-    return crossSectionDefines(xs.analyticDisk, reads);
-}
-
-std::vector<std::string> crossSectionDefines(bool diskCrossSection, TexelReads reads) {
     YV_CHECK(reads != TexelReads::Auto);
-    return {std::string("CROSS_SECTION_DISK ") + (diskCrossSection ? "1" : "0"),
+    return {std::string("CROSS_SECTION_DISK ") + (xs.analyticDisk ? "1" : "0"),
             std::string("CROSS_SECTION_GATHER ") + (reads == TexelReads::Gather ? "1" : "0"),
             std::string("CROSS_SECTION_QUAD ") + (reads == TexelReads::Quad ? "1" : "0")};
 }

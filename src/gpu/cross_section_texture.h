@@ -38,7 +38,5 @@ GlTexture uploadAlbedoTexture(const CrossSection& xs);
 /// exact coverage or the texture (each variant compiles only the code it
 /// runs), and the texel reads `reads` (not Auto).
 std::vector<std::string> crossSectionDefines(const CrossSection& xs, TexelReads reads);
-/// The same for a cross-section that is the analytic disk or not.
-std::vector<std::string> crossSectionDefines(bool diskCrossSection, TexelReads reads);
 
 } // namespace yv

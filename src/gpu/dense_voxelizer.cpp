@@ -157,8 +157,7 @@ double drawSlices(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid
                               plan.uniformSlices(), draw.instances};
     GlBuffer records;
     GlProgram program = GlProgram::graphics("slice.vert", "dense.frag", crossSectionDefines(xs, reads));
-    GlProgramCompiler here; // compiles on this thread
-    const SlicePlacer placer(here);
+    const SlicePlacer placer;
     const GlVertexArray vao = createVertexArray();
     const GlFramebuffer fbo = createFramebuffer();
     glNamedFramebufferParameteri(fbo.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, draw.viewport);

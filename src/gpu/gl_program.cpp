@@ -11,7 +11,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <future>
 #include <initializer_list>
 #include <optional>
 #include <sstream>
@@ -167,13 +166,6 @@ std::string sourceStringNames(const std::string& name) {
 
 } // namespace
 
-struct GlProgram::Pending {
-    std::vector<Stage> stages;
-    std::string names;
-    std::future<GlProgram> elsewhere;        ///< linkedElsewhere's program, or its error
-    std::function<GlProgram()> compileHere; ///< where `elsewhere` brings none
-};
-
 GlShader startShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
     const ComposedShader composed = composeShader(name, defines);
     GlShader shader(glCreateShader(stage));
@@ -202,44 +194,20 @@ GlShader compileShaderStage(GLenum stage, const std::string& name, const std::ve
     return shader;
 }
 
-GlProgram::GlProgram() = default;
-
 GlProgram GlProgram::link(std::vector<Stage> stages, const std::string& names) {
-    GlProgram program;
-    program.id_ = glCreateProgram();
+    GlProgram program(glCreateProgram());
     for (const Stage& s : stages) glAttachShader(program.id_, s.shader.id());
     const auto start = std::chrono::steady_clock::now();
     glLinkProgram(program.id_);
     if (traceEnabled()) traceSpanSince("link " + names, start);
     // The stages stay until the check: a failed compile's log is theirs.
-    program.pending_ = std::make_unique<Pending>(Pending{std::move(stages), names, {}, {}});
+    program.pending_ = std::make_unique<Pending>(Pending{std::move(stages), names});
     return program;
-}
-
-GlProgram GlProgram::linkedElsewhere(std::future<GlProgram> linked, std::function<GlProgram()> compileHere,
-                                     const std::string& names) {
-    GlProgram program;
-    program.pending_ = std::make_unique<Pending>(Pending{{}, names, std::move(linked), std::move(compileHere)});
-    return program;
-}
-
-bool GlProgram::linkedYet() const {
-    return !pending_ || !pending_->elsewhere.valid() ||
-           pending_->elsewhere.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
 }
 
 void GlProgram::waitLinked() const {
     if (!pending_) return;
     const std::unique_ptr<Pending> pending = std::move(pending_);
-    if (pending->elsewhere.valid()) {
-        const auto start = std::chrono::steady_clock::now();
-        GlProgram linked = pending->elsewhere.get(); // rethrows the compile's error
-        if (traceEnabled()) traceSpanSince("wait for the compile thread's " + pending->names, start);
-        if (!linked.valid()) linked = pending->compileHere();
-        linked.waitLinked();
-        id_ = std::exchange(linked.id_, 0);
-        return;
-    }
     GLint ok = GL_FALSE;
     const auto start = std::chrono::steady_clock::now();
     glGetProgramiv(id_, GL_LINK_STATUS, &ok);

@@ -5,8 +5,6 @@
 
 #include <epoxy/gl.h>
 
-#include <functional>
-#include <future>
 #include <initializer_list>
 #include <memory>
 #include <optional>
@@ -33,7 +31,7 @@ namespace yv {
 /// difference there and cost warm renders 0.1 s: bench/first_run.sh.)
 class GlProgram {
   public:
-    GlProgram();
+    GlProgram() = default;
     /// Compute program from one shader file (e.g. "brick_flag.comp").
     static GlProgram compute(const std::string& name, const std::vector<std::string>& defines = {});
     /// Graphics program from a vertex and a fragment shader file.
@@ -42,13 +40,6 @@ class GlProgram {
     /// Graphics program with a geometry shader between the two.
     static GlProgram graphicsWithGeometry(const std::string& vertexName, const std::string& geometryName,
                                           const std::string& fragmentName, const std::vector<std::string>& defines = {});
-    /// A program compiled and linked on another thread, through a context
-    /// that shares this one's objects (GlProgramCompiler): `linked` brings
-    /// it, or the error its compile threw, at its first use. Where it brings
-    /// an empty program (that thread had no context), `compileHere` makes it
-    /// on the calling thread instead. `names` is what the trace calls it.
-    static GlProgram linkedElsewhere(std::future<GlProgram> linked, std::function<GlProgram()> compileHere,
-                                     const std::string& names);
     ~GlProgram();
     GlProgram(GlProgram&& other) noexcept;
     GlProgram& operator=(GlProgram&& other) noexcept;
@@ -63,23 +54,21 @@ class GlProgram {
     /// Waits for the compile and link; a failure throws yv::Error with the
     /// shader's name and the driver's log, as it would have when made.
     void waitLinked() const;
-    /// True when using the program now would not wait for another thread's
-    /// compile (one linked on this thread counts: the driver's link call
-    /// has returned, and a driver that links later is not asked).
-    bool linkedYet() const;
-    /// A program object: made, or on its way from another thread.
-    bool valid() const { return id_ != 0 || pending_ != nullptr; }
 
   private:
     struct Stage {
         GlShader shader;
         std::string name;
     };
-    /// What a program still being compiled keeps for its check (gl_program.cpp).
-    struct Pending;
+    /// What a program still being compiled keeps for its check.
+    struct Pending {
+        std::vector<Stage> stages;
+        std::string names;
+    };
+    explicit GlProgram(GLuint id) : id_(id) {}
     /// Attaches and starts the link; `names` is what a link error reports.
     static GlProgram link(std::vector<Stage> stages, const std::string& names);
-    mutable GLuint id_ = 0; ///< 0 until a program linked elsewhere has come
+    GLuint id_ = 0;
     mutable std::unique_ptr<Pending> pending_; ///< until waitLinked() has checked it
 };
 

@@ -5,14 +5,12 @@
 #include "core/trace.h"
 #include "gpu/brick_pass.h"
 #include "gpu/brick_readback.h"
-#include "gpu/brick_resolver.h"
 #include "gpu/gl_budget.h"
 #include "gpu/gl_buffer.h"
 #include "gpu/gpu_layout.h"
 #include "gpu/raster_pass.h"
 #include "gpu/sample_lists.h"
 #include "gpu/sample_pass.h"
-#include "gpu/slice_placer.h"
 #include "gpu/work_item.h"
 
 #include <epoxy/gl.h>
@@ -67,9 +65,8 @@ void uploadSegments(const SlicePlan& plan, const VoxelGrid& grid, GlBuffer& segm
 class GlBackend::Impl {
   public:
     Impl(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const GlVoxelizeSettings& settings,
-         std::unique_ptr<GlContext> owned, const GlContext& context, std::unique_ptr<GlProgramCompiler> programs)
-        : owned_(std::move(owned)), programs_(programs ? std::move(programs) : std::make_unique<GlProgramCompiler>()),
-          context_(context), plan_(plan), xs_(xs), grid_(grid), settings_(settings),
+         std::unique_ptr<GlContext> owned, const GlContext& context)
+        : owned_(std::move(owned)), context_(context), plan_(plan), xs_(xs), grid_(grid), settings_(settings),
           reduce_(settings.base.reduce), albedo_(xs.hasAlbedo()) {
         checkSupersample(settings.base.supersample);
         if (albedo_ && reduce_ != Reduce::Mean)
@@ -118,10 +115,6 @@ class GlBackend::Impl {
     void notePeak() { counters_.peakGpuBytes = std::max(counters_.peakGpuBytes, gpuBytes_); }
 
     std::unique_ptr<GlContext> owned_; ///< the context, where the backend owns it (destroyed last)
-    /// Where the passes take their programs (compiling on a thread of its
-    /// own, or here); kept until the backend goes, so that it never waits
-    /// for a compile the run did not need.
-    std::unique_ptr<GlProgramCompiler> programs_;
     const GlContext& context_;
     const SlicePlan& plan_;
     const CrossSection& xs_;
@@ -160,14 +153,11 @@ void GlBackend::Impl::prepare() {
     SampleTextures textures = uploadSampleTextures(xs_, reads, albedo_, &gpuBytes_);
     const auto compileStart = std::chrono::steady_clock::now();
     const bool timerQueries = context_.info().hardware();
-    GlProgramCompiler& programs = *programs_;
-    raster_ = std::make_unique<RasterPass>(programs, plan_, segments_, drawing_, budget_,
-                                           crossSectionDefines(xs_, reads), timerQueries, &gpuBytes_);
-    sample_ = std::make_unique<SamplePass>(programs, xs_, reads, std::move(textures), albedo_, budget_.maxGroups,
-                                           timerQueries);
-    bricks_ = std::make_unique<BrickPass>(programs, reduce_, albedo_, budget_.maxGroups, timerQueries, &gpuBytes_);
-    readback_ =
-        std::make_unique<BrickReadback>(programs, reduce_, settings_.base.overlap, albedo_, small_, &gpuBytes_);
+    raster_ = std::make_unique<RasterPass>(plan_, segments_, drawing_, budget_, crossSectionDefines(xs_, reads),
+                                           timerQueries, &gpuBytes_);
+    sample_ = std::make_unique<SamplePass>(xs_, reads, std::move(textures), albedo_, budget_.maxGroups, timerQueries);
+    bricks_ = std::make_unique<BrickPass>(reduce_, albedo_, budget_.maxGroups, timerQueries, &gpuBytes_);
+    readback_ = std::make_unique<BrickReadback>(reduce_, settings_.base.overlap, albedo_, small_, &gpuBytes_);
     counters_.programSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - compileStart).count();
     traceSpanSince("compile the programs", compileStart);
     // The lists start small; run() sizes them from the zoom plan, and a
@@ -344,35 +334,24 @@ void GlBackend::Impl::noteTotals() {
     counters_.fragmentCapacity = budget_.capacity;
 }
 
-std::vector<ProgramRequest> runPrograms(const GlProgramChoice& choice) {
-    // In the order of a pass: the slices placed and their items appended,
-    // the items sampled, the bricks built, then resolved.
-    std::vector<ProgramRequest> requests;
-    const auto add = [&](std::vector<ProgramRequest> more) {
-        requests.insert(requests.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
-    };
-    const TexelReads reads = texelReadsFor(choice.texelReads);
-    const std::vector<std::string> xsDefines = crossSectionDefines(choice.diskCrossSection, reads);
-    if (choice.slicePrimitive == SlicePrimitive::Auto || choice.slicePrimitive == SlicePrimitive::Compute)
-        add(RasterPass::computePrograms(xsDefines));
-    else
-        add(SlicePlacer::programs());
-    add(SamplePass::programs(choice.diskCrossSection, reads, choice.albedo));
-    add(BrickPass::programs(choice.reduce, choice.albedo));
-    add(GlBrickResolver::programs(choice.reduce, choice.overlap, choice.albedo));
-    return requests;
+void compileInvariantPrograms() {
+    const TraceSpan span("compile the programs without variants");
+    std::vector<GlProgram> programs;
+    for (const char* name : {"buffer_clear.comp", "brick_flag.comp", "brick_scan.comp", "brick_resolve_scan.comp",
+                             "sample_dispatch.comp", "slice_setup.comp"})
+        programs.push_back(GlProgram::compute(name));
+    for (const GlProgram& p : programs) p.waitLinked();
 }
 
 GlBackend::GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
-                     const GlVoxelizeSettings& settings, std::unique_ptr<GlContext> context,
-                     std::unique_ptr<GlProgramCompiler> programs) {
+                     const GlVoxelizeSettings& settings, std::unique_ptr<GlContext> context) {
     YV_CHECK(context);
     const GlContext& current = *context;
-    impl_ = std::make_unique<Impl>(plan, xs, grid, settings, std::move(context), current, std::move(programs));
+    impl_ = std::make_unique<Impl>(plan, xs, grid, settings, std::move(context), current);
 }
 GlBackend::GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid,
                      const GlVoxelizeSettings& settings, const GlContext& context)
-    : impl_(std::make_unique<Impl>(plan, xs, grid, settings, nullptr, context, nullptr)) {}
+    : impl_(std::make_unique<Impl>(plan, xs, grid, settings, nullptr, context)) {}
 GlBackend::~GlBackend() = default;
 std::uint64_t GlBackend::fragmentBudget() const { return impl_->fragmentBudget(); }
 int GlBackend::maxRegionSize() const { return impl_->maxRegionSize(); }

@@ -10,7 +10,6 @@
 #include "core/voxelize_settings.h"
 #include "gpu/cross_section_texture.h"
 #include "gpu/egl_context.h"
-#include "gpu/gl_program_compiler.h"
 #include "garment/cross_section.h"
 #include "garment/slices.h"
 #include "plan/grid.h"
@@ -105,22 +104,14 @@ struct GlVoxelizeCounters {
     std::uint64_t readbackBytes = 0;    ///< bytes copied from the GPU to the host (counts and bricks)
 };
 
-/// What decides which programs a GL run compiles, all known from the job
-/// before the garment is read.
-struct GlProgramChoice {
-    bool diskCrossSection = false; ///< CrossSection::analyticDisk
-    bool albedo = false;
-    Reduce reduce = Reduce::Mean;
-    Overlap overlap = Overlap::Clamp;
-    TexelReads texelReads = TexelReads::Auto;
-    SlicePrimitive slicePrimitive = SlicePrimitive::Auto;
-};
-
-/// The compute programs a GlBackend with `choice` takes, in the order its
-/// passes first use them (a raster's graphics program is not among them):
-/// what a run's GlProgramCompiler is started with, while another thread
-/// reads and slices the garment.
-std::vector<ProgramRequest> runPrograms(const GlProgramChoice& choice);
+/// Compiles the backend's programs that take no variant's #defines, on the
+/// current context, and waits for them. NVIDIA's driver starts its compiler
+/// at a process's first compile (0.35 s on the H200 with no shader cache)
+/// and compiles one program after another whatever the threads
+/// (bench/compile_threads.cpp): a run calls this while another thread reads
+/// and slices the garment, and the backend's own compiles of these programs
+/// are then the driver's cache hits.
+void compileInvariantPrograms();
 
 /// The GL backend on a live context: budgets from the queried limits, then
 /// zoom regions one after another, each through the passes of
@@ -131,10 +122,8 @@ class GlBackend : public RegionRasterizer {
   public:
     /// Runs on `context` (made current on this thread), which it owns: the
     /// pipeline frees both together, on another thread (releaseThread).
-    /// `programs`: the run's programs being compiled on `context`'s
-    /// compile thread (runPrograms), or null: each pass compiles its own.
     GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const GlVoxelizeSettings& settings,
-              std::unique_ptr<GlContext> context, std::unique_ptr<GlProgramCompiler> programs = nullptr);
+              std::unique_ptr<GlContext> context);
     /// Runs on `context` (made current on this thread), which must outlive the backend.
     GlBackend(const SlicePlan& plan, const CrossSection& xs, const VoxelGrid& grid, const GlVoxelizeSettings& settings,
               const GlContext& context);

@@ -22,29 +22,23 @@ std::vector<std::string> rasterDefines(std::vector<std::string> defines, const S
 }
 
 /// The pass's program: the raster's, or its compute stand-in's.
-GlProgram itemProgram(GlProgramCompiler& programs, const SliceDrawing& drawing, std::vector<std::string> defines) {
-    if (drawing.compute) return programs.take("slice_items.comp", defines);
+GlProgram itemProgram(const SliceDrawing& drawing, std::vector<std::string> defines) {
+    if (drawing.compute) return GlProgram::compute("slice_items.comp", defines);
     return GlProgram::graphics("slice.vert", "append.frag", rasterDefines(std::move(defines), drawing));
 }
 
 } // namespace
 
-RasterPass::RasterPass(GlProgramCompiler& programs, const SlicePlan& plan, const GlBuffer& segments,
-                       const SliceDrawing& drawing, const GlBudget& budget, std::vector<std::string> defines,
-                       bool timerQueries, std::uint64_t* gpuBytes)
+RasterPass::RasterPass(const SlicePlan& plan, const GlBuffer& segments, const SliceDrawing& drawing,
+                       const GlBudget& budget, std::vector<std::string> defines, bool timerQueries,
+                       std::uint64_t* gpuBytes)
     : plan_(plan), segments_(segments), drawing_(drawing), uniformSlices_(budget.uniformSlices),
       maxBlock_(budget.maxBlock), maxGroups_(budget.maxGroups), gpuBytes_(gpuBytes),
-      placer_(programs, drawing.runSlices, rasterDefines(defines, drawing)),
-      program_(itemProgram(programs, drawing, std::move(defines))),
+      placer_(drawing.runSlices, rasterDefines(defines, drawing)),
+      program_(itemProgram(drawing, std::move(defines))),
       vao_(createVertexArray()), fbo_(createFramebuffer()), placeTimer_(timerQueries), drawTimer_(timerQueries) {
     runDraw_.reserve(16, gpuBytes_); // with point sprites, the draw's command (its first word: the runs)
     runDraw_.clear(16);
-}
-
-std::vector<ProgramRequest> RasterPass::computePrograms(const std::vector<std::string>& defines) {
-    std::vector<ProgramRequest> requests = SlicePlacer::programs();
-    requests.push_back({"slice_items.comp", defines});
-    return requests;
 }
 
 std::optional<std::uint64_t> RasterPass::run(const WorkItem& item, const SamplingUniforms& uniforms,

@@ -10,7 +10,6 @@
 #include "gpu/gl_buffer.h"
 #include "gpu/gl_objects.h"
 #include "gpu/gl_program.h"
-#include "gpu/gl_program_compiler.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/sample_lists.h"
 #include "gpu/slice_placer.h"
@@ -28,12 +27,8 @@ class RasterPass {
     /// Draws the slices of `segments` (the plan's, packed: GpuSegment) as
     /// `drawing` says; `defines`: the cross-section's variant
     /// (crossSectionDefines). `gpuBytes` tracks its buffers.
-    RasterPass(GlProgramCompiler& programs, const SlicePlan& plan, const GlBuffer& segments,
-               const SliceDrawing& drawing, const GlBudget& budget, std::vector<std::string> defines,
-               bool timerQueries, std::uint64_t* gpuBytes);
-    /// The programs a pass that appends its items in compute takes, in the
-    /// order it uses them (`defines` as above).
-    static std::vector<ProgramRequest> computePrograms(const std::vector<std::string>& defines);
+    RasterPass(const SlicePlan& plan, const GlBuffer& segments, const SliceDrawing& drawing, const GlBudget& budget,
+               std::vector<std::string> defines, bool timerQueries, std::uint64_t* gpuBytes);
 
     /// Places and draws the slices of `item`'s segments, their sample items
     /// appended to `lists` (whose counters it resets first). Returns the

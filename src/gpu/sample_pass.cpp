@@ -11,8 +11,8 @@ namespace {
 
 constexpr GLuint kSampleGroup = 128; // sample.comp's local_size_x
 
-std::vector<std::string> sampleDefines(bool diskCrossSection, TexelReads reads, bool albedo) {
-    std::vector<std::string> defines = crossSectionDefines(diskCrossSection, reads);
+std::vector<std::string> sampleDefines(const CrossSection& xs, TexelReads reads, bool albedo) {
+    std::vector<std::string> defines = crossSectionDefines(xs, reads);
     // --albedo compiles variants of their own (ALBEDO), so runs without it
     // keep the programs, fragments and brick words they always had.
     if (albedo) defines.push_back("ALBEDO 1");
@@ -33,15 +33,11 @@ SampleTextures uploadSampleTextures(const CrossSection& xs, TexelReads reads, bo
     return textures;
 }
 
-SamplePass::SamplePass(GlProgramCompiler& programs, const CrossSection& xs, TexelReads reads,
-                       SampleTextures textures, bool albedo, GLuint maxGroups, bool timerQueries)
+SamplePass::SamplePass(const CrossSection& xs, TexelReads reads, SampleTextures textures, bool albedo,
+                       GLuint maxGroups, bool timerQueries)
     : textures_(std::move(textures)), albedo_(albedo), maxGroups_(maxGroups),
-      sample_(programs.take("sample.comp", sampleDefines(xs.analyticDisk, reads, albedo))),
-      dispatch_(programs.take("sample_dispatch.comp")), timer_(timerQueries) {}
-
-std::vector<ProgramRequest> SamplePass::programs(bool diskCrossSection, TexelReads reads, bool albedo) {
-    return {{"sample_dispatch.comp", {}}, {"sample.comp", sampleDefines(diskCrossSection, reads, albedo)}};
-}
+      sample_(GlProgram::compute("sample.comp", sampleDefines(xs, reads, albedo))),
+      dispatch_(GlProgram::compute("sample_dispatch.comp")), timer_(timerQueries) {}
 
 void SamplePass::run(const WorkItem& item, const SamplingUniforms& uniforms, const SampleLists& lists,
                      const GlBuffer& slices) {

@@ -8,7 +8,6 @@
 #include "gpu/gl_buffer.h"
 #include "gpu/gl_objects.h"
 #include "gpu/gl_program.h"
-#include "gpu/gl_program_compiler.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/sample_lists.h"
 #include "gpu/work_item.h"
@@ -30,11 +29,8 @@ class SamplePass {
   public:
     /// `reads` (not Auto) as `textures` were uploaded; `albedo`: the ALBEDO
     /// variant, which also writes each fragment's colour.
-    SamplePass(GlProgramCompiler& programs, const CrossSection& xs, TexelReads reads, SampleTextures textures,
-               bool albedo, GLuint maxGroups, bool timerQueries);
-    /// The programs the pass takes, in the order it uses them, for a
-    /// cross-section that is the analytic disk or not.
-    static std::vector<ProgramRequest> programs(bool diskCrossSection, TexelReads reads, bool albedo);
+    SamplePass(const CrossSection& xs, TexelReads reads, SampleTextures textures, bool albedo, GLuint maxGroups,
+               bool timerQueries);
 
     /// Samples the items in `lists` (their count on the GPU: the dispatch is
     /// sized there, so the host never waits between the raster and this)

@@ -12,10 +12,10 @@ namespace {
 constexpr std::uint64_t kGroupSize = 256; // slice_setup.comp's and slice_runs.comp's local_size_x
 }
 
-SlicePlacer::SlicePlacer(GlProgramCompiler& programs, int runSlices, const std::vector<std::string>& runDefines)
-    : program_(programs.take("slice_setup.comp")), runSlices_(runSlices) {
+SlicePlacer::SlicePlacer(int runSlices, const std::vector<std::string>& runDefines)
+    : program_(GlProgram::compute("slice_setup.comp")), runSlices_(runSlices) {
     if (runSlices_ > 1) {
-        runs_ = programs.take("slice_runs.comp", runDefines);
+        runs_ = GlProgram::compute("slice_runs.comp", runDefines);
         const GLuint start[4] = {0, 1, 0, 0};
         commandStart_.upload(start, sizeof start, nullptr);
     }
@@ -23,8 +23,6 @@ SlicePlacer::SlicePlacer(GlProgramCompiler& programs, int runSlices, const std::
     glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
     maxGroups_ = static_cast<GLuint>(std::clamp(groups, 1, 65535));
 }
-
-std::vector<ProgramRequest> SlicePlacer::programs() { return {{"slice_setup.comp", {}}}; }
 
 void SlicePlacer::place(const SliceDraw& draw, GlBuffer& records, std::uint64_t* gpuBytes) const {
     records.reserve(std::max<std::uint64_t>(draw.instances, 1) * sizeof(GpuSliceRecord), gpuBytes);

@@ -6,7 +6,6 @@
 
 #include "gpu/gl_buffer.h"
 #include "gpu/gl_program.h"
-#include "gpu/gl_program_compiler.h"
 
 #include <epoxy/gl.h>
 
@@ -29,10 +28,7 @@ class SlicePlacer {
   public:
     /// `runSlices`: slices a run holds at most (0 or 1: no runs).
     /// `runDefines`: the raster's defines (the run length among them).
-    explicit SlicePlacer(GlProgramCompiler& programs, int runSlices = 0,
-                         const std::vector<std::string>& runDefines = {});
-    /// The programs a placer without runs takes, in the order it uses them.
-    static std::vector<ProgramRequest> programs();
+    explicit SlicePlacer(int runSlices = 0, const std::vector<std::string>& runDefines = {});
     /// Writes the draw's records into `records` (grown to fit; `gpuBytes`
     /// tracks it) and orders them before later shader reads.
     void place(const SliceDraw& draw, GlBuffer& records, std::uint64_t* gpuBytes) const;

@@ -10,22 +10,6 @@ namespace yv {
 
 const char* backendName(Backend b) { return b == Backend::Cpu ? "cpu" : "gl"; }
 
-SlicePrimitive slicePrimitiveFor(const VoxelizeJob& job) {
-    return job.sampleItems == SampleItemsRequest::Compute  ? SlicePrimitive::Compute
-           : job.sampleItems == SampleItemsRequest::Raster ? SlicePrimitive::Raster
-                                                          : SlicePrimitive::Auto;
-}
-
-GlProgramChoice programChoiceFor(const VoxelizeJob& job) {
-    GlProgramChoice choice;
-    choice.diskCrossSection = job.crossSection == "disk"; // makeCrossSection's analytic disk
-    choice.albedo = job.albedo;
-    choice.reduce = job.reduce;
-    choice.overlap = job.overlap;
-    choice.slicePrimitive = slicePrimitiveFor(job);
-    return choice;
-}
-
 GlStart startGl(const VoxelizeJob& job, int spreadIndex) {
     GlStart gl;
     if (job.backend == BackendRequest::Cpu) return gl;
@@ -43,14 +27,7 @@ GlStart startGl(const VoxelizeJob& job, int spreadIndex) {
         gl.error = std::current_exception();
     }
     gl.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    // The programs compile beside the slicing and the planning; the GL
-    // backend's passes take them (chooseBackend drops them where the run
-    // goes to the CPU).
-    const bool glBackendAhead = job.method == VoxelizeMethod::Sparse &&
-                                (job.backend == BackendRequest::Gl || (gl.context && gl.context->info().hardware()));
-    if (gl.context && glBackendAhead)
-        gl.programs = std::make_unique<GlProgramCompiler>(*gl.context, runPrograms(programChoiceFor(job)),
-                                                          GlProgramCompiler::threadsForRuns());
+    if (gl.context && gl.context->info().hardware()) compileInvariantPrograms();
     return gl;
 }
 
@@ -60,7 +37,6 @@ Backend chooseBackend(const VoxelizeJob& job, GlStart& gl) {
     if (job.method == VoxelizeMethod::Dense) return Backend::GlDense;
     if (job.backend == BackendRequest::Gl) return Backend::Gl;
     if (job.backend == BackendRequest::Auto && gl.current() && gl.current()->info().hardware()) return Backend::Gl;
-    gl.programs.reset();
     gl.context.reset();
     gl.kept = nullptr;
     return Backend::Cpu;

@@ -3,8 +3,6 @@
 #pragma once
 
 #include "gpu/egl_context.h"
-#include "gpu/gl_program_compiler.h"
-#include "gpu/gl_voxelizer.h"
 #include "pipeline/voxelize_job.h"
 
 #include <exception>
@@ -29,10 +27,6 @@ const char* backendName(Backend b);
 /// never runs on GL.
 struct GlStart {
     std::unique_ptr<GlContext> context; ///< made for this run
-    /// The GL backend's programs compiling on a thread of their own, started
-    /// with `context` where the run will take the GL backend (destroyed
-    /// before the context).
-    std::unique_ptr<GlProgramCompiler> programs;
     const GlContext* kept = nullptr;    ///< the job's own (VoxelizeJob::glContext)
     std::exception_ptr error;
     double seconds = 0.0; ///< how long making it took
@@ -41,15 +35,9 @@ struct GlStart {
 };
 
 /// Makes the job's GL context on this thread (or makes the job's own
-/// current here) unless the job asks for the CPU backend, and where the GL
-/// backend will run on it, starts compiling its programs. `spreadIndex`:
+/// current here) unless the job asks for the CPU backend. `spreadIndex`:
 /// the MPI rank on its node (each rank its own GPU).
 GlStart startGl(const VoxelizeJob& job, int spreadIndex);
-
-/// --sample-items as the GL backend's setting.
-SlicePrimitive slicePrimitiveFor(const VoxelizeJob& job);
-/// The GL backend's programs for `job` (what runPrograms lists).
-GlProgramChoice programChoiceFor(const VoxelizeJob& job);
 
 /// The backend `job` runs on. --backend gl and the dense method need the
 /// context (its error is thrown here when there is none); auto takes the GL

@@ -32,11 +32,11 @@ std::unique_ptr<RegionRasterizer> makeRasterizer(Backend backend, const SlicedGa
     settings.fragmentCapacity = job.fragmentCapacity;
     settings.verbose = job.verbose && !job.quiet;
     settings.contextSeconds = gl.seconds;
-    settings.slicePrimitive = slicePrimitiveFor(job);
+    settings.slicePrimitive = job.sampleItems == SampleItemsRequest::Compute ? SlicePrimitive::Compute
+                              : job.sampleItems == SampleItemsRequest::Raster ? SlicePrimitive::Raster
+                                                                             : SlicePrimitive::Auto;
     const TraceSpan span("set up the GL backend");
-    if (gl.context)
-        return std::make_unique<GlBackend>(sliced.plan(), sliced.xs, grid, settings, std::move(gl.context),
-                                           std::move(gl.programs));
+    if (gl.context) return std::make_unique<GlBackend>(sliced.plan(), sliced.xs, grid, settings, std::move(gl.context));
     return std::make_unique<GlBackend>(sliced.plan(), sliced.xs, grid, settings, *gl.kept);
 }
 
