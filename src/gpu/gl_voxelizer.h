@@ -28,7 +28,10 @@ namespace yv {
 /// and the sink's writer threads resolve them, as the CPU backend's are.
 /// Auto: Host on llvmpipe (EGL's surfaceless platform), where the resolve's
 /// double-precision compute shader took three times the host's time on the
-/// same cores; Gpu on a GPU. Both give the same bricks, bit for bit.
+/// same cores; Gpu on a GPU. On llvmpipe both give the same bricks, bit for
+/// bit (the tests); on NVIDIA's driver the same densities, and axes that
+/// differ in their last bits (1,253 bytes of a 28 MB half .vdb:
+/// bench/results/2026-12-06-h100-first-run-tradeoffs-af5fc46/).
 enum class BrickResolve { Auto, Gpu, Host };
 
 /// What each slice is drawn as. Each covers every pixel whose sample can hold
