@@ -17,6 +17,7 @@
 //
 //   yv_bench_compile_threads [--threads 1,2,4,8] [--separate 2,4] [--processes 2,4]
 //                            [--rounds 3] [--device -1] [--cold K]
+//                            [--dump-sources DIR] [--cold-spirv DIR]
 // Run with __GL_SHADER_DISK_CACHE_PATH pointing at an empty folder.
 //
 // --cold K: what a first run's process sees. No probe: the context is made,
@@ -35,6 +36,13 @@
 // dispatch, 0.19 to 0.24 s for a run's programs; bench/results/README.md). --cold-warmers K: the
 // copies only compile (into the driver's disk cache, which all processes
 // share); once they are done this process compiles their programs too.
+//
+// --dump-sources DIR writes the text each of those programs is compiled
+// from (DIR/<index>.comp, the order of --cold); bench/spirv_compile.sh turns
+// them into SPIR-V, and --cold-spirv DIR is --cold 0 with DIR/<index>.spv
+// handed to the driver instead (GL_ARB_gl_spirv: glShaderBinary, then
+// glSpecializeShader): does a driver given SPIR-V link faster than one given
+// GLSL, the compiler's front end already done?
 #include "core/error.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_program.h"
@@ -247,6 +255,67 @@ int coldCompile(GlContext& gl, int contexts, int device, double contextSeconds) 
     return 0;
 }
 
+/// --dump-sources DIR (see the top of the file).
+int dumpSources(const std::string& dir) {
+    const std::vector<Shader> shaders = defaultRunPrograms();
+    for (std::size_t i = 0; i < shaders.size(); ++i) {
+        const std::string path = dir + "/" + std::to_string(i) + ".comp";
+        const std::string text = composedShaderText(shaders[i].files[0], shaders[i].defines);
+        std::FILE* f = std::fopen(path.c_str(), "wb");
+        if (!f || std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fclose(f) != 0)
+            throw Error(path + ": cannot be written");
+    }
+    return 0;
+}
+
+std::vector<char> fileBytes(const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) throw Error(path + ": cannot be read");
+    std::vector<char> bytes;
+    char buffer[65536];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.insert(bytes.end(), buffer, buffer + n);
+    std::fclose(f);
+    return bytes;
+}
+
+/// --cold-spirv DIR (see the top of the file): the programs of --cold 0 from
+/// DIR/<index>.spv, each specialised and linked in turn.
+int coldSpirv(GlContext& gl, const std::string& dir, double contextSeconds) {
+    if (!epoxy_has_gl_extension("GL_ARB_gl_spirv")) throw Error("the driver lacks GL_ARB_gl_spirv");
+    const std::vector<Shader> shaders = defaultRunPrograms();
+    std::vector<std::vector<char>> modules;
+    for (std::size_t i = 0; i < shaders.size(); ++i) modules.push_back(fileBytes(dir + "/" + std::to_string(i) + ".spv"));
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<double> linkMs(shaders.size(), 0.0);
+    std::vector<GLuint> programs;
+    for (std::size_t i = 0; i < shaders.size(); ++i) {
+        const auto linkStart = std::chrono::steady_clock::now();
+        const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+        glShaderBinary(1, &shader, GL_SHADER_BINARY_FORMAT_SPIR_V_ARB, modules[i].data(), GLsizei(modules[i].size()));
+        glSpecializeShaderARB(shader, "main", 0, nullptr, nullptr);
+        GLint ok = GL_FALSE;
+        glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+        if (!ok) throw Error(std::to_string(i) + ".spv (" + shaders[i].files[0] + "): specialisation failed");
+        const GLuint program = glCreateProgram();
+        glAttachShader(program, shader);
+        glLinkProgram(program);
+        glGetProgramiv(program, GL_LINK_STATUS, &ok);
+        if (!ok) throw Error(std::to_string(i) + ".spv (" + shaders[i].files[0] + "): link failed");
+        glDeleteShader(shader);
+        programs.push_back(program);
+        linkMs[i] = 1e3 * since(linkStart);
+    }
+    for (GLuint p : programs) glUseProgram(p);
+    glFinish();
+    std::printf("{\"cold_spirv\": true, \"first_context_s\": %.3f, \"linked_s\": %.3f, \"link_ms\": {",
+                contextSeconds, since(start));
+    for (std::size_t i = 0; i < shaders.size(); ++i)
+        std::printf("%s\"%s%s\": %.1f", i ? ", " : "", shaders[i].files[0].c_str(),
+                    shaders[i].defines.empty() ? "" : "*", linkMs[i]);
+    std::printf("}, \"renderer\": \"%s\"}\n", gl.info().renderer.c_str());
+    return 0;
+}
+
 /// --cold-processes K: which of defaultRunPrograms() worker W of K + 1
 /// compiles (worker 0 is the first process): longest first, each to the
 /// worker with the least so far, by each program's link time on an H100
@@ -344,6 +413,7 @@ int main(int argc, char** argv) try {
     int rounds = 3, device = -1;
     int childIndex = -1, childCount = 0, childSalt = 0, cold = -1, coldChildren = -1, coldWorker = -1;
     bool warmOnly = false;
+    std::string dumpDir, spirvDir;
     for (int i = 1; i < argc; ++i) {
         const std::string k = argv[i];
         auto value = [&]() -> std::string {
@@ -371,15 +441,19 @@ int main(int argc, char** argv) try {
             coldWorker = std::stoi(value());
             coldChildren = std::stoi(value());
         }
+        else if (k == "--dump-sources") dumpDir = value();
+        else if (k == "--cold-spirv") spirvDir = value();
         else if (k == "--rounds") rounds = std::stoi(value());
         else if (k == "--device") device = std::stoi(value());
         else throw Error("unknown option " + k);
     }
     const auto processStart = std::chrono::steady_clock::now();
-    if (coldWorker > 0) return coldChild(coldWorker, coldChildren, device, warmOnly);
+    if (!dumpDir.empty()) return dumpSources(dumpDir);
+    if (coldWorker >= 0) return coldChild(coldWorker, coldChildren, device, warmOnly);
     if (coldChildren >= 0) return coldProcesses(coldChildren, device, argv[0], processStart, warmOnly);
     GlContext gl(GlContextOptions{device, false});
     if (cold >= 0) return coldCompile(gl, cold, device, since(processStart));
+    if (!spirvDir.empty()) return coldSpirv(gl, spirvDir, since(processStart));
     const std::vector<Shader> candidates = {
         {{"brick_flag.comp"}}, {{"buffer_clear.comp"}}, {{"brick_scan.comp"}}, {{"brick_scatter.comp"}},
         {{"brick_max_orient.comp"}}, {{"slice_setup.comp"}}, {{"slice_runs.comp"}}, {{"sample.comp"}},

@@ -166,6 +166,10 @@ std::string sourceStringNames(const std::string& name) {
 
 } // namespace
 
+std::string composedShaderText(const std::string& name, const std::vector<std::string>& defines) {
+    return composeShader(name, defines).text;
+}
+
 GlShader startShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines) {
     const ComposedShader composed = composeShader(name, defines);
     GlShader shader(glCreateShader(stage));

@@ -79,6 +79,11 @@ class GlProgram {
 /// copy always: the C++ that binds the buffers was built with it.)
 std::optional<std::string> shaderText(const std::string& name);
 
+/// The whole text given to the driver for shader file `name` with `defines`
+/// (#version, the #defines, bindings.glsl, the file with its includes), as
+/// startShaderStage composes it: for tools that compile it elsewhere.
+std::string composedShaderText(const std::string& name, const std::vector<std::string>& defines);
+
 /// Compiles one stage. A failure throws yv::Error with the shader's name and
 /// the driver's log.
 GlShader compileShaderStage(GLenum stage, const std::string& name, const std::vector<std::string>& defines);
