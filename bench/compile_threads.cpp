@@ -334,14 +334,42 @@ std::vector<std::size_t> coldShare(int worker, int workers) {
     return share;
 }
 
-/// --cold-child W K: compiles worker W's share, binaries to stdout; with
-/// `warmOnly` it only compiles them (the driver's disk cache keeps them).
-int coldChild(int worker, int workers, int device, bool warmOnly) {
+/// One work group of `program` with a zeroed buffer on every storage and
+/// atomic-counter binding a run's programs use, a 1x1 texture on the
+/// cross-section's unit and every uniform 0 (so its loops end at once): what
+/// a driver that finishes a program at its first dispatch needs to see.
+void dispatchOnce(const GlProgram& program) {
+    static GLuint zeros = 0, texel = 0;
+    if (!zeros) {
+        const std::vector<char> bytes(1 << 20, 0);
+        glCreateBuffers(1, &zeros);
+        glNamedBufferStorage(zeros, GLsizeiptr(bytes.size()), bytes.data(), 0);
+        glCreateTextures(GL_TEXTURE_2D, 1, &texel);
+        glTextureStorage2D(texel, 1, GL_R8UI, 1, 1);
+        glTextureParameteri(texel, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(texel, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    for (GLuint b = 0; b < 8; ++b) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, zeros);
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, zeros);
+    glBindTextureUnit(0, texel);
+    program.use();
+    glDispatchCompute(1, 1, 1);
+    glFinish();
+}
+
+/// --cold-child W K: compiles worker W's share of K + 1, binaries to stdout;
+/// with `warmOnly` (--cold-warm-child) it only compiles them (the driver's
+/// disk cache keeps them), and with --dispatch runs each once (dispatchOnce).
+/// W = 0 is the first process's share, so K + 1 copies started from a shell
+/// cover every program.
+int coldChild(int worker, int workers, int device, bool warmOnly, bool dispatch) {
     GlContext own(GlContextOptions{device, false});
     const std::vector<Shader> shaders = defaultRunPrograms();
     for (std::size_t i : coldShare(worker, workers + 1)) {
         if (warmOnly) {
-            startProgram(shaders[i], shaders[i].defines).waitLinked();
+            const GlProgram program = startProgram(shaders[i], shaders[i].defines);
+            program.waitLinked();
+            if (dispatch) dispatchOnce(program);
             continue;
         }
         writeBinary(1, std::uint32_t(i), compileToBinary(shaders[i], 0));
@@ -412,7 +440,7 @@ int main(int argc, char** argv) try {
     std::vector<int> threadCounts = {1, 2, 4, 8}, separateCounts, processCounts;
     int rounds = 3, device = -1;
     int childIndex = -1, childCount = 0, childSalt = 0, cold = -1, coldChildren = -1, coldWorker = -1;
-    bool warmOnly = false;
+    bool warmOnly = false, dispatch = false;
     std::string dumpDir, spirvDir;
     for (int i = 1; i < argc; ++i) {
         const std::string k = argv[i];
@@ -442,6 +470,7 @@ int main(int argc, char** argv) try {
             coldChildren = std::stoi(value());
         }
         else if (k == "--dump-sources") dumpDir = value();
+        else if (k == "--dispatch") dispatch = true;
         else if (k == "--cold-spirv") spirvDir = value();
         else if (k == "--rounds") rounds = std::stoi(value());
         else if (k == "--device") device = std::stoi(value());
@@ -449,7 +478,7 @@ int main(int argc, char** argv) try {
     }
     const auto processStart = std::chrono::steady_clock::now();
     if (!dumpDir.empty()) return dumpSources(dumpDir);
-    if (coldWorker >= 0) return coldChild(coldWorker, coldChildren, device, warmOnly);
+    if (coldWorker >= 0) return coldChild(coldWorker, coldChildren, device, warmOnly, dispatch);
     if (coldChildren >= 0) return coldProcesses(coldChildren, device, argv[0], processStart, warmOnly);
     GlContext gl(GlContextOptions{device, false});
     if (cold >= 0) return coldCompile(gl, cold, device, since(processStart));
