@@ -42,8 +42,9 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 VDB_MAGIC = (0x56444220).to_bytes(8, "little")
 UUID_BYTES = slice(21, 57)  # i64 magic, u32 version, 2 x u32 library version, u8 offsets flag, then 36 bytes
-# --stats keys that change from run to run: times, rates, memory, queues, threads used, the output path.
-VOLATILE_KEY = re.compile(r"seconds|per_second|peak|queued|wait|^threads$|^output$")
+# --stats keys that change from run to run: times, rates, memory, queues, threads used, the output path,
+# and how much of the file was streamed before the run's end (the writer's pace against the GPU's).
+VOLATILE_KEY = re.compile(r"seconds|per_second|peak|queued|wait|^threads$|^output$|streamed_before_end")
 
 
 def fail(msg, code=2):
