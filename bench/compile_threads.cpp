@@ -18,6 +18,7 @@
 //   yv_bench_compile_threads [--threads 1,2,4,8] [--separate 2,4] [--processes 2,4]
 //                            [--rounds 3] [--device -1] [--cold K]
 //                            [--dump-sources DIR] [--cold-spirv DIR]
+//                            [--cold-warm-child W K [--dispatch]]
 // Run with __GL_SHADER_DISK_CACHE_PATH pointing at an empty folder.
 //
 // --cold K: what a first run's process sees. No probe: the context is made,
@@ -43,6 +44,7 @@
 // handed to the driver instead (GL_ARB_gl_spirv: glShaderBinary, then
 // glSpecializeShader): does a driver given SPIR-V link faster than one given
 // GLSL, the compiler's front end already done?
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_program.h"
@@ -56,6 +58,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -268,23 +271,18 @@ int dumpSources(const std::string& dir) {
     return 0;
 }
 
-std::vector<char> fileBytes(const std::string& path) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) throw Error(path + ": cannot be read");
-    std::vector<char> bytes;
-    char buffer[65536];
-    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.insert(bytes.end(), buffer, buffer + n);
-    std::fclose(f);
-    return bytes;
-}
-
 /// --cold-spirv DIR (see the top of the file): the programs of --cold 0 from
 /// DIR/<index>.spv, each specialised and linked in turn.
 int coldSpirv(GlContext& gl, const std::string& dir, double contextSeconds) {
     if (!epoxy_has_gl_extension("GL_ARB_gl_spirv")) throw Error("the driver lacks GL_ARB_gl_spirv");
     const std::vector<Shader> shaders = defaultRunPrograms();
-    std::vector<std::vector<char>> modules;
-    for (std::size_t i = 0; i < shaders.size(); ++i) modules.push_back(fileBytes(dir + "/" + std::to_string(i) + ".spv"));
+    std::vector<std::vector<std::uint8_t>> modules;
+    for (std::size_t i = 0; i < shaders.size(); ++i) {
+        const std::string path = dir + "/" + std::to_string(i) + ".spv";
+        std::optional<std::vector<std::uint8_t>> bytes = readWholeFile(path);
+        if (!bytes) throw Error(path + ": cannot be read");
+        modules.push_back(std::move(*bytes));
+    }
     const auto start = std::chrono::steady_clock::now();
     std::vector<double> linkMs(shaders.size(), 0.0);
     std::vector<GLuint> programs;
