@@ -13,6 +13,8 @@
 set -euo pipefail
 bench=$1 dir=$2
 shift 2
+command -v glslangValidator > /dev/null ||
+  { echo "spirv_compile.sh: glslangValidator not found (Debian's glslang-tools: apt-get install glslang-tools)" >&2; exit 1; }
 mkdir -p "$dir"
 "$bench" --dump-sources "$dir"
 for text in "$dir"/*.comp; do
