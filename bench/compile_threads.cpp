@@ -59,6 +59,7 @@
 #include <cstring>
 #include <memory>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -210,6 +211,15 @@ std::pair<std::uint32_t, Binary> readBinary(int fd) {
     return {header[0], std::move(b)};
 }
 
+/// The end of a --cold or --cold-spirv line: each program's link in ms (a
+/// program built with a variant's defines marked *), then the renderer.
+void printLinkTimes(const std::vector<Shader>& shaders, const std::vector<double>& linkMs, const GlContext& gl) {
+    for (std::size_t i = 0; i < shaders.size(); ++i)
+        std::printf("%s\"%s%s\": %.1f", i ? ", " : "", shaders[i].files[0].c_str(),
+                    shaders[i].defines.empty() ? "" : "*", linkMs[i]);
+    std::printf("}, \"renderer\": \"%s\"}\n", gl.info().renderer.c_str());
+}
+
 /// --cold K (see the top of the file).
 int coldCompile(GlContext& gl, int contexts, int device, double contextSeconds) {
     const std::vector<Shader> shaders = defaultRunPrograms();
@@ -251,10 +261,7 @@ int coldCompile(GlContext& gl, int contexts, int device, double contextSeconds) 
     std::printf("{\"cold_contexts\": %d, \"first_context_s\": %.3f, \"linked_s\": %.3f, \"load_s\": %.3f, "
                 "\"link_ms\": {",
                 contexts, contextSeconds, since(start), loadSeconds);
-    for (std::size_t i = 0; i < shaders.size(); ++i)
-        std::printf("%s\"%s%s\": %.1f", i ? ", " : "", shaders[i].files[0].c_str(),
-                    shaders[i].defines.empty() ? "" : "*", linkMs[i]);
-    std::printf("}, \"renderer\": \"%s\"}\n", gl.info().renderer.c_str());
+    printLinkTimes(shaders, linkMs, gl);
     return 0;
 }
 
@@ -264,9 +271,7 @@ int dumpSources(const std::string& dir) {
     for (std::size_t i = 0; i < shaders.size(); ++i) {
         const std::string path = dir + "/" + std::to_string(i) + ".comp";
         const std::string text = composedShaderText(shaders[i].files[0], shaders[i].defines);
-        std::FILE* f = std::fopen(path.c_str(), "wb");
-        if (!f || std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fclose(f) != 0)
-            throw Error(path + ": cannot be written");
+        writeFileAtomically(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
     }
     return 0;
 }
@@ -307,10 +312,7 @@ int coldSpirv(GlContext& gl, const std::string& dir, double contextSeconds) {
     glFinish();
     std::printf("{\"cold_spirv\": true, \"first_context_s\": %.3f, \"linked_s\": %.3f, \"link_ms\": {",
                 contextSeconds, since(start));
-    for (std::size_t i = 0; i < shaders.size(); ++i)
-        std::printf("%s\"%s%s\": %.1f", i ? ", " : "", shaders[i].files[0].c_str(),
-                    shaders[i].defines.empty() ? "" : "*", linkMs[i]);
-    std::printf("}, \"renderer\": \"%s\"}\n", gl.info().renderer.c_str());
+    printLinkTimes(shaders, linkMs, gl);
     return 0;
 }
 
